@@ -1,0 +1,396 @@
+use glam::DVec2;
+use serde::{Deserialize, Serialize};
+
+use crate::HeightfieldError;
+
+/// The largest number of samples a grid may hold: flat indices always fit a `u32`, which downstream
+/// crates use for compact per-cell links (flow receivers, union-find parents).
+pub const MAX_SAMPLES: u64 = u32::MAX as u64;
+
+/// What the grid's world coordinates measure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Units {
+    /// Planar coordinates in metres (x east, y north).
+    #[default]
+    Metres,
+    /// Geographic coordinates in degrees: x is longitude, y is latitude (WGS84), as in SRTM tiles.
+    /// Distances, slopes and gradients convert to metres with the ellipsoid's radii of curvature at
+    /// each row's latitude ([`metres_per_degree`]).
+    Degrees,
+}
+
+/// An axis-aligned rectangle in world coordinates.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Extent {
+    /// Minimum corner (west, south).
+    pub min: DVec2,
+    /// Maximum corner (east, north).
+    pub max: DVec2,
+}
+
+impl Extent {
+    /// The rectangle spanned by two corners.
+    pub fn new(min: DVec2, max: DVec2) -> Self {
+        Self { min, max }
+    }
+
+    /// `max - min`.
+    pub fn size(&self) -> DVec2 {
+        self.max - self.min
+    }
+
+    /// Midpoint of the rectangle.
+    pub fn center(&self) -> DVec2 {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Whether `p` lies inside or on the border.
+    pub fn contains(&self, p: DVec2) -> bool {
+        p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
+    }
+}
+
+/// Metres per degree of longitude (`x`) and of latitude (`y`) at geodetic latitude `lat_deg` on the
+/// WGS84 ellipsoid.
+///
+/// Uses the exact radii of curvature: the meridional radius `M = a(1−e²)/(1−e²sin²φ)^{3/2}` for
+/// latitude and the prime-vertical radius `N = a/√(1−e²sin²φ)` times `cos φ` for longitude,
+/// each multiplied by π/180. At the equator this gives 111 319.5 m (lon) and 110 574.3 m (lat).
+pub fn metres_per_degree(lat_deg: f64) -> DVec2 {
+    const A: f64 = 6_378_137.0;
+    const F: f64 = 1.0 / 298.257_223_563;
+    let e2 = F * (2.0 - F);
+    let phi = lat_deg.to_radians();
+    let s = phi.sin();
+    let w = (1.0 - e2 * s * s).sqrt();
+    let n = A / w;
+    let m = A * (1.0 - e2) / (w * w * w);
+    let k = std::f64::consts::PI / 180.0;
+    // cos(±90°) evaluates to ~6e-17, not 0: the pole rows get exactly zero width.
+    let cos = if lat_deg.abs() >= 90.0 { 0.0 } else { phi.cos() };
+    DVec2::new(k * n * cos, k * m)
+}
+
+/// Geometry of a node-registered grid: `nx × ny` samples, sample `(i, j)` at
+/// `origin + (i·cell_size.x, j·cell_size.y)`.
+///
+/// Row `j = 0` is the southern (minimum-y) edge and `i = 0` the western edge; samples are stored
+/// row-major (`index = j·nx + i`). File formats that store north-up rasters flip rows on read/write.
+/// The grid is validated at construction: dimensions non-zero and at most [`MAX_SAMPLES`] samples,
+/// cell sizes finite and positive, extent finite, latitudes within ±90° for geographic grids.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "GridSpecRepr", into = "GridSpecRepr")]
+pub struct GridSpec {
+    nx: usize,
+    ny: usize,
+    origin: DVec2,
+    cell_size: DVec2,
+    units: Units,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GridSpecRepr {
+    nx: usize,
+    ny: usize,
+    origin: DVec2,
+    cell_size: DVec2,
+    #[serde(default)]
+    units: Units,
+}
+
+impl TryFrom<GridSpecRepr> for GridSpec {
+    type Error = HeightfieldError;
+    fn try_from(r: GridSpecRepr) -> Result<Self, Self::Error> {
+        GridSpec::new(r.nx, r.ny, r.origin, r.cell_size)?.with_units(r.units)
+    }
+}
+
+impl From<GridSpec> for GridSpecRepr {
+    fn from(g: GridSpec) -> Self {
+        Self { nx: g.nx, ny: g.ny, origin: g.origin, cell_size: g.cell_size, units: g.units }
+    }
+}
+
+impl GridSpec {
+    /// A planar grid (metres) of `nx × ny` samples with sample `(0, 0)` at `origin` and spacing `cell_size`.
+    ///
+    /// # Errors
+    /// [`HeightfieldError::EmptyGrid`], [`HeightfieldError::TooManySamples`],
+    /// [`HeightfieldError::InvalidCellSize`] or [`HeightfieldError::InvalidOrigin`].
+    pub fn new(nx: usize, ny: usize, origin: DVec2, cell_size: DVec2) -> Result<Self, HeightfieldError> {
+        if nx == 0 || ny == 0 {
+            return Err(HeightfieldError::EmptyGrid { nx, ny });
+        }
+        let too_many = HeightfieldError::TooManySamples { nx, ny, max: MAX_SAMPLES };
+        let n = nx.checked_mul(ny).ok_or(too_many.clone())?;
+        if n as u64 > MAX_SAMPLES {
+            return Err(too_many);
+        }
+        if !(cell_size.x.is_finite() && cell_size.y.is_finite() && cell_size.x > 0.0 && cell_size.y > 0.0) {
+            return Err(HeightfieldError::InvalidCellSize { x: cell_size.x, y: cell_size.y });
+        }
+        let far = origin + DVec2::new((nx - 1) as f64, (ny - 1) as f64) * cell_size;
+        if !(origin.is_finite() && far.is_finite()) {
+            return Err(HeightfieldError::InvalidOrigin { x: origin.x, y: origin.y });
+        }
+        Ok(Self { nx, ny, origin, cell_size, units: Units::Metres })
+    }
+
+    /// A geographic grid: `origin` is (longitude, latitude) of sample `(0, 0)` in degrees and
+    /// `cell_size` the spacing in degrees.
+    ///
+    /// # Errors
+    /// As [`GridSpec::new`], plus [`HeightfieldError::LatitudeOutOfRange`].
+    pub fn geographic(nx: usize, ny: usize, origin: DVec2, cell_size_deg: DVec2) -> Result<Self, HeightfieldError> {
+        Self::new(nx, ny, origin, cell_size_deg)?.with_units(Units::Degrees)
+    }
+
+    /// A grid whose first and last samples sit exactly on the corners of `extent`.
+    ///
+    /// An axis with a single sample must have zero width in `extent`; its cell size is then taken
+    /// from the other axis (or 1 if both axes hold one sample).
+    ///
+    /// # Errors
+    /// [`HeightfieldError::InvalidExtent`] when the extent is inverted, not finite, or has non-zero
+    /// width along a single-sample axis; otherwise as [`GridSpec::new`].
+    pub fn from_extent(nx: usize, ny: usize, extent: Extent) -> Result<Self, HeightfieldError> {
+        if nx == 0 || ny == 0 {
+            return Err(HeightfieldError::EmptyGrid { nx, ny });
+        }
+        let size = extent.size();
+        let bad = || HeightfieldError::InvalidExtent {
+            min_x: extent.min.x,
+            min_y: extent.min.y,
+            max_x: extent.max.x,
+            max_y: extent.max.y,
+        };
+        let axis = |n: usize, w: f64| -> Result<Option<f64>, HeightfieldError> {
+            if !w.is_finite() {
+                return Err(bad());
+            }
+            match n {
+                1 if w == 0.0 => Ok(None),
+                1 => Err(bad()),
+                _ if w > 0.0 => Ok(Some(w / (n - 1) as f64)),
+                _ => Err(bad()),
+            }
+        };
+        let (cx, cy) = (axis(nx, size.x)?, axis(ny, size.y)?);
+        let cell = match (cx, cy) {
+            (Some(x), Some(y)) => DVec2::new(x, y),
+            (Some(x), None) => DVec2::splat(x),
+            (None, Some(y)) => DVec2::splat(y),
+            (None, None) => DVec2::ONE,
+        };
+        Self::new(nx, ny, extent.min, cell)
+    }
+
+    /// The same grid with its coordinates reinterpreted in `units`.
+    ///
+    /// # Errors
+    /// [`HeightfieldError::LatitudeOutOfRange`] for a geographic grid reaching past a pole.
+    pub fn with_units(mut self, units: Units) -> Result<Self, HeightfieldError> {
+        if units == Units::Degrees {
+            let (lo, hi) = (self.origin.y, self.extent().max.y);
+            // A tiny tolerance lets tiles whose last row is computed as 90.000000000001 through.
+            if lo < -90.0 - 1e-9 || hi > 90.0 + 1e-9 {
+                return Err(HeightfieldError::LatitudeOutOfRange { min_lat: lo, max_lat: hi });
+            }
+        }
+        self.units = units;
+        Ok(self)
+    }
+
+    /// The same extent sampled with `nx × ny` samples.
+    ///
+    /// # Errors
+    /// As [`GridSpec::from_extent`].
+    pub fn resized(&self, nx: usize, ny: usize) -> Result<Self, HeightfieldError> {
+        let ext = self.extent();
+        let ext = Extent::new(
+            ext.min,
+            DVec2::new(if nx == 1 { ext.min.x } else { ext.max.x }, if ny == 1 { ext.min.y } else { ext.max.y }),
+        );
+        Self::from_extent(nx, ny, ext)?.with_units(self.units)
+    }
+
+    /// Samples along x (columns).
+    pub fn nx(&self) -> usize {
+        self.nx
+    }
+
+    /// Samples along y (rows).
+    pub fn ny(&self) -> usize {
+        self.ny
+    }
+
+    /// Total number of samples, `nx · ny`.
+    pub fn len(&self) -> usize {
+        self.nx * self.ny
+    }
+
+    /// Always `false`: a grid holds at least one sample. Present for API symmetry with `len`.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// World position of sample `(0, 0)`.
+    pub fn origin(&self) -> DVec2 {
+        self.origin
+    }
+
+    /// Spacing between samples in world units (metres or degrees, see [`GridSpec::units`]).
+    pub fn cell_size(&self) -> DVec2 {
+        self.cell_size
+    }
+
+    /// What the world coordinates measure.
+    pub fn units(&self) -> Units {
+        self.units
+    }
+
+    /// Rectangle spanned by the sample positions (first to last sample on each axis).
+    pub fn extent(&self) -> Extent {
+        Extent::new(self.origin, self.position(self.nx - 1, self.ny - 1))
+    }
+
+    /// Flat index of sample `(i, j)`: `j·nx + i`.
+    #[inline]
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        debug_assert!(i < self.nx && j < self.ny, "sample ({i}, {j}) outside {}x{}", self.nx, self.ny);
+        j * self.nx + i
+    }
+
+    /// Column and row of a flat index.
+    #[inline]
+    pub fn coords(&self, index: usize) -> (usize, usize) {
+        (index % self.nx, index / self.nx)
+    }
+
+    /// World position of sample `(i, j)`.
+    #[inline]
+    pub fn position(&self, i: usize, j: usize) -> DVec2 {
+        self.origin + DVec2::new(i as f64, j as f64) * self.cell_size
+    }
+
+    /// Continuous grid coordinates of world point `p`: sample `(i, j)` maps to `(i, j)`.
+    #[inline]
+    pub fn grid_coords(&self, p: DVec2) -> DVec2 {
+        (p - self.origin) / self.cell_size
+    }
+
+    /// The sample nearest to `p`, or `None` when `p` lies farther than half a cell outside the grid.
+    pub fn nearest_sample(&self, p: DVec2) -> Option<(usize, usize)> {
+        let g = self.grid_coords(p).round();
+        let inside = g.x >= 0.0 && g.y >= 0.0 && g.x <= (self.nx - 1) as f64 && g.y <= (self.ny - 1) as f64;
+        inside.then_some((g.x as usize, g.y as usize))
+    }
+
+    /// Metres per world unit along x and y on row `j`: `(1, 1)` for planar grids, the WGS84
+    /// [`metres_per_degree`] at the row's latitude for geographic grids.
+    pub fn metres_per_unit(&self, j: usize) -> DVec2 {
+        match self.units {
+            Units::Metres => DVec2::ONE,
+            Units::Degrees => metres_per_degree(self.origin.y + j as f64 * self.cell_size.y),
+        }
+    }
+
+    /// Sample spacing in metres on row `j` (rows differ only for geographic grids).
+    pub fn cell_size_m(&self, j: usize) -> DVec2 {
+        self.cell_size * self.metres_per_unit(j)
+    }
+
+    /// Approximate ground area of one cell on row `j`, in square metres.
+    pub fn cell_area_m2(&self, j: usize) -> f64 {
+        let c = self.cell_size_m(j);
+        c.x * c.y
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn metres_per_degree_matches_known_values() {
+        let eq = metres_per_degree(0.0);
+        assert!((eq.x - 111_319.49).abs() < 0.01, "{eq}");
+        assert!((eq.y - 110_574.27).abs() < 0.01, "{eq}");
+        let mid = metres_per_degree(45.0);
+        assert!((mid.x - 78_846.8).abs() < 0.1, "{mid}");
+        assert!((mid.y - 111_132.0).abs() < 1.0, "{mid}");
+        assert_eq!(metres_per_degree(90.0).x, 0.0);
+    }
+
+    #[test]
+    fn rejects_bad_geometry() {
+        assert!(matches!(GridSpec::new(0, 3, DVec2::ZERO, DVec2::ONE), Err(HeightfieldError::EmptyGrid { .. })));
+        assert!(matches!(
+            GridSpec::new(3, 3, DVec2::ZERO, DVec2::new(1.0, -1.0)),
+            Err(HeightfieldError::InvalidCellSize { .. })
+        ));
+        assert!(matches!(
+            GridSpec::new(3, 3, DVec2::new(f64::NAN, 0.0), DVec2::ONE),
+            Err(HeightfieldError::InvalidOrigin { .. })
+        ));
+        assert!(matches!(
+            GridSpec::new(3, 3, DVec2::ZERO, DVec2::splat(f64::MAX)),
+            Err(HeightfieldError::InvalidOrigin { .. })
+        ));
+        assert!(matches!(
+            GridSpec::new(usize::MAX, 2, DVec2::ZERO, DVec2::ONE),
+            Err(HeightfieldError::TooManySamples { .. })
+        ));
+        assert!(matches!(
+            GridSpec::new(70_000, 70_000, DVec2::ZERO, DVec2::ONE),
+            Err(HeightfieldError::TooManySamples { .. })
+        ));
+        assert!(matches!(
+            GridSpec::geographic(10, 10, DVec2::new(0.0, 85.0), DVec2::ONE),
+            Err(HeightfieldError::LatitudeOutOfRange { .. })
+        ));
+        let inverted = Extent::new(DVec2::ONE, DVec2::ZERO);
+        assert!(matches!(GridSpec::from_extent(4, 4, inverted), Err(HeightfieldError::InvalidExtent { .. })));
+    }
+
+    #[test]
+    fn extent_round_trips_through_from_extent() {
+        let ext = Extent::new(DVec2::new(-3.0, 2.0), DVec2::new(5.0, 10.0));
+        let g = GridSpec::from_extent(5, 9, ext).unwrap();
+        assert_eq!(g.cell_size(), DVec2::new(2.0, 1.0));
+        assert_eq!(g.extent(), ext);
+        assert_eq!(g.position(4, 8), ext.max);
+        assert_eq!(g.grid_coords(DVec2::new(1.0, 4.0)), DVec2::new(2.0, 2.0));
+        assert_eq!(g.nearest_sample(DVec2::new(1.9, 4.4)), Some((2, 2)));
+        assert_eq!(g.nearest_sample(DVec2::new(-4.1, 4.0)), None);
+        let single = GridSpec::from_extent(1, 3, Extent::new(DVec2::ZERO, DVec2::new(0.0, 4.0))).unwrap();
+        assert_eq!(single.cell_size(), DVec2::splat(2.0));
+        let r = g.resized(9, 17).unwrap();
+        assert_eq!(r.extent(), ext);
+    }
+
+    #[test]
+    fn geographic_cells_shrink_toward_the_poles() {
+        let g = GridSpec::geographic(3601, 3601, DVec2::new(-85.0, 36.0), DVec2::splat(1.0 / 3600.0)).unwrap();
+        let south = g.cell_size_m(0);
+        let north = g.cell_size_m(3600);
+        assert!(north.x < south.x);
+        assert!((south.x - 25.0).abs() < 0.1, "{south}");
+        assert!((south.y - 30.8).abs() < 0.1, "{south}");
+    }
+
+    #[test]
+    fn serde_validates() {
+        let g = GridSpec::new(4, 3, DVec2::new(1.0, 2.0), DVec2::new(0.5, 0.25)).unwrap();
+        let json = serde_json::to_string(&g).unwrap();
+        let back: GridSpec = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, g);
+        let bad = json.replace("0.5", "-0.5");
+        assert!(serde_json::from_str::<GridSpec>(&bad).unwrap_err().to_string().contains("cell size"));
+        let unknown = json.replace("\"nx\"", "\"nz\"");
+        assert!(serde_json::from_str::<GridSpec>(&unknown).is_err());
+    }
+}
