@@ -1,1 +1,405 @@
-//! placeholder
+//! Reads and writes [`Heightfield`]s in the common DEM and heightmap formats, and renders
+//! shaded-relief previews. Every reader checks its header against [`Limits`] before it allocates,
+//! every error names the file and the problem ([`IoError`]), and every write is atomic.
+//!
+//! This crate implements no paper section; it is how the algorithms of the other relief crates meet
+//! real terrain (SRTM tiles, `GeoTIFF` DEMs) and game-engine heightmaps. The main entry points are
+//! [`read`] / [`write()`] (format from magic bytes or extension), their `_with` variants taking
+//! [`ReadOptions`] / [`WriteOptions`], the in-memory [`read_bytes`] / [`write_bytes`], and
+//! [`shaded_relief`] / [`write_preview_png`]. The types around them: [`Format`], [`Limits`],
+//! [`IoError`] with its [`IoErrorKind`], [`ShadeOptions`] and [`RgbImage`].
+//!
+//! | Format | Extension | Samples | What is stored | Round trip |
+//! |---|---|---|---|---|
+//! | [`Format::Png16`] | `.png` | 16-bit gray | codes over `[min, max]` + `relief` tEXt JSON (min, max, geometry, units) | within one step `(max − min)/65535` |
+//! | [`Format::Png8`] | `.png` | 8-bit gray | as PNG16 | within one step `(max − min)/255` |
+//! | [`Format::Exr`] | `.exr` | f32 channel `Y` | NaN no-data; geometry in `relief.*` header attributes | bit-exact |
+//! | [`Format::R16`] | `.r16`, `.raw` | little-endian u16 | codes as PNG16; `<file>.json` sidecar | within one step |
+//! | [`Format::R32`] | `.r32` | little-endian f32 | NaN no-data; `<file>.json` sidecar | bit-exact |
+//! | [`Format::Asc`] | `.asc` | decimal text | header + shortest round-trip decimals; `.prj` for units | bit-exact |
+//! | [`Format::Hgt`] | `.hgt` | big-endian i16, 1201² or 3601² | −32768 voids; tile corner from the file name | exact for whole metres |
+//! | [`Format::GeoTiff`] | `.tif`, `.tiff` | f32 (reads u8–i64, f16–f64) | `ModelPixelScale`, `ModelTiepoint`, `GeoKeys`, `GDAL_NODATA` | bit-exact |
+//!
+//! Quantised formats reserve code 0 for no-data when the field has any; a field without the
+//! metadata (a PNG from an image editor, a Unity `.raw`) reads as `code / max_code` in `[0, 1]`
+//! on a grid with origin 0 and cell size 1. Formats without geometry (plain PNG, raw without
+//! sidecar, EXR/TIFF without our attributes or geo tags) read with origin 0, cell size 1, metres;
+//! [`ReadOptions::units`] and [`ReadOptions::origin`] override what a file says.
+//!
+//! Conventions: files are north-up (first row = north), while a [`GridSpec`] stores row `j = 0` in
+//! the south, so readers and writers flip rows. Grids are node-registered: `GeoTIFF`s are written
+//! `PixelIsPoint`, ASCII grids with `xllcenter`/`yllcenter`, and `PixelIsArea` / `xllcorner`
+//! inputs are moved half a cell in. No-data is NaN in memory.
+//!
+//! PNG goes through the `png` crate directly rather than `image`: `image` 0.25 cannot read
+//! single-channel f32 TIFFs (so `tiff` is needed anyway) and its colour-management dependencies
+//! cost about 70 s of clean build for nothing a heightmap needs. Each codec sits behind a cargo
+//! feature (`png`, `exr`, `geotiff`, all default); raw, ASCII grid and HGT need no dependency.
+//!
+//! ```
+//! use glam::DVec2;
+//! use relief_heightfield::{GridSpec, Heightfield};
+//! use relief_heightfield_io::{Format, read, write};
+//!
+//! let grid = GridSpec::new(64, 48, DVec2::new(500_000.0, 4_100_000.0), DVec2::splat(30.0))?;
+//! let hill = Heightfield::from_fn(grid, |p| {
+//!     let d = (p - DVec2::new(501_000.0, 4_100_700.0)).length();
+//!     (800.0 - 0.3 * d) as f32
+//! })?;
+//! let dir = tempfile::tempdir()?;
+//!
+//! // Float formats round-trip bit for bit, geometry included (`.asc` writes a `.prj` beside it).
+//! let path = dir.path().join("hill.asc");
+//! write(&path, &hill)?;
+//! assert_eq!(read(&path)?, hill);
+//!
+//! // 16-bit formats restore metres to within one quantisation step (`.r16` keeps min, max and
+//! // geometry in `hill.r16.json`; a `.png` keeps them in a text chunk).
+//! let raw = dir.path().join("hill.r16");
+//! write(&raw, &hill)?;
+//! let back = read(&raw)?;
+//! let (lo, hi) = hill.min_max().unwrap();
+//! let step = (hi - lo) / 65535.0;
+//! assert_eq!(back.grid(), hill.grid());
+//! assert!(back.samples().iter().zip(hill.samples()).all(|(a, b)| (a - b).abs() <= step));
+//! assert_eq!(Format::detect(&raw, &[0x12, 0x34]), Some(Format::R16));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod asc;
+mod atomic;
+mod error;
+#[cfg(feature = "geotiff")]
+mod geotiff;
+mod hgt;
+mod limits;
+mod meta;
+#[cfg(feature = "exr")]
+mod openexr;
+#[cfg(feature = "png")]
+mod png_gray;
+mod preview;
+mod raw;
+
+mod format;
+
+use std::ffi::OsString;
+use std::io::Read as _;
+use std::path::{Path, PathBuf};
+
+use glam::DVec2;
+use relief_heightfield::{GridSpec, Heightfield, Units};
+
+pub use error::{IoError, IoErrorKind};
+pub use format::Format;
+pub use limits::Limits;
+pub use preview::{NO_DATA_RGB, RgbImage, ShadeOptions, shaded_relief};
+
+use raw::RawKind;
+
+/// How to read a file. `ReadOptions::default()` detects the format and applies [`Limits::default`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[non_exhaustive]
+pub struct ReadOptions {
+    /// Caps on what the header may make the reader allocate.
+    pub limits: Limits,
+    /// Read as this format instead of detecting it from magic bytes and extension.
+    pub format: Option<Format>,
+    /// `(nx, ny)` of a raw file without a sidecar. Without either, a raw file must hold a square
+    /// number of samples (as Unity and Unreal heightmaps do).
+    pub raw_dims: Option<(usize, usize)>,
+    /// Units to give the grid, overriding the file (`.prj`, geo keys, metadata).
+    pub units: Option<Units>,
+    /// Position of sample `(0, 0)` (the south-west sample), overriding the file; needed for a `.hgt`
+    /// tile whose file name is not a tile name such as `N36W085`.
+    pub origin: Option<DVec2>,
+}
+
+impl ReadOptions {
+    /// The same options with other limits.
+    #[must_use]
+    pub fn with_limits(mut self, limits: Limits) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// The same options forcing `format`.
+    #[must_use]
+    pub fn with_format(mut self, format: Format) -> Self {
+        self.format = Some(format);
+        self
+    }
+
+    /// The same options with raw dimensions `nx × ny`.
+    #[must_use]
+    pub fn with_raw_dims(mut self, nx: usize, ny: usize) -> Self {
+        self.raw_dims = Some((nx, ny));
+        self
+    }
+
+    /// The same options forcing `units`.
+    #[must_use]
+    pub fn with_units(mut self, units: Units) -> Self {
+        self.units = Some(units);
+        self
+    }
+
+    /// The same options placing sample `(0, 0)` at `origin`.
+    #[must_use]
+    pub fn with_origin(mut self, origin: DVec2) -> Self {
+        self.origin = Some(origin);
+        self
+    }
+}
+
+/// How to write a file. `WriteOptions::default()` takes the format from the extension and writes
+/// the float formats uncompressed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub struct WriteOptions {
+    /// Write this format whatever the extension (e.g. [`Format::Png8`], which `.png` alone does
+    /// not select).
+    pub format: Option<Format>,
+    /// Compress the float formats: ZIP (16-line blocks) for `OpenEXR`, Deflate for `GeoTIFF`.
+    ///
+    /// Off by default: the low mantissa bits of generated terrain are noise, so on a 4096² field
+    /// ZIP saves about 10% for 35× the write time; whole-metre DEMs shrink several times, which is
+    /// when to turn it on. PNG is always deflated (with the fast `fdeflate` level); raw, ASCII and
+    /// `.hgt` have no compression.
+    pub compress: bool,
+}
+
+impl WriteOptions {
+    /// The same options forcing `format`.
+    #[must_use]
+    pub fn with_format(mut self, format: Format) -> Self {
+        self.format = Some(format);
+        self
+    }
+
+    /// The same options with compression of the float formats on or off.
+    #[must_use]
+    pub fn with_compress(mut self, compress: bool) -> Self {
+        self.compress = compress;
+        self
+    }
+}
+
+/// Reads a heightfield, detecting the format from magic bytes, then the extension.
+///
+/// # Errors
+/// Any [`IoErrorKind`]: [`IoErrorKind::Io`] for a missing file, [`IoErrorKind::UnknownFormat`],
+/// [`IoErrorKind::TooLarge`] for a header over [`Limits::default`], and the format's own decoding
+/// errors. The error's [`IoError::path`] names the file (or the sidecar at fault).
+pub fn read(path: impl AsRef<Path>) -> Result<Heightfield, IoError> {
+    read_with(path, &ReadOptions::default())
+}
+
+/// Reads a heightfield with explicit options.
+///
+/// Sidecars are read from beside the file: `<file>.json` for raw formats, `<stem>.prj` for ASCII
+/// grids (degrees when it describes a geographic CRS).
+///
+/// # Errors
+/// As [`read`].
+pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Heightfield, IoError> {
+    let path = path.as_ref();
+    let at = |kind| IoError::new(path, kind);
+    let bytes = std::fs::read(path).map_err(|e| at(IoErrorKind::Io(e)))?;
+    let format =
+        options.format.or_else(|| Format::detect(path, &bytes)).ok_or_else(|| at(IoErrorKind::UnknownFormat))?;
+    let hf = match format {
+        Format::R16 | Format::R32 => {
+            let sidecar_path = raw_sidecar_path(path);
+            let sidecar = read_small_text(&sidecar_path, 1 << 20)?
+                .map(|text| meta::Metadata::from_json(&text))
+                .transpose()
+                .map_err(|k| IoError::new(&sidecar_path, k))?;
+            let shape = raw::Shape { sidecar: sidecar.as_ref(), dims: options.raw_dims, sidecar_path };
+            raw::decode(&bytes, raw_kind(format), &shape, options.limits).map_err(at)?
+        }
+        Format::Asc => {
+            let hf = asc::decode(&bytes, options.limits).map_err(at)?;
+            let prj_path = path.with_extension("prj");
+            match read_small_text(&prj_path, 1 << 16)? {
+                Some(prj) if options.units.is_none() => {
+                    override_grid(hf, None, Some(asc::prj_units(&prj))).map_err(|k| IoError::new(&prj_path, k))?
+                }
+                _ => hf,
+            }
+        }
+        _ => decode_bytes(&bytes, format, path, options).map_err(at)?,
+    };
+    override_grid(hf, options.origin, options.units).map_err(at)
+}
+
+/// Decodes a file held in memory; `name` appears in errors and, for `.hgt`, gives the tile corner.
+///
+/// `options.format` is ignored in favour of `format`. Sidecars are not consulted: a raw file
+/// needs [`ReadOptions::raw_dims`] (or a square size) and reads as in [`Format::R16`]'s
+/// no-metadata convention; an ASCII grid reads in metres unless [`ReadOptions::units`] says
+/// otherwise. Suitable for fuzzing: no input makes it panic or allocate beyond its limits.
+///
+/// # Errors
+/// As [`read`], with `name` as the error's path.
+pub fn read_bytes(
+    bytes: &[u8],
+    format: Format,
+    name: impl AsRef<Path>,
+    options: &ReadOptions,
+) -> Result<Heightfield, IoError> {
+    let name = name.as_ref();
+    let at = |kind| IoError::new(name, kind);
+    let hf = decode_bytes(bytes, format, name, options).map_err(at)?;
+    override_grid(hf, options.origin, options.units).map_err(at)
+}
+
+fn decode_bytes(bytes: &[u8], format: Format, name: &Path, options: &ReadOptions) -> Result<Heightfield, IoErrorKind> {
+    let limits = options.limits;
+    match format {
+        #[cfg(feature = "png")]
+        Format::Png8 | Format::Png16 => png_gray::decode(bytes, limits),
+        #[cfg(feature = "exr")]
+        Format::Exr => openexr::decode(bytes, limits),
+        #[cfg(feature = "geotiff")]
+        Format::GeoTiff => geotiff::decode(bytes, limits),
+        Format::R16 | Format::R32 => {
+            let shape = raw::Shape { sidecar: None, dims: options.raw_dims, sidecar_path: raw_sidecar_path(name) };
+            raw::decode(bytes, raw_kind(format), &shape, limits)
+        }
+        Format::Asc => asc::decode(bytes, limits),
+        Format::Hgt => hgt::decode(bytes, name, options.origin, limits),
+        #[allow(unreachable_patterns, reason = "reached only when a codec feature is off")]
+        _ => Err(disabled(format)),
+    }
+}
+
+/// Writes a heightfield atomically, the format taken from the extension (`.png` → 16-bit).
+///
+/// Raw formats also write `<file>.json`, ASCII grids `<stem>.prj`; each file is replaced
+/// atomically on its own (the data file first), not the pair together.
+///
+/// # Errors
+/// [`IoErrorKind::UnknownFormat`] for an unknown extension, [`IoErrorKind::Io`] when the directory
+/// is missing or not writable, [`IoErrorKind::OutOfRange`] / [`IoErrorKind::Unsupported`] when the
+/// format cannot hold the field (`.hgt` above 32767 m or not 1201²/3601²).
+pub fn write(path: impl AsRef<Path>, hf: &Heightfield) -> Result<(), IoError> {
+    write_with(path, hf, &WriteOptions::default())
+}
+
+/// Writes a heightfield atomically with explicit options.
+///
+/// # Errors
+/// As [`write()`].
+pub fn write_with(path: impl AsRef<Path>, hf: &Heightfield, options: &WriteOptions) -> Result<(), IoError> {
+    let path = path.as_ref();
+    let at = |kind| IoError::new(path, kind);
+    let format =
+        options.format.or_else(|| Format::from_extension(path)).ok_or_else(|| at(IoErrorKind::UnknownFormat))?;
+    match format {
+        Format::R16 | Format::R32 => {
+            let (bytes, meta) = raw::encode(hf, raw_kind(format));
+            atomic::write(path, &bytes)?;
+            atomic::write(&raw_sidecar_path(path), meta.to_json().as_bytes())
+        }
+        Format::Asc => {
+            atomic::write(path, &asc::encode(hf))?;
+            atomic::write(&path.with_extension("prj"), asc::prj_text(hf.grid().units()).as_bytes())
+        }
+        Format::Hgt => atomic::write(path, &hgt::encode(hf, Some(path)).map_err(at)?),
+        _ => atomic::write(path, &encode_bytes(hf, format, options.compress).map_err(at)?),
+    }
+}
+
+/// Encodes a heightfield in memory, with [`WriteOptions::default`] (no compression).
+///
+/// Only the main file: raw formats lose their `.json` sidecar (so an r16 read back is normalised
+/// to `[0, 1]` on a plain grid) and ASCII grids their `.prj`; `.hgt` skips the check that the grid
+/// sits on the tile its file name names.
+///
+/// # Errors
+/// As [`write()`], with `<memory>` as the error's path.
+pub fn write_bytes(hf: &Heightfield, format: Format) -> Result<Vec<u8>, IoError> {
+    encode_bytes(hf, format, false).map_err(|k| IoError::new("<memory>", k))
+}
+
+fn encode_bytes(hf: &Heightfield, format: Format, compress: bool) -> Result<Vec<u8>, IoErrorKind> {
+    // Only the float codecs read it; without them it is unused.
+    let _ = compress;
+    match format {
+        #[cfg(feature = "png")]
+        Format::Png8 => png_gray::encode(hf, 8),
+        #[cfg(feature = "png")]
+        Format::Png16 => png_gray::encode(hf, 16),
+        #[cfg(feature = "exr")]
+        Format::Exr => openexr::encode(hf, compress),
+        #[cfg(feature = "geotiff")]
+        Format::GeoTiff => geotiff::encode(hf, compress),
+        Format::R16 | Format::R32 => Ok(raw::encode(hf, raw_kind(format)).0),
+        Format::Asc => Ok(asc::encode(hf)),
+        Format::Hgt => hgt::encode(hf, None),
+        #[allow(unreachable_patterns, reason = "reached only when a codec feature is off")]
+        _ => Err(disabled(format)),
+    }
+}
+
+/// Writes a [`shaded_relief`] of `hf` as an RGB PNG, atomically.
+///
+/// # Errors
+/// [`IoErrorKind::Io`] when the file cannot be written, [`IoErrorKind::Unsupported`] or
+/// [`IoErrorKind::Encode`] if the image is too large for PNG.
+#[cfg(feature = "png")]
+pub fn write_preview_png(path: impl AsRef<Path>, hf: &Heightfield, options: &ShadeOptions) -> Result<(), IoError> {
+    let path = path.as_ref();
+    let image = shaded_relief(hf, options);
+    let too_big = || IoError::new(path, IoErrorKind::Unsupported("preview exceeds the PNG size limit".to_owned()));
+    let w = u32::try_from(image.width).map_err(|_| too_big())?;
+    let h = u32::try_from(image.height).map_err(|_| too_big())?;
+    let bytes = png_gray::encode_rgb(w, h, &image.pixels).map_err(|k| IoError::new(path, k))?;
+    atomic::write(path, &bytes)
+}
+
+fn disabled(format: Format) -> IoErrorKind {
+    IoErrorKind::FormatDisabled { format, feature: format.feature().unwrap_or("default") }
+}
+
+fn raw_kind(format: Format) -> RawKind {
+    if format == Format::R32 { RawKind::R32 } else { RawKind::R16 }
+}
+
+/// `terrain.r16` → `terrain.r16.json`.
+fn raw_sidecar_path(path: &Path) -> PathBuf {
+    let mut s: OsString = path.as_os_str().to_owned();
+    s.push(".json");
+    PathBuf::from(s)
+}
+
+/// A sidecar's text, `None` if it does not exist; at most `max` bytes are accepted.
+fn read_small_text(path: &Path, max: u64) -> Result<Option<String>, IoError> {
+    let at = |kind| IoError::new(path, kind);
+    let file = match std::fs::File::open(path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(at(IoErrorKind::Io(e))),
+    };
+    let mut text = String::new();
+    file.take(max + 1).read_to_string(&mut text).map_err(|e| at(IoErrorKind::Io(e)))?;
+    if text.len() as u64 > max {
+        return Err(at(IoErrorKind::InvalidMetadata(format!("sidecar is larger than {max} bytes"))));
+    }
+    Ok(Some(text))
+}
+
+/// Applies the origin and units overrides of [`ReadOptions`].
+fn override_grid(hf: Heightfield, origin: Option<DVec2>, units: Option<Units>) -> Result<Heightfield, IoErrorKind> {
+    if origin.is_none() && units.is_none() {
+        return Ok(hf);
+    }
+    let g = *hf.grid();
+    let grid = GridSpec::new(g.nx(), g.ny(), origin.unwrap_or(g.origin()), g.cell_size())
+        .and_then(|n| n.with_units(units.unwrap_or(g.units())))
+        .map_err(|e| IoErrorKind::InvalidMetadata(e.to_string()))?;
+    Ok(Heightfield::from_samples(grid, hf.into_samples())?)
+}

@@ -14,6 +14,9 @@
 //! - [`Units::Degrees`] grids are (longitude, latitude) and measure ground distances in metres with
 //!   the WGS84 radii at each row's latitude, so slopes of an SRTM tile are true slopes.
 //!
+//! Shared grid utilities: [`distance_transform`] (exact Euclidean, O(samples)) and the [`noise`]
+//! module (seeded gradient noise and fBm) that the generators share.
+//!
 //! ```
 //! use glam::DVec2;
 //! use relief_heightfield::{Extent, GridSpec, Heightfield};
@@ -31,10 +34,13 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod distance;
 mod error;
 mod grid;
 mod heightfield;
+pub mod noise;
 
+pub use distance::distance_transform;
 pub use error::HeightfieldError;
 pub use grid::{Extent, GridSpec, MAX_SAMPLES, Units, metres_per_degree};
 pub use heightfield::{Heightfield, Statistics};

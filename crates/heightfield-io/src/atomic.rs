@@ -1,0 +1,26 @@
+//! Atomic file replacement: write a temporary file beside the target, sync it, rename it over.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::{IoError, IoErrorKind};
+
+/// Writes `bytes` to `path` so that readers see either the old file or the complete new one.
+///
+/// The temporary file lives in the target's directory (a rename across file systems would not be
+/// atomic) and is named `.<name>.<random>.tmp`; on any failure it is removed and no file appears
+/// under the final name.
+pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    let err = |e: std::io::Error| IoError::new(path, IoErrorKind::Io(e));
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let prefix = format!(".{}.", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
+    let mut tmp = tempfile::Builder::new().prefix(&prefix).suffix(".tmp").tempfile_in(dir).map_err(err)?;
+    tmp.write_all(bytes).map_err(err)?;
+    tmp.as_file().sync_all().map_err(err)?;
+    // On failure `PersistError` hands the temporary file back; dropping it deletes it.
+    tmp.persist(path).map_err(|e| err(e.error))?;
+    Ok(())
+}

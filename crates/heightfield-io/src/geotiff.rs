@@ -1,0 +1,249 @@
+//! Single-band `GeoTIFF` via the `tiff` crate: read 8–64-bit integer and float samples, write f32 with
+//! `ModelPixelScale`, `ModelTiepoint`, `GeoKeyDirectory` (`PixelIsPoint`) and `GDAL_NODATA`.
+
+use std::io::{Cursor, Seek, Write};
+
+use glam::DVec2;
+use relief_heightfield::{GridSpec, Heightfield, Units};
+use tiff::decoder::{Decoder, DecodingResult};
+use tiff::encoder::colortype::Gray32Float;
+use tiff::encoder::compression::DeflateLevel;
+use tiff::encoder::{Compression, TiffEncoder, TiffKind, TiffKindBig, TiffKindStandard};
+use tiff::tags::Tag;
+use tiff::{ColorType, TiffError};
+
+use crate::error::decode_io;
+use crate::meta::{flip_rows, north_up, plain_grid};
+use crate::{IoErrorKind, Limits};
+
+/// `GeoKey` ids and values (`GeoTIFF` 1.0 §6.3).
+const GT_MODEL_TYPE: u16 = 1024;
+const GT_RASTER_TYPE: u16 = 1025;
+const GEOGRAPHIC_TYPE: u16 = 2048;
+const MODEL_PROJECTED: u16 = 1;
+const MODEL_GEOGRAPHIC: u16 = 2;
+const RASTER_PIXEL_IS_POINT: u16 = 2;
+const GCS_WGS_84: u16 = 4326;
+
+fn tiff_error(e: TiffError, found: usize) -> IoErrorKind {
+    match e {
+        TiffError::IoError(e) => decode_io(&e, found),
+        TiffError::UnsupportedError(u) => IoErrorKind::Unsupported(format!("TIFF {u}")),
+        TiffError::LimitsExceeded => {
+            IoErrorKind::Decode("the TIFF decoder's memory limit was exceeded (raise Limits::max_cells)".to_owned())
+        }
+        other => IoErrorKind::Decode(other.to_string()),
+    }
+}
+
+/// The geo tags read from the first image directory.
+#[derive(Default)]
+struct GeoTags {
+    scale: Option<Vec<f64>>,
+    tiepoint: Option<Vec<f64>>,
+    transform: Option<Vec<f64>>,
+    keys: Option<Vec<u16>>,
+    nodata: Option<String>,
+}
+
+impl GeoTags {
+    fn read<R: std::io::Read + Seek>(dec: &mut Decoder<R>, found: usize) -> Result<Self, IoErrorKind> {
+        let err = |e| tiff_error(e, found);
+        let doubles = |dec: &mut Decoder<R>, tag| -> Result<Option<Vec<f64>>, IoErrorKind> {
+            dec.find_tag(tag).map_err(err)?.map(|v| v.into_f64_vec().map_err(err)).transpose()
+        };
+        Ok(Self {
+            scale: doubles(dec, Tag::ModelPixelScaleTag)?,
+            tiepoint: doubles(dec, Tag::ModelTiepointTag)?,
+            transform: doubles(dec, Tag::ModelTransformationTag)?,
+            keys: dec
+                .find_tag(Tag::GeoKeyDirectoryTag)
+                .map_err(err)?
+                .map(|v| v.into_u16_vec().map_err(err))
+                .transpose()?,
+            nodata: dec.find_tag(Tag::GdalNodata).map_err(err)?.map(|v| v.into_string().map_err(err)).transpose()?,
+        })
+    }
+
+    /// The inline value of `GeoKey` `id` (keys stored in other tags are not needed here).
+    fn key(&self, id: u16) -> Option<u16> {
+        let keys = self.keys.as_deref()?;
+        let n = usize::from(*keys.get(3)?);
+        keys.get(4..4 + 4 * n)?.chunks_exact(4).find(|k| k[0] == id && k[1] == 0).map(|k| k[3])
+    }
+
+    fn nodata(&self) -> Result<Option<f64>, IoErrorKind> {
+        let Some(s) = &self.nodata else { return Ok(None) };
+        let s = s.trim_matches(|c: char| c == '\0' || c.is_whitespace());
+        s.parse::<f64>()
+            .map(Some)
+            .map_err(|_| IoErrorKind::InvalidMetadata(format!("GDAL_NODATA {s:?} is not a number")))
+    }
+
+    fn grid(&self, nx: usize, ny: usize) -> Result<GridSpec, IoErrorKind> {
+        let bad = |m: String| IoErrorKind::InvalidMetadata(m);
+        // (sx, sy, raster i, raster j, model x, model y) of one tiepoint.
+        let placement = match (&self.scale, &self.tiepoint, &self.transform) {
+            (Some(s), Some(t), _) => {
+                if s.len() < 2 || t.len() < 6 {
+                    return Err(bad(format!("ModelPixelScale has {} values and ModelTiepoint {}", s.len(), t.len())));
+                }
+                (s[0], s[1], t[0], t[1], t[3], t[4])
+            }
+            (_, _, Some(m)) if m.len() == 16 => {
+                if m[1] != 0.0 || m[4] != 0.0 {
+                    return Err(IoErrorKind::Unsupported("rotated or sheared ModelTransformation".to_owned()));
+                }
+                (m[0], -m[5], 0.0, 0.0, m[3], m[7])
+            }
+            (_, _, Some(m)) => return Err(bad(format!("ModelTransformation has {} values, not 16", m.len()))),
+            _ => return plain_grid(nx, ny),
+        };
+        let (sx, sy, ti, tj, tx, ty) = placement;
+        if !(sx > 0.0 && sy > 0.0 && sx.is_finite() && sy.is_finite()) {
+            return Err(IoErrorKind::Unsupported(format!("pixel scale ({sx}, {sy}): only north-up rasters are read")));
+        }
+        // PixelIsArea (the default) puts raster (0, 0) at the corner of the first pixel, whose
+        // centre — our sample — is half a pixel in; PixelIsPoint puts it on the sample itself.
+        let half = if self.key(GT_RASTER_TYPE) == Some(RASTER_PIXEL_IS_POINT) { 0.0 } else { 0.5 };
+        // Our origin is the south-west sample, raster (half, ny − 1 + half); subtracting the
+        // tiepoint's raster position first keeps a tiepoint placed on that sample exact.
+        let origin = DVec2::new(tx + (half - ti) * sx, ty - ((ny - 1) as f64 + half - tj) * sy);
+        let units = if self.key(GT_MODEL_TYPE) == Some(MODEL_GEOGRAPHIC) { Units::Degrees } else { Units::Metres };
+        GridSpec::new(nx, ny, origin, DVec2::new(sx, sy))
+            .and_then(|g| g.with_units(units))
+            .map_err(|e| bad(e.to_string()))
+    }
+}
+
+/// Converts decoded samples to f32, mapping the no-data value to NaN.
+fn to_f32<T: Copy>(v: Vec<T>, nodata: Option<f64>, f: impl Fn(T) -> f64) -> Vec<f32> {
+    match nodata {
+        None => v.into_iter().map(|x| f(x) as f32).collect(),
+        Some(nd) => v
+            .into_iter()
+            .map(|x| {
+                let x = f(x);
+                // Float rasters often carry a nodata string that only matches after rounding to f32.
+                if x == nd || x as f32 == nd as f32 { f32::NAN } else { x as f32 }
+            })
+            .collect(),
+    }
+}
+
+pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErrorKind> {
+    let found = bytes.len();
+    let err = |e| tiff_error(e, found);
+    let mut tiff_limits = tiff::decoder::Limits::default();
+    // f64 is the widest sample type we convert.
+    tiff_limits.decoding_buffer_size = limits.byte_budget(8, 0);
+    let mut dec = Decoder::new(Cursor::new(bytes)).map_err(err)?.with_limits(tiff_limits);
+    let (w, h) = dec.dimensions().map_err(err)?;
+    let cells = limits.check(u64::from(w), u64::from(h))?;
+    match dec.colortype().map_err(err)? {
+        ColorType::Gray(_) => {}
+        other => {
+            return Err(IoErrorKind::Unsupported(format!("TIFF of {other:?}: only single-band rasters are read")));
+        }
+    }
+    let spp = dec.find_tag_unsigned::<u16>(Tag::SamplesPerPixel).map_err(err)?.unwrap_or(1);
+    if spp != 1 {
+        return Err(IoErrorKind::Unsupported(format!(
+            "TIFF with {spp} samples per pixel: only single-band rasters are read"
+        )));
+    }
+    let compression = dec.find_tag_unsigned::<u16>(Tag::Compression).map_err(err)?.unwrap_or(1);
+    let bits = dec.find_tag_unsigned::<u16>(Tag::BitsPerSample).map_err(err)?.unwrap_or(1);
+    if compression == 1 {
+        // Uncompressed: the file must hold every sample before we allocate for them.
+        let needed = (cells as u64).saturating_mul(u64::from(bits)) / 8;
+        if (found as u64) < needed {
+            return Err(IoErrorKind::Truncated { expected_bytes: Some(needed), found_bytes: found as u64 });
+        }
+    }
+    let geo = GeoTags::read(&mut dec, found)?;
+    let grid = geo.grid(w as usize, h as usize)?;
+    let nd = geo.nodata()?;
+    let mut samples = match dec.read_image().map_err(err)? {
+        DecodingResult::F32(v) => to_f32(v, nd, f64::from),
+        DecodingResult::F64(v) => to_f32(v, nd, |x| x),
+        DecodingResult::F16(v) => to_f32(v, nd, |x| f64::from(x.to_f32())),
+        DecodingResult::U8(v) => to_f32(v, nd, f64::from),
+        DecodingResult::I8(v) => to_f32(v, nd, f64::from),
+        DecodingResult::U16(v) => to_f32(v, nd, f64::from),
+        DecodingResult::I16(v) => to_f32(v, nd, f64::from),
+        DecodingResult::U32(v) => to_f32(v, nd, f64::from),
+        DecodingResult::I32(v) => to_f32(v, nd, f64::from),
+        DecodingResult::U64(v) => to_f32(v, nd, |x| x as f64),
+        DecodingResult::I64(v) => to_f32(v, nd, |x| x as f64),
+    };
+    if samples.len() != cells {
+        return Err(IoErrorKind::HeaderMismatch(format!("TIFF is {w}x{h} but decoded to {} samples", samples.len())));
+    }
+    flip_rows(&mut samples, w as usize);
+    Ok(Heightfield::from_samples(grid, samples)?)
+}
+
+fn write_image<W: Write + Seek, K: TiffKind>(
+    mut enc: TiffEncoder<W, K>,
+    hf: &Heightfield,
+    w: u32,
+    h: u32,
+) -> Result<(), TiffError> {
+    let g = hf.grid();
+    let mut image = enc.new_image::<Gray32Float>(w, h)?;
+    let dir = image.encoder();
+    let (s, o) = (g.cell_size(), g.origin());
+    dir.write_tag(Tag::ModelPixelScaleTag, &[s.x, s.y, 0.0][..])?;
+    // The tiepoint sits on the south-west sample so that reading it back gives our origin exactly.
+    dir.write_tag(Tag::ModelTiepointTag, &[0.0, (hf.ny() - 1) as f64, 0.0, o.x, o.y, 0.0][..])?;
+    let keys: Vec<u16> = match g.units() {
+        Units::Degrees => vec![
+            1,
+            1,
+            0,
+            3,
+            GT_MODEL_TYPE,
+            0,
+            1,
+            MODEL_GEOGRAPHIC,
+            GT_RASTER_TYPE,
+            0,
+            1,
+            RASTER_PIXEL_IS_POINT,
+            GEOGRAPHIC_TYPE,
+            0,
+            1,
+            GCS_WGS_84,
+        ],
+        Units::Metres => {
+            vec![1, 1, 0, 2, GT_MODEL_TYPE, 0, 1, MODEL_PROJECTED, GT_RASTER_TYPE, 0, 1, RASTER_PIXEL_IS_POINT]
+        }
+    };
+    dir.write_tag(Tag::GeoKeyDirectoryTag, &keys[..])?;
+    if hf.has_no_data() {
+        dir.write_tag(Tag::GdalNodata, "nan")?;
+    }
+    image.write_data(&north_up(hf, |_, _, v| v))
+}
+
+/// Encodes f32 samples, uncompressed or deflated when `compress` is set.
+pub(crate) fn encode(hf: &Heightfield, compress: bool) -> Result<Vec<u8>, IoErrorKind> {
+    let (nx, ny) = (hf.nx(), hf.ny());
+    let (Ok(w), Ok(h)) = (u32::try_from(nx), u32::try_from(ny)) else {
+        return Err(IoErrorKind::Unsupported(format!("{nx}x{ny} exceeds the TIFF size limit")));
+    };
+    let enc_err = |e: TiffError| IoErrorKind::Encode(e.to_string());
+    let compression = if compress { Compression::Deflate(DeflateLevel::Balanced) } else { Compression::Uncompressed };
+    let mut out = Cursor::new(Vec::new());
+    // Classic TIFF addresses 4 GiB; leave room for the directory and switch to BigTIFF beyond.
+    if (nx * ny) as u64 * 4 < u64::from(u32::MAX) - (1 << 20) {
+        let enc = TiffEncoder::<_, TiffKindStandard>::new_generic(&mut out).map_err(enc_err)?;
+        write_image(enc.with_compression(compression), hf, w, h)
+    } else {
+        let enc = TiffEncoder::<_, TiffKindBig>::new_generic(&mut out).map_err(enc_err)?;
+        write_image(enc.with_compression(compression), hf, w, h)
+    }
+    .map_err(enc_err)?;
+    Ok(out.into_inner())
+}

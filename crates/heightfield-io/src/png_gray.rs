@@ -1,0 +1,156 @@
+//! 8- and 16-bit grayscale PNG heightmaps, quantised over the field's min/max, with the real
+//! elevations and geometry in a `relief` tEXt chunk.
+
+use std::io::Cursor;
+
+use relief_heightfield::Heightfield;
+
+use crate::error::decode_io;
+use crate::meta::{Metadata, Quantiser, flip_rows, plain_grid};
+use crate::{IoErrorKind, Limits};
+
+/// Keyword of the text chunk holding the JSON [`Metadata`].
+pub(crate) const KEYWORD: &str = "relief";
+
+fn decode_error(e: png::DecodingError, found: usize) -> IoErrorKind {
+    match e {
+        png::DecodingError::IoError(e) => decode_io(&e, found),
+        png::DecodingError::LimitsExceeded => {
+            IoErrorKind::Decode("the PNG decoder's memory limit was exceeded (raise Limits::max_cells)".to_owned())
+        }
+        other => IoErrorKind::Decode(other.to_string()),
+    }
+}
+
+/// The `relief` metadata of a decoded PNG, if any (tEXt, zTXt or iTXt).
+fn find_metadata(info: &png::Info<'_>) -> Result<Option<Metadata>, IoErrorKind> {
+    let bad = |e: png::DecodingError| IoErrorKind::InvalidMetadata(format!("relief text chunk: {e}"));
+    if let Some(t) = info.uncompressed_latin1_text.iter().find(|t| t.keyword == KEYWORD) {
+        return Metadata::from_json(&t.text).map(Some);
+    }
+    if let Some(t) = info.compressed_latin1_text.iter().find(|t| t.keyword == KEYWORD) {
+        // Metadata is a few hundred bytes; a chunk that inflates past 64 KiB is not ours.
+        let mut t = t.clone();
+        t.decompress_text_with_limit(1 << 16).map_err(bad)?;
+        return Metadata::from_json(&t.get_text().map_err(bad)?).map(Some);
+    }
+    if let Some(t) = info.utf8_text.iter().find(|t| t.keyword == KEYWORD) {
+        let mut t = t.clone();
+        t.decompress_text_with_limit(1 << 16).map_err(bad)?;
+        return Metadata::from_json(&t.get_text().map_err(bad)?).map(Some);
+    }
+    Ok(None)
+}
+
+pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErrorKind> {
+    let found = bytes.len();
+    let budget = png::Limits { bytes: limits.byte_budget(2, 16 << 20) };
+    let mut decoder = png::Decoder::new_with_limits(Cursor::new(bytes), budget);
+    let header = decoder.read_header_info().map_err(|e| decode_error(e, found))?;
+    let (w, h) = (header.width, header.height);
+    limits.check(u64::from(w), u64::from(h))?;
+    let bits = match (header.color_type, header.bit_depth) {
+        (png::ColorType::Grayscale, png::BitDepth::Eight) => 8u32,
+        (png::ColorType::Grayscale, png::BitDepth::Sixteen) => 16,
+        (ct, bd) => {
+            return Err(IoErrorKind::Unsupported(format!(
+                "PNG is {ct:?} at {} bits per sample; heightmaps must be 8- or 16-bit grayscale",
+                bd as u8
+            )));
+        }
+    };
+    let mut reader = decoder.read_info().map_err(|e| decode_error(e, found))?;
+    let len = reader
+        .output_buffer_size()
+        .ok_or_else(|| IoErrorKind::TooLarge { cells: u64::from(w) * u64::from(h), limit: limits.max_cells })?;
+    // Deflate cannot compress better than about 1032:1, so a file shorter than that fraction of
+    // the image it announces is lying about its size: refuse before allocating.
+    if (found as u64).saturating_mul(1032) < len as u64 {
+        return Err(IoErrorKind::HeaderMismatch(format!(
+            "header announces {w}x{h} samples ({len} bytes) but the file holds only {found} bytes"
+        )));
+    }
+    let mut buf = vec![0u8; len];
+    reader.next_frame(&mut buf).map_err(|e| decode_error(e, found))?;
+    // Reads the chunks after the image data too (a text chunk may follow IDAT) and catches files
+    // cut before IEND.
+    reader.finish().map_err(|e| decode_error(e, found))?;
+    let info = reader.info();
+    let meta = find_metadata(info)?;
+    let (nx, ny) = (w as usize, h as usize);
+    let code = |k: usize| -> u32 {
+        if bits == 8 { u32::from(buf[k]) } else { u32::from(u16::from_be_bytes([buf[2 * k], buf[2 * k + 1]])) }
+    };
+    let max_code = (1u32 << bits) - 1;
+    let (grid, mut samples) = if let Some(m) = meta {
+        let grid = m.grid(nx, ny)?;
+        let q = m.quantiser(max_code)?;
+        let mut samples = Vec::with_capacity(nx * ny);
+        for k in 0..nx * ny {
+            samples.push(q.decode(code(k))?);
+        }
+        (grid, samples)
+    } else {
+        // A plain grayscale image: code / max_code, with the tRNS gray level (if any) as no-data.
+        let transparent =
+            info.trns.as_deref().filter(|t| t.len() >= 2).map(|t| u32::from(u16::from_be_bytes([t[0], t[1]])));
+        let scale = max_code as f32;
+        let samples = (0..nx * ny)
+            .map(|k| match code(k) {
+                c if Some(c) == transparent => f32::NAN,
+                c => c as f32 / scale,
+            })
+            .collect();
+        (plain_grid(nx, ny)?, samples)
+    };
+    flip_rows(&mut samples, nx);
+    Ok(Heightfield::from_samples(grid, samples)?)
+}
+
+pub(crate) fn encode(hf: &Heightfield, bits: u8) -> Result<Vec<u8>, IoErrorKind> {
+    let enc_err = |e: png::EncodingError| IoErrorKind::Encode(e.to_string());
+    let (nx, ny) = (hf.nx(), hf.ny());
+    let (w, h) = (u32::try_from(nx), u32::try_from(ny));
+    let (Ok(w), Ok(h)) = (w, h) else {
+        return Err(IoErrorKind::Unsupported(format!("{nx}x{ny} exceeds the PNG size limit")));
+    };
+    let max_code = (1u32 << bits) - 1;
+    let q = Quantiser::for_field(hf, max_code);
+    let meta = Metadata::describe(hf, if bits == 8 { "png8" } else { "png16" }, true);
+    let mut data = Vec::with_capacity(nx * ny * usize::from(bits / 8));
+    for j in (0..ny).rev() {
+        for &v in hf.row(j) {
+            let c = q.encode(v);
+            if bits == 8 {
+                data.push(c as u8);
+            } else {
+                data.extend_from_slice(&(c as u16).to_be_bytes());
+            }
+        }
+    }
+    let mut out = Vec::with_capacity(data.len() / 2 + 1024);
+    let mut encoder = png::Encoder::new(&mut out, w, h);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(if bits == 8 { png::BitDepth::Eight } else { png::BitDepth::Sixteen });
+    // fdeflate: several times faster than zlib level 6 for a few percent larger files.
+    encoder.set_compression(png::Compression::Fast);
+    encoder.add_text_chunk(KEYWORD.to_owned(), meta.to_json()).map_err(enc_err)?;
+    let mut writer = encoder.write_header().map_err(enc_err)?;
+    writer.write_image_data(&data).map_err(enc_err)?;
+    writer.finish().map_err(enc_err)?;
+    Ok(out)
+}
+
+/// Encodes an 8-bit RGB image (used by the shaded-relief preview).
+pub(crate) fn encode_rgb(width: u32, height: u32, pixels: &[u8]) -> Result<Vec<u8>, IoErrorKind> {
+    let enc_err = |e: png::EncodingError| IoErrorKind::Encode(e.to_string());
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    let mut writer = encoder.write_header().map_err(enc_err)?;
+    writer.write_image_data(pixels).map_err(enc_err)?;
+    writer.finish().map_err(enc_err)?;
+    Ok(out)
+}

@@ -1,0 +1,548 @@
+//! Bad input, format detection and atomic writes: every failure is a typed error naming the file,
+//! never a panic, and never a half-written file.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{dir_entries, fixture, small_field};
+use glam::DVec2;
+use relief_heightfield::{GridSpec, Heightfield, HeightfieldError};
+use relief_heightfield_io::{
+    Format, IoError, IoErrorKind, Limits, ReadOptions, WriteOptions, read, read_bytes, read_with, write, write_bytes,
+    write_with,
+};
+
+fn tiny_limits(max_cells: u64) -> ReadOptions {
+    ReadOptions::default().with_limits(Limits::default().with_max_cells(max_cells))
+}
+
+/// Writes `bytes` to `dir/name` and reads it back with `options`, expecting an error.
+#[track_caller]
+fn read_error(dir: &Path, name: &str, bytes: &[u8], options: &ReadOptions) -> IoError {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    let err = read_with(&path, options).expect_err("reading should fail");
+    // Every error names its file.
+    assert!(err.to_string().contains(name), "{err}");
+    err
+}
+
+// --- Files under tests/bad/, each named for its expected error ------------------------------------
+
+#[track_caller]
+fn check(file: &str, expected: impl Fn(&IoErrorKind) -> bool) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/bad").join(file);
+    let err = read(&path).expect_err(file);
+    assert!(expected(err.kind()), "{file}: unexpected {err}");
+    assert_eq!(err.path(), path);
+}
+
+#[test]
+fn stored_bad_ascii_grids_give_their_documented_errors() {
+    check("missing_values.asc", |k| {
+        matches!(k, IoErrorKind::MissingValues { expected: 12, found: 10, row: 3, col: 3 })
+    });
+    check(
+        "garbage_token.asc",
+        |k| matches!(k, IoErrorKind::InvalidToken { line: 8, row: 2, col: 2, token } if token == "12x"),
+    );
+    check("trailing_data.asc", |k| matches!(k, IoErrorKind::TrailingData { line: 9, token } if token == "oops"));
+    check("no_ncols.asc", |k| matches!(k, IoErrorKind::InvalidMetadata(m) if m.contains("ncols")));
+    check("duplicate_key.asc", |k| matches!(k, IoErrorKind::InvalidMetadata(m) if m.contains("twice")));
+    check("bad_header_value.asc", |k| matches!(k, IoErrorKind::InvalidMetadata(m) if m.contains("positive integer")));
+    check(
+        "over_limit.asc",
+        |k| matches!(k, IoErrorKind::TooLarge { cells: 10_000_000_000, limit } if *limit == 1 << 30),
+    );
+    // 900 million cells fit the limit but not the 60-odd bytes that follow: the reader reports
+    // the missing values without reserving 3.6 GB first.
+    check("lying_header.asc", |k| {
+        matches!(k, IoErrorKind::MissingValues { expected: 900_000_000, found: 4, row: 1, col: 5 })
+    });
+    check("infinite.asc", |k| matches!(k, IoErrorKind::InvalidToken { row: 1, col: 2, .. }));
+}
+
+// --- Generated bad input ---------------------------------------------------------------------------
+
+#[test]
+fn nonexistent_file_is_an_io_error_naming_it() {
+    let err = read("/definitely/not/here/dem.tif").unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::Io(e) if e.kind() == std::io::ErrorKind::NotFound), "{err}");
+    assert!(err.to_string().starts_with("/definitely/not/here/dem.tif: "), "{err}");
+    assert!(std::error::Error::source(&err).is_some());
+}
+
+#[test]
+fn unknown_extension_without_magic_is_unknown_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let err = read_error(dir.path(), "dem.xyz", b"\x01\x02\x03\x04 not a heightfield", &ReadOptions::default());
+    assert!(matches!(err.kind(), IoErrorKind::UnknownFormat), "{err}");
+    let err = write(dir.path().join("out.xyz"), &small_field(3, 3)).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::UnknownFormat), "{err}");
+    assert!(!dir.path().join("out.xyz").exists());
+}
+
+#[test]
+fn truncated_raw_with_sidecar_names_expected_and_found_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.r16");
+    write(&path, &small_field(5, 4)).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    std::fs::write(&path, &bytes[..33]).unwrap();
+    let err = read(&path).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::Truncated { expected_bytes: Some(40), found_bytes: 33 }), "{err}");
+    std::fs::write(&path, [bytes.as_slice(), &[0, 0]].concat()).unwrap();
+    let err = read(&path).unwrap_err();
+    assert!(
+        matches!(err.kind(), IoErrorKind::WrongSize { found_bytes: 42, accepted_bytes } if accepted_bytes == &[40])
+    );
+}
+
+#[test]
+fn raw_without_sidecar_needs_dims_or_a_square_size() {
+    let dir = tempfile::tempdir().unwrap();
+    // 3 samples: not square.
+    let err = read_error(dir.path(), "odd.r32", &[0u8; 12], &ReadOptions::default());
+    assert!(
+        matches!(err.kind(), IoErrorKind::MissingSidecar { sidecar } if sidecar.ends_with("odd.r32.json")),
+        "{err}"
+    );
+    // 4 samples: a 2×2 Unity-style heightmap in [0, 1].
+    std::fs::write(dir.path().join("sq.raw"), [0u8, 0, 255, 255, 0, 128, 255, 127]).unwrap();
+    let hf = read(dir.path().join("sq.raw")).unwrap();
+    assert_eq!((hf.nx(), hf.ny()), (2, 2));
+    assert_eq!(hf.value(1, 1), 1.0, "first file sample is the north-west... east: 0xffff");
+    assert_eq!(hf.value(0, 1), 0.0);
+    // Explicit dims that the length contradicts.
+    let err = read_error(dir.path(), "dims.r32", &[0u8; 16], &ReadOptions::default().with_raw_dims(3, 2));
+    assert!(matches!(err.kind(), IoErrorKind::Truncated { expected_bytes: Some(24), found_bytes: 16 }), "{err}");
+    // Dims over the limit are refused before the length is even looked at.
+    let err = read_error(dir.path(), "big.r16", &[0u8; 8], &tiny_limits(100).with_raw_dims(1000, 1000));
+    assert!(matches!(err.kind(), IoErrorKind::TooLarge { cells: 1_000_000, limit: 100 }), "{err}");
+    // An empty file.
+    let err = read_error(dir.path(), "empty.r16", &[], &ReadOptions::default());
+    assert!(matches!(err.kind(), IoErrorKind::Truncated { expected_bytes: None, found_bytes: 0 }), "{err}");
+}
+
+#[test]
+fn raw_sidecar_problems_name_the_sidecar() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.r16");
+    write(&path, &small_field(4, 4)).unwrap();
+    let sidecar = dir.path().join("s.r16.json");
+    let json = std::fs::read_to_string(&sidecar).unwrap();
+
+    std::fs::write(&sidecar, "{ not json").unwrap();
+    let err = read(&path).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::InvalidMetadata(_)), "{err}");
+    assert_eq!(err.path(), sidecar);
+
+    std::fs::write(&sidecar, json.replace("\"r16\"", "\"r32\"")).unwrap();
+    let err = read(&path).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::HeaderMismatch(m) if m.contains("r32")), "{err}");
+
+    std::fs::write(&sidecar, json.replace("\"cell_size\":[2.5,5.0]", "\"cell_size\":[-2.5,5.0]")).unwrap();
+    let err = read(&path).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::InvalidMetadata(m) if m.contains("cell size")), "{err}");
+
+    std::fs::write(&sidecar, json.replace("\"format_version\":1", "\"format_version\":7")).unwrap();
+    let err = read(&path).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::Unsupported(m) if m.contains("format_version")), "{err}");
+}
+
+#[test]
+fn r32_with_infinite_samples_is_invalid_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes: Vec<u8> = [1.0f32, f32::INFINITY, 3.0, 4.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let err = read_error(dir.path(), "inf.r32", &bytes, &ReadOptions::default());
+    assert!(matches!(err.kind(), IoErrorKind::InvalidData(HeightfieldError::NonFiniteSample { .. })), "{err}");
+}
+
+#[test]
+fn hgt_of_wrong_size_lists_the_accepted_sizes() {
+    let dir = tempfile::tempdir().unwrap();
+    for len in [0, 2 * 1201 * 1201 - 2, 2 * 1201 * 1201 + 1, 2 * 1200 * 1200] {
+        let err = read_error(dir.path(), "N36W085.hgt", &vec![0u8; len], &ReadOptions::default());
+        assert!(
+            matches!(err.kind(), IoErrorKind::WrongSize { found_bytes, accepted_bytes }
+                if *found_bytes == len as u64 && accepted_bytes == &[2_884_802, 25_934_402]),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn hgt_needs_a_tile_name_or_an_origin() {
+    let bytes = vec![0u8; 2 * 1201 * 1201];
+    let err = read_bytes(&bytes, Format::Hgt, "tile.hgt", &ReadOptions::default()).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::InvalidMetadata(m) if m.contains("N36W085")), "{err}");
+    let hf = read_bytes(&bytes, Format::Hgt, "tile.hgt", &ReadOptions::default().with_origin(DVec2::new(7.0, 45.0)))
+        .unwrap();
+    assert_eq!(hf.grid().origin(), DVec2::new(7.0, 45.0));
+    let hf = read_bytes(&bytes, Format::Hgt, "s12e007.SRTMGL3.hgt", &ReadOptions::default()).unwrap();
+    assert_eq!(hf.grid().origin(), DVec2::new(7.0, -12.0));
+    // Tile sizes still count against the limit.
+    let err = read_bytes(&bytes, Format::Hgt, "N00E000.hgt", &tiny_limits(1000)).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::TooLarge { cells: 1_442_401, limit: 1000 }), "{err}");
+}
+
+#[test]
+fn hgt_writes_refuse_what_the_format_cannot_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = GridSpec::geographic(1201, 1201, DVec2::new(-85.0, 36.0), DVec2::splat(1.0 / 1200.0)).unwrap();
+    let mut hf = Heightfield::zeros(grid);
+    hf.set(3, 1200, 40_000.0).unwrap();
+    let path = dir.path().join("N36W085.hgt");
+    let err = write(&path, &hf).unwrap_err();
+    assert!(
+        matches!(err.kind(), IoErrorKind::OutOfRange { i: 3, j: 1200, value, min: -32767.0, max: 32767.0 } if *value == 40_000.0),
+        "{err}"
+    );
+    hf.set(3, 1200, -32_768.0).unwrap();
+    assert!(matches!(write(&path, &hf).unwrap_err().kind(), IoErrorKind::OutOfRange { .. }), "−32768 is the void code");
+    assert!(!path.exists(), "a refused write leaves no file");
+    hf.set(3, 1200, 32_767.4).unwrap();
+    write(&path, &hf).unwrap();
+    assert_eq!(read(&path).unwrap().value(3, 1200), 32_767.0, "rounded to whole metres");
+    // A grid that is not on the tile its name names.
+    let err = write(dir.path().join("N37W085.hgt"), &hf).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::HeaderMismatch(_)), "{err}");
+    // Not a tile size.
+    let err = write_bytes(&small_field(4, 4), Format::Hgt).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::Unsupported(_)), "{err}");
+    assert_eq!(err.path(), Path::new("<memory>"));
+}
+
+#[cfg(feature = "png")]
+mod png_input {
+    use super::*;
+
+    fn gray_png(w: u32, h: u32, depth: png::BitDepth, color: png::ColorType, text: Option<&str>) -> Vec<u8> {
+        let mut out = Vec::new();
+        let mut enc = png::Encoder::new(&mut out, w, h);
+        enc.set_color(color);
+        enc.set_depth(depth);
+        if let Some(t) = text {
+            enc.add_text_chunk("relief".to_owned(), t.to_owned()).unwrap();
+        }
+        let row_bytes = (w as usize * color.samples() * depth as usize).div_ceil(8);
+        let data: Vec<u8> = (0..row_bytes * h as usize).map(|k| (k * 37 % 251) as u8).collect();
+        let mut writer = enc.write_header().unwrap();
+        writer.write_image_data(&data).unwrap();
+        writer.finish().unwrap();
+        out
+    }
+
+    #[test]
+    fn truncated_png_is_truncated() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.png");
+        write(&path, &small_field(40, 30)).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        for cut in [10, 40, bytes.len() / 2, bytes.len() - 12, bytes.len() - 1] {
+            let err = read_error(dir.path(), "cut.png", &bytes[..cut], &ReadOptions::default());
+            assert!(
+                matches!(err.kind(), IoErrorKind::Truncated { expected_bytes: None, found_bytes } if *found_bytes == cut as u64),
+                "cut at {cut}: {err}"
+            );
+        }
+    }
+
+    #[test]
+    fn rgb_and_low_depth_png_are_unsupported() {
+        let dir = tempfile::tempdir().unwrap();
+        let rgb = gray_png(4, 4, png::BitDepth::Eight, png::ColorType::Rgb, None);
+        let err = read_error(dir.path(), "rgb.png", &rgb, &ReadOptions::default());
+        assert!(matches!(err.kind(), IoErrorKind::Unsupported(m) if m.contains("Rgb")), "{err}");
+        let one_bit = gray_png(8, 2, png::BitDepth::One, png::ColorType::Grayscale, None);
+        let err = read_error(dir.path(), "bits.png", &one_bit, &ReadOptions::default());
+        assert!(matches!(err.kind(), IoErrorKind::Unsupported(_)), "{err}");
+    }
+
+    #[test]
+    fn plain_gray_png_reads_as_zero_to_one_on_a_unit_grid() {
+        let bytes = gray_png(3, 2, png::BitDepth::Eight, png::ColorType::Grayscale, None);
+        let hf = read_bytes(&bytes, Format::Png8, "plain.png", &ReadOptions::default()).unwrap();
+        assert_eq!(hf.grid(), &GridSpec::new(3, 2, DVec2::ZERO, DVec2::ONE).unwrap());
+        // First file byte is 0 (north-west), second 37.
+        assert_eq!(hf.value(0, 1), 0.0);
+        assert_eq!(hf.value(1, 1), 37.0 / 255.0);
+    }
+
+    #[test]
+    fn png_metadata_that_lies_about_dimensions_is_a_header_mismatch() {
+        let json = r#"{"format_version":1,"encoding":"png16","nx":3,"ny":3,"origin":[0,0],"cell_size":[1,1],
+                       "units":"metres","min":0,"max":10}"#;
+        let bytes = gray_png(4, 3, png::BitDepth::Sixteen, png::ColorType::Grayscale, Some(json));
+        let err = read_bytes(&bytes, Format::Png16, "lie.png", &ReadOptions::default()).unwrap_err();
+        assert!(matches!(err.kind(), IoErrorKind::HeaderMismatch(m) if m.contains("3x3")), "{err}");
+        let bad = json.replace("\"min\":0", "\"min\":20");
+        let bytes = gray_png(3, 3, png::BitDepth::Sixteen, png::ColorType::Grayscale, Some(&bad));
+        let err = read_bytes(&bytes, Format::Png16, "minmax.png", &ReadOptions::default()).unwrap_err();
+        assert!(matches!(err.kind(), IoErrorKind::InvalidMetadata(_)), "{err}");
+    }
+
+    #[test]
+    fn png_over_the_cell_limit_is_refused_from_its_header() {
+        let bytes = gray_png(64, 64, png::BitDepth::Eight, png::ColorType::Grayscale, None);
+        let err = read_bytes(&bytes, Format::Png8, "big.png", &tiny_limits(4095)).unwrap_err();
+        assert!(matches!(err.kind(), IoErrorKind::TooLarge { cells: 4096, limit: 4095 }), "{err}");
+    }
+}
+
+#[cfg(feature = "exr")]
+#[test]
+fn truncated_and_oversized_exr() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = write_bytes(&small_field(50, 40), Format::Exr).unwrap();
+    for cut in [3, 100, bytes.len() / 2, bytes.len() - 1] {
+        let err = read_error(dir.path(), "cut.exr", &bytes[..cut], &ReadOptions::default());
+        assert!(matches!(err.kind(), IoErrorKind::Truncated { .. }), "cut at {cut}: {err}");
+    }
+    // Uncompressed: the header alone shows 2000 f32 samples cannot fit.
+    let err = read_error(dir.path(), "cut.exr", &bytes[..bytes.len() / 2], &ReadOptions::default());
+    assert!(matches!(err.kind(), IoErrorKind::Truncated { expected_bytes: Some(8000), .. }), "{err}");
+    // Compressed: the decoder runs out of bytes.
+    let zipped = dir.path().join("zip.exr");
+    write_with(&zipped, &small_field(50, 40), &WriteOptions::default().with_compress(true)).unwrap();
+    let zipped = std::fs::read(zipped).unwrap();
+    for cut in [100, zipped.len() / 2, zipped.len() - 1] {
+        let err = read_error(dir.path(), "cutzip.exr", &zipped[..cut], &ReadOptions::default());
+        assert!(matches!(err.kind(), IoErrorKind::Truncated { expected_bytes: None, .. }), "cut at {cut}: {err}");
+    }
+    let err = read_error(dir.path(), "big.exr", &bytes, &tiny_limits(1999));
+    assert!(matches!(err.kind(), IoErrorKind::TooLarge { cells: 2000, limit: 1999 }), "{err}");
+}
+
+#[cfg(feature = "geotiff")]
+mod tiff_input {
+    use super::*;
+
+    /// Replaces the LONG value of `ImageWidth` (tag 256) in a little-endian TIFF's directory.
+    fn patch_width(bytes: &mut [u8], width: u32) {
+        let entry = [0x00, 0x01, 0x04, 0x00, 0x01, 0x00, 0x00, 0x00];
+        let at = bytes.windows(8).position(|w| w == entry).expect("ImageWidth entry");
+        bytes[at + 8..at + 12].copy_from_slice(&width.to_le_bytes());
+    }
+
+    #[test]
+    fn truncated_tiff_is_truncated() {
+        let dir = tempfile::tempdir().unwrap();
+        let plain = write_bytes(&small_field(30, 20), Format::GeoTiff).unwrap();
+        let deflated = dir.path().join("z.tif");
+        write_with(&deflated, &small_field(30, 20), &WriteOptions::default().with_compress(true)).unwrap();
+        for bytes in [plain, std::fs::read(deflated).unwrap()] {
+            for cut in [5, 100, bytes.len() / 2, bytes.len() - 1] {
+                let err = read_error(dir.path(), "cut.tif", &bytes[..cut], &ReadOptions::default());
+                assert!(matches!(err.kind(), IoErrorKind::Truncated { .. }), "cut at {cut}: {err}");
+            }
+        }
+    }
+
+    #[test]
+    fn tiff_header_that_lies_about_dimensions() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut bytes = write_bytes(&small_field(30, 20), Format::GeoTiff).unwrap();
+        patch_width(&mut bytes, 30_000);
+        // 600 000 f32 samples cannot hide in a 2.5 kB uncompressed file: refused before allocation.
+        let err = read_error(dir.path(), "lie.tif", &bytes, &ReadOptions::default());
+        assert!(
+            matches!(err.kind(), IoErrorKind::Truncated { expected_bytes: Some(2_400_000), found_bytes }
+                if *found_bytes == bytes.len() as u64),
+            "{err}"
+        );
+        let err = read_error(dir.path(), "lie.tif", &bytes, &tiny_limits(1000));
+        assert!(matches!(err.kind(), IoErrorKind::TooLarge { cells: 600_000, limit: 1000 }), "{err}");
+    }
+
+    #[test]
+    fn multiband_tiff_is_unsupported() {
+        let mut out = std::io::Cursor::new(Vec::new());
+        let mut enc = tiff::encoder::TiffEncoder::new(&mut out).unwrap();
+        enc.write_image::<tiff::encoder::colortype::RGB8>(2, 2, &[7u8; 12]).unwrap();
+        let err = read_bytes(out.get_ref(), Format::GeoTiff, "rgb.tif", &ReadOptions::default()).unwrap_err();
+        assert!(matches!(err.kind(), IoErrorKind::Unsupported(m) if m.contains("single-band")), "{err}");
+    }
+
+    #[test]
+    fn foreign_tiffs_convert_integers_nodata_and_pixel_is_area() {
+        use tiff::tags::Tag;
+        let mut out = std::io::Cursor::new(Vec::new());
+        let mut enc = tiff::encoder::TiffEncoder::new(&mut out).unwrap();
+        let mut image = enc.new_image::<tiff::encoder::colortype::GrayI16>(3, 2).unwrap();
+        // GDAL's usual layout: PixelIsArea (the default, no raster-type key), tiepoint on the
+        // north-west corner, geographic.
+        image.encoder().write_tag(Tag::ModelPixelScaleTag, &[0.5f64, 0.25, 0.0][..]).unwrap();
+        image.encoder().write_tag(Tag::ModelTiepointTag, &[0.0f64, 0.0, 0.0, 10.0, 50.0, 0.0][..]).unwrap();
+        image.encoder().write_tag(Tag::GeoKeyDirectoryTag, &[1u16, 1, 0, 1, 1024, 0, 1, 2][..]).unwrap();
+        image.encoder().write_tag(Tag::GdalNodata, "-9999").unwrap();
+        image.write_data(&[1i16, 2, 3, 4, -9999, 6]).unwrap();
+        let hf = read_bytes(out.get_ref(), Format::GeoTiff, "gdal.tif", &ReadOptions::default()).unwrap();
+        let g = hf.grid();
+        assert_eq!(g.units(), relief_heightfield::Units::Degrees);
+        assert_eq!(g.cell_size(), DVec2::new(0.5, 0.25));
+        // South-west pixel centre: x = 10 + 0.25, y = 50 − 2·0.25 + 0.125.
+        assert_eq!(g.origin(), DVec2::new(10.25, 49.625));
+        assert_eq!(hf.value(0, 1), 1.0, "first file row is north");
+        assert_eq!(hf.value(2, 0), 6.0);
+        assert!(hf.is_no_data(1, 0));
+    }
+}
+
+// --- Format detection -------------------------------------------------------------------------------
+
+#[test]
+fn detection_prefers_magic_bytes_then_extension() {
+    let p = Path::new;
+    assert_eq!(Format::detect(p("a.tif"), b"\x89PNG\r\n\x1a\n...."), Some(Format::Png16));
+    assert_eq!(Format::detect(p("a.png"), b"II*\0\x08\0\0\0"), Some(Format::GeoTiff));
+    assert_eq!(Format::detect(p("a.png"), b"MM\0*"), Some(Format::GeoTiff));
+    assert_eq!(Format::detect(p("a.r16"), &[0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0]), Some(Format::Exr));
+    assert_eq!(Format::detect(p("a.txt"), b"NCOLS 4\nNROWS 3\n"), Some(Format::Asc));
+    assert_eq!(Format::detect(p("a.dat"), b"\xef\xbb\xbf  xllcorner 0\n"), Some(Format::Asc));
+    assert_eq!(Format::detect(p("a.asc"), b"1 2 3"), Some(Format::Asc), "extension when the text has no header key");
+    assert_eq!(Format::detect(p("a.RAW"), &[1, 2, 3, 4]), Some(Format::R16));
+    assert_eq!(Format::detect(p("a.r32"), &[1, 2, 3, 4]), Some(Format::R32));
+    assert_eq!(Format::detect(p("N36W085.HGT"), &[1, 2, 3, 4]), Some(Format::Hgt));
+    assert_eq!(Format::detect(p("a.TIFF"), &[]), Some(Format::GeoTiff));
+    assert_eq!(Format::detect(p("a.exr"), &[]), Some(Format::Exr));
+    assert_eq!(Format::detect(p("a.xyz"), b"hello"), None);
+    assert_eq!(Format::detect(p("noext"), &[]), None);
+    assert_eq!(Format::from_extension(p("x.png")), Some(Format::Png16));
+    for f in Format::ALL {
+        let name = format!("x.{}", f.extension());
+        let expected = if f == Format::Png8 { Format::Png16 } else { f };
+        assert_eq!(Format::from_extension(p(&name)), Some(expected), "{f}");
+    }
+}
+
+#[test]
+fn a_file_with_the_wrong_extension_is_read_by_its_magic() {
+    let dir = tempfile::tempdir().unwrap();
+    let hf = small_field(6, 5);
+    let formats = [(Format::Asc, true), (Format::Png16, cfg!(feature = "png")), (Format::Exr, cfg!(feature = "exr"))];
+    for (format, enabled) in formats.into_iter().chain([(Format::GeoTiff, cfg!(feature = "geotiff"))]) {
+        if !enabled {
+            continue;
+        }
+        let path = dir.path().join(format!("misnamed-{}.r16", format.extension()));
+        write_with(&path, &hf, &WriteOptions::default().with_format(format)).unwrap();
+        let back = read(&path).unwrap();
+        assert_eq!((back.nx(), back.ny()), (6, 5), "{format}");
+        assert!(back.is_no_data(3, 2), "{format}");
+    }
+}
+
+#[test]
+fn disabled_codecs_say_which_feature_to_enable() {
+    let hf = small_field(2, 2);
+    for (format, on, feature) in [
+        (Format::Png16, cfg!(feature = "png"), "png"),
+        (Format::Exr, cfg!(feature = "exr"), "exr"),
+        (Format::GeoTiff, cfg!(feature = "geotiff"), "geotiff"),
+    ] {
+        let written = write_bytes(&hf, format);
+        if on {
+            assert!(written.is_ok(), "{format}");
+        } else {
+            let err = written.unwrap_err();
+            assert!(matches!(err.kind(), IoErrorKind::FormatDisabled { feature: f, .. } if *f == feature), "{err}");
+            let err = read_bytes(&[0; 8], format, "x", &ReadOptions::default()).unwrap_err();
+            assert!(matches!(err.kind(), IoErrorKind::FormatDisabled { .. }), "{err}");
+        }
+    }
+}
+
+// --- Atomic writes ----------------------------------------------------------------------------------
+
+fn all_files() -> Vec<&'static str> {
+    let mut v = vec!["a.r16", "a.r32", "a.asc"];
+    if cfg!(feature = "png") {
+        v.push("a.png");
+    }
+    if cfg!(feature = "exr") {
+        v.push("a.exr");
+    }
+    if cfg!(feature = "geotiff") {
+        v.push("a.tif");
+    }
+    v
+}
+
+#[test]
+fn writing_into_a_missing_directory_fails_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    for file in all_files() {
+        let path = dir.path().join("missing").join(file);
+        let err = write(&path, &small_field(3, 3)).unwrap_err();
+        assert!(matches!(err.kind(), IoErrorKind::Io(e) if e.kind() == std::io::ErrorKind::NotFound), "{err}");
+        assert!(err.to_string().contains(file), "{err}");
+    }
+    assert!(dir_entries(dir.path()).is_empty(), "{:?}", dir_entries(dir.path()));
+}
+
+#[test]
+fn successful_writes_leave_only_the_files_and_their_sidecars() {
+    let dir = tempfile::tempdir().unwrap();
+    let hf = small_field(5, 4);
+    for file in all_files() {
+        write(dir.path().join(file), &hf).unwrap();
+        // Overwriting replaces the file in place.
+        write(dir.path().join(file), &hf).unwrap();
+    }
+    let mut expected: Vec<String> = all_files().iter().map(|s| (*s).to_owned()).collect();
+    expected.extend(["a.prj".to_owned(), "a.r16.json".to_owned(), "a.r32.json".to_owned()]);
+    expected.sort();
+    assert_eq!(dir_entries(dir.path()), expected);
+}
+
+#[test]
+fn a_failed_rename_leaves_no_temporary_file() {
+    let dir = tempfile::tempdir().unwrap();
+    // The target is a non-empty directory: the final rename must fail.
+    let target = dir.path().join("blocked.asc");
+    std::fs::create_dir(&target).unwrap();
+    std::fs::write(target.join("keep"), b"x").unwrap();
+    let err = write(&target, &small_field(3, 3)).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::Io(_)), "{err}");
+    assert_eq!(dir_entries(dir.path()), vec!["blocked.asc".to_owned()]);
+}
+
+#[test]
+fn fixture_is_where_the_tests_expect_it() {
+    assert!(fixture("jacksboro.asc").is_file());
+    assert!(fixture("jacksboro.prj").is_file());
+}
+
+#[test]
+fn png_header_announcing_more_than_deflate_could_hold_is_refused_before_allocating() {
+    // A valid 16-bit gray PNG of 4x4, then its IHDR rewritten to claim 30000x30000 (with a fixed CRC).
+    let grid = relief_heightfield::GridSpec::new(4, 4, glam::DVec2::ZERO, glam::DVec2::ONE).unwrap();
+    let hf = relief_heightfield::Heightfield::from_fn_indexed(grid, |i, j| (i + j) as f32).unwrap();
+    let mut bytes = relief_heightfield_io::write_bytes(&hf, relief_heightfield_io::Format::Png16).unwrap();
+    bytes[16..20].copy_from_slice(&30_000u32.to_be_bytes());
+    bytes[20..24].copy_from_slice(&30_000u32.to_be_bytes());
+    let crc = crc_ihdr(&bytes[12..29]);
+    bytes[29..33].copy_from_slice(&crc.to_be_bytes());
+    let err = relief_heightfield_io::read_bytes(
+        &bytes,
+        relief_heightfield_io::Format::Png16,
+        "liar.png",
+        &relief_heightfield_io::ReadOptions::default(),
+    )
+    .unwrap_err();
+    assert!(matches!(err.kind(), relief_heightfield_io::IoErrorKind::HeaderMismatch(_)), "{err}");
+}
+
+/// CRC-32 (PNG polynomial) of a chunk's type and data.
+fn crc_ihdr(data: &[u8]) -> u32 {
+    let mut crc = 0xffff_ffffu32;
+    for &b in data {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 { 0xedb8_8320 ^ (crc >> 1) } else { crc >> 1 };
+        }
+    }
+    !crc
+}
