@@ -1,1 +1,44 @@
-fn main() {}
+//! Project automation, run as `cargo xtask <command>` (alias in `.cargo/config.toml`).
+//!
+//! - `ci`: the same steps as `.ci/run` (it runs that script, the single source of truth).
+//! - `bench [--quick]`: runs every criterion bench and writes `docs/benchmarks.md`, our medians
+//!   beside the figures the papers and the issues report.
+//!
+//! Dependency-light on purpose (`anyhow`, `serde_json`): it builds in seconds and never needs the
+//! crates it measures.
+
+mod bench;
+mod references;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{Context, Result, bail};
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let root = workspace_root();
+    match args.first().map(String::as_str) {
+        Some("ci") => run(Command::new("bash").arg(root.join(".ci/run")).current_dir(&root)),
+        Some("bench") => bench::run(&root, args.iter().any(|a| a == "--quick")),
+        Some("help" | "--help" | "-h") | None => {
+            println!("usage: cargo xtask <ci | bench [--quick]>");
+            Ok(())
+        }
+        Some(other) => bail!("unknown command `{other}`; try `cargo xtask help`"),
+    }
+}
+
+/// The workspace root: the parent of this crate's manifest directory.
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+}
+
+/// Runs a command, failing with its status if it does not succeed.
+fn run(cmd: &mut Command) -> Result<()> {
+    let status = cmd.status().with_context(|| format!("could not start {cmd:?}"))?;
+    if !status.success() {
+        bail!("{cmd:?} failed with {status}");
+    }
+    Ok(())
+}

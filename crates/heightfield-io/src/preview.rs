@@ -5,7 +5,7 @@ use glam::DVec3;
 use relief_heightfield::Heightfield;
 
 /// Colour of no-data pixels: a light steel blue, apart from every tint and shade.
-pub const NO_DATA_RGB: [u8; 3] = [176, 196, 222];
+pub const NO_DATA_RGB: [u8; 3] = [128, 128, 128];
 
 /// How to light and colour a shaded relief.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,11 +23,21 @@ pub struct ShadeOptions {
     /// Largest image side in pixels; bigger fields are decimated by a whole stride (default `None`:
     /// one pixel per sample).
     pub max_size: Option<usize>,
+    /// Elevation of the sea surface (default `Some(0.0)`): with the tint on, lower cells are drawn
+    /// as water shaded by depth and the land ramp starts here. `None` tints the whole range as land.
+    pub sea_level: Option<f64>,
 }
 
 impl Default for ShadeOptions {
     fn default() -> Self {
-        Self { azimuth_deg: 315.0, altitude_deg: 45.0, z_factor: 1.0, hypsometric: true, max_size: None }
+        Self {
+            azimuth_deg: 315.0,
+            altitude_deg: 45.0,
+            z_factor: 1.0,
+            hypsometric: true,
+            max_size: None,
+            sea_level: Some(0.0),
+        }
     }
 }
 
@@ -50,6 +60,13 @@ impl ShadeOptions {
     #[must_use]
     pub fn with_z_factor(mut self, z_factor: f64) -> Self {
         self.z_factor = z_factor;
+        self
+    }
+
+    /// The same options with the sea surface at `sea_level` (`None`: no water tint).
+    #[must_use]
+    pub fn with_sea_level(mut self, sea_level: Option<f64>) -> Self {
+        self.sea_level = sea_level;
         self
     }
 
@@ -92,6 +109,17 @@ impl RgbImage {
 }
 
 /// Hypsometric ramp over `t ∈ [0, 1]` (low → high).
+/// Water colour for a relative depth `t` in [0, 1] (0 at the surface).
+fn water(t: f64) -> [f64; 3] {
+    let (shallow, deep) = ([150.0, 200.0, 230.0], [40.0, 80.0, 150.0]);
+    let u = t.clamp(0.0, 1.0).sqrt();
+    [
+        shallow[0] + u * (deep[0] - shallow[0]),
+        shallow[1] + u * (deep[1] - shallow[1]),
+        shallow[2] + u * (deep[2] - shallow[2]),
+    ]
+}
+
 fn tint(t: f64) -> [f64; 3] {
     const STOPS: [(f64, [f64; 3]); 5] = [
         (0.0, [70.0, 130.0, 80.0]),
@@ -123,7 +151,10 @@ pub fn shaded_relief(hf: &Heightfield, options: &ShadeOptions) -> RgbImage {
     let (az, alt) = (options.azimuth_deg.to_radians(), options.altitude_deg.to_radians());
     let light = DVec3::new(az.sin() * alt.cos(), az.cos() * alt.cos(), alt.sin());
     let (lo, hi) = hf.min_max().map_or((0.0, 1.0), |(a, b)| (f64::from(a), f64::from(b)));
-    let span = if hi > lo { hi - lo } else { 1.0 };
+    // Water only when part of the field lies below the sea surface; land spans the rest.
+    let sea = options.sea_level.filter(|&s| s.is_finite() && lo < s);
+    let land_lo = sea.map_or(lo, |s| s.min(hi));
+    let span = if hi > land_lo { hi - land_lo } else { 1.0 };
     let mut pixels = Vec::with_capacity(3 * width * height);
     for y in 0..height {
         let j = ny - 1 - y * stride;
@@ -135,8 +166,12 @@ pub fn shaded_relief(hf: &Heightfield, options: &ShadeOptions) -> RgbImage {
             };
             let n = DVec3::new(-options.z_factor * g.x, -options.z_factor * g.y, 1.0).normalize();
             let lum = n.dot(light).max(0.0);
+            let h = f64::from(h);
             let rgb = if options.hypsometric {
-                let c = tint((f64::from(h) - lo) / span);
+                let c = match sea {
+                    Some(s) if h < s => water((s - h) / (s - lo)),
+                    _ => tint((h - land_lo) / span),
+                };
                 let k = 0.35 + 0.65 * lum;
                 [c[0] * k, c[1] * k, c[2] * k]
             } else {

@@ -102,3 +102,22 @@ fn preview_png_is_written_atomically_and_is_not_a_heightmap() {
     let err = relief_heightfield_io::read(&path).unwrap_err();
     assert!(matches!(err.kind(), relief_heightfield_io::IoErrorKind::Unsupported(_)), "{err}");
 }
+
+#[test]
+fn cells_below_sea_level_are_water_and_no_data_is_grey() {
+    use relief_heightfield::{GridSpec, Heightfield};
+    use relief_heightfield_io::{NO_DATA_RGB, ShadeOptions, shaded_relief};
+    // West half under water (−50 m), east half land (+50 m), one no-data sample.
+    let grid = GridSpec::new(8, 4, glam::DVec2::ZERO, glam::DVec2::ONE).unwrap();
+    let mut hf = Heightfield::from_fn_indexed(grid, |i, _| if i < 4 { -50.0 } else { 50.0 }).unwrap();
+    hf.set(7, 3, f32::NAN).unwrap();
+    let img = shaded_relief(&hf, &ShadeOptions::default());
+    let px = |x: usize, y: usize| &img.pixels[3 * (y * img.width + x)..3 * (y * img.width + x) + 3];
+    let (west, east) = (px(1, 2), px(6, 2));
+    assert!(west[2] > west[0] && west[2] > west[1], "water should be blue: {west:?}");
+    assert!(east[1] >= east[2], "land should not be blue: {east:?}");
+    assert_eq!(px(7, 0), &NO_DATA_RGB[..], "no-data (north-east corner, drawn north-up)");
+    let no_sea = shaded_relief(&hf, &ShadeOptions::default().with_sea_level(None));
+    let w = &no_sea.pixels[3 * (2 * img.width + 1)..3 * (2 * img.width + 1) + 3];
+    assert!(w[2] <= w[1], "without a sea level the lowlands are tinted as land: {w:?}");
+}
