@@ -94,7 +94,7 @@ mod tests {
         let grid = GridSpec::new(23, 17, DVec2::ZERO, DVec2::new(1.5, 0.7)).unwrap();
         let seed: Vec<bool> = (0..grid.len()).map(|k| (k * 7919) % 37 == 0).collect();
         let d = distance_transform(&grid, &seed);
-        for k in 0..grid.len() {
+        for (k, &dk) in d.iter().enumerate() {
             let (i, j) = grid.coords(k);
             let p = grid.position(i, j);
             let best = (0..grid.len())
@@ -104,7 +104,7 @@ mod tests {
                     p.distance(grid.position(a, b))
                 })
                 .fold(f64::INFINITY, f64::min);
-            assert!((d[k] - best).abs() < 1e-9, "sample ({i}, {j}): {} vs {best}", d[k]);
+            assert!((dk - best).abs() < 1e-9, "sample ({i}, {j}): {dk} vs {best}");
         }
     }
 

@@ -8,7 +8,7 @@
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
-/// A 64-bit finaliser (SplitMix64's), used to turn lattice coordinates and a seed into bits.
+/// A 64-bit finaliser (`SplitMix64`'s), used to turn lattice coordinates and a seed into bits.
 #[inline]
 fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);

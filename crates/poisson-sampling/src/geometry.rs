@@ -561,4 +561,26 @@ impl PolygonSet {
     pub fn edges(&self) -> impl Iterator<Item = [DVec2; 2]> + '_ {
         self.polygons.iter().flat_map(Polygon::edges)
     }
+
+    /// The first pair of member polygons whose boundaries touch or cross, with a point near the
+    /// contact, or `None` when every two boundaries are disjoint (so each pair is either nested or
+    /// apart). Near-linear in the number of edges.
+    pub fn first_boundary_contact(&self) -> Option<(usize, usize, DVec2)> {
+        let mut rings: Vec<&[DVec2]> = Vec::new();
+        let mut owner = Vec::new();
+        for (k, poly) in self.polygons.iter().enumerate() {
+            for ring in poly.rings() {
+                rings.push(ring);
+                owner.push(k);
+            }
+        }
+        // Member polygons are valid, so any contact is between rings of different polygons.
+        match check_simple(&rings) {
+            Err(PolygonError::SelfIntersection { ring_a, ring_b, at, .. }) => {
+                let (a, b) = (owner[ring_a], owner[ring_b]);
+                Some((a.min(b), a.max(b), at))
+            }
+            _ => None,
+        }
+    }
 }
