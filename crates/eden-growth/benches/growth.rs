@@ -1,0 +1,51 @@
+//! Inward Open Eden Growth at the contours paper's Table 1 sizes (10k … 500k particles) plus 1M,
+//! growth time only (graph built beforehand, as in the paper's protocol), and graph creation.
+//!
+//! Paper (Ryzen 5 5600X, ms): 10k 86, 20k 297, 50k 1 880, 100k 5 827, 500k 91 790.
+
+use std::hint::black_box;
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use glam::DVec2;
+use relief_eden_growth::{Graph, GraphOptions, Region, RegionTree, Uniform, grow};
+use relief_tin::poisson_sampling::Polygon;
+
+/// A 15 km island with a wavy coast, as the paper's single-region timing scene.
+fn island() -> RegionTree {
+    let coast = (0..720)
+        .map(|k| {
+            let t = std::f64::consts::TAU * f64::from(k) / 720.0;
+            let r = 6000.0 * (1.0 + 0.15 * (5.0 * t).sin() + 0.05 * (17.0 * t).cos());
+            DVec2::new(r * t.cos(), r * t.sin())
+        })
+        .collect();
+    RegionTree::new(vec![Region::new(Polygon::from_exterior(coast).expect("coast"))]).expect("regions")
+}
+
+fn bench(c: &mut Criterion) {
+    let tree = island();
+    let mut group = c.benchmark_group("eden");
+    group.sample_size(10);
+    for n in [10_000usize, 20_000, 50_000, 100_000, 500_000, 1_000_000] {
+        let graph = Graph::from_regions(&tree, &GraphOptions::particles(n).with_seed(1)).expect("graph");
+        group
+            .bench_with_input(BenchmarkId::new("growth", n), &graph, |b, g| b.iter(|| black_box(grow(g, &Uniform, 1))));
+    }
+    let ranges = RegionTree::new(vec![
+        tree.regions()[0].clone(),
+        Region::new(Polygon::circle(DVec2::new(-2000.0, 0.0), 1800.0, 64).expect("range")),
+        Region::new(Polygon::circle(DVec2::new(2500.0, 500.0), 1200.0, 64).expect("range")),
+    ])
+    .expect("regions");
+    let graph = Graph::from_regions(&ranges, &GraphOptions::particles(100_000).with_seed(1)).expect("graph");
+    group.bench_with_input(BenchmarkId::new("growth_two_levels", 100_000), &graph, |b, g| {
+        b.iter(|| black_box(grow(g, &Uniform, 1)));
+    });
+    group.bench_function(BenchmarkId::new("graph", 100_000), |b| {
+        b.iter(|| black_box(Graph::from_regions(&tree, &GraphOptions::particles(100_000).with_seed(1))));
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

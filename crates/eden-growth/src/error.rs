@@ -1,0 +1,144 @@
+use glam::DVec2;
+use relief_tin::TinError;
+use relief_tin::poisson_sampling::SamplingError;
+use thiserror::Error;
+
+/// Why a graph could not be built or grown. Regions are numbered in input order.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum EdenError {
+    /// No region was given.
+    #[error("no regions given: at least one outer region (the coastline) is needed")]
+    NoRegions,
+    /// Two region boundaries touch or cross: regions must nest or be apart.
+    #[error("regions {a} and {b} overlap without nesting (their boundaries meet near ({}, {}))", at.x, at.y)]
+    RegionsOverlap {
+        /// First region.
+        a: usize,
+        /// Second region.
+        b: usize,
+        /// A point near the contact.
+        at: DVec2,
+    },
+    /// A raised region (depth ≥ 2) has a hole, which would enclose lower ground with no outlet.
+    #[error(
+        "region {region} (depth {depth}) has a hole; its inside would be an enclosed basin: draw a separate region with `depression: true` instead"
+    )]
+    HoleInRaisedRegion {
+        /// The region.
+        region: usize,
+        /// Its nesting depth.
+        depth: u16,
+    },
+    /// A depression region must lie inside a raised region (depth ≥ 2) so its floor has a level.
+    #[error("depression region {region} must lie inside a region of depth ≥ 2 (its parent has depth {parent_depth})")]
+    DepressionNotNested {
+        /// The depression.
+        region: usize,
+        /// Depth of its parent (0 when it has none).
+        parent_depth: u16,
+    },
+    /// Depressions may not contain other regions.
+    #[error("depression region {region} contains region {child}; depressions may not contain regions")]
+    DepressionWithChildren {
+        /// The depression.
+        region: usize,
+        /// A region inside it.
+        child: usize,
+    },
+    /// A region's explicit height is not finite.
+    #[error("region {region} has height {value}; heights must be finite")]
+    InvalidHeight {
+        /// The region.
+        region: usize,
+        /// The height given.
+        value: f64,
+    },
+    /// Two regions at the same depth give different heights (heights apply per depth level).
+    #[error(
+        "regions {a} and {b} are both at depth {depth} but give heights {height_a} and {height_b}; heights apply to a whole depth level"
+    )]
+    ConflictingHeights {
+        /// The depth level.
+        depth: u16,
+        /// First region.
+        a: usize,
+        /// Its height.
+        height_a: f64,
+        /// Second region.
+        b: usize,
+        /// Its height.
+        height_b: f64,
+    },
+    /// Explicit heights must increase with depth.
+    #[error("depth {depth} has height {height}, not above depth {lower_depth}'s height {lower_height}")]
+    HeightsNotIncreasing {
+        /// The deeper level.
+        depth: u16,
+        /// Its height.
+        height: f64,
+        /// The shallower level.
+        lower_depth: u16,
+        /// Its height.
+        lower_height: f64,
+    },
+    /// A region holds no graph node at this sampling radius.
+    #[error("region {region} holds no graph node at sampling radius {radius}: enlarge it or raise the particle count")]
+    RegionTooSmall {
+        /// The region.
+        region: usize,
+        /// The sampling radius.
+        radius: f64,
+    },
+    /// A label map is malformed.
+    #[error("invalid label map: {reason}")]
+    InvalidLabelMap {
+        /// What is wrong.
+        reason: String,
+    },
+    /// The particle count is zero.
+    #[error("particle count must be at least 1, got {count}")]
+    InvalidParticleCount {
+        /// The count given.
+        count: usize,
+    },
+    /// The requested graph would exceed the particle cap.
+    #[error("about {requested} particles requested, over the cap of {limit}; lower the count or raise the cap")]
+    TooManyParticles {
+        /// Particles the request implies.
+        requested: u64,
+        /// The cap.
+        limit: u64,
+    },
+    /// The margin of the extended domain (in radii) is not a finite number ≥ 1.
+    #[error("extended-domain margin of {margin} radii must be finite and >= 1")]
+    InvalidMargin {
+        /// The margin given.
+        margin: f64,
+    },
+    /// A probability value is negative or not finite.
+    #[error("probability map gives {value} at ({x}, {y}); probabilities must be finite and >= 0")]
+    InvalidProbability {
+        /// Where.
+        x: f64,
+        /// Where.
+        y: f64,
+        /// What it gave.
+        value: f64,
+    },
+    /// The probability map is zero on every node, so no growth order is preferred anywhere.
+    #[error("probability map is zero on every node of the region")]
+    ZeroProbability,
+    /// The parameters of a built-in probability map are invalid.
+    #[error("invalid probability map parameters: {reason}")]
+    InvalidProbabilityParameters {
+        /// What is wrong.
+        reason: String,
+    },
+    /// Sampling the extended domain failed.
+    #[error("sampling the domain failed: {0}")]
+    Sampling(#[from] SamplingError),
+    /// Triangulating the samples failed.
+    #[error("triangulating the samples failed: {0}")]
+    Tin(#[from] TinError),
+}

@@ -1,0 +1,102 @@
+use glam::DVec2;
+use relief_tin::heightfield::Heightfield;
+use relief_tin::heightfield::noise::Fbm;
+
+use crate::EdenError;
+
+/// The probability map P of the contours paper (§4.2): how readily growth advances from a frontier
+/// node at `p`. Only ratios matter; values must be finite and ≥ 0, and a node with P = 0 is chosen
+/// only when every frontier node has P = 0.
+///
+/// Closures `Fn(DVec2) -> f64 + Sync` are probability maps.
+pub trait ProbabilityMap: Sync {
+    /// Relative probability at `p`.
+    fn probability(&self, p: DVec2) -> f64;
+}
+
+impl<F: Fn(DVec2) -> f64 + Sync> ProbabilityMap for F {
+    fn probability(&self, p: DVec2) -> f64 {
+        self(p)
+    }
+}
+
+/// Uniform selection: contours follow the distance to the border (§4.2).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Uniform;
+
+impl ProbabilityMap for Uniform {
+    fn probability(&self, _p: DVec2) -> f64 {
+        1.0
+    }
+}
+
+/// `P(p) = exp(contrast · fbm(p))`: organic, fractal growth fronts (Fig. 23). `contrast` 0 is
+/// uniform; 3–6 gives strongly fingered contours.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FbmProbability {
+    fbm: Fbm,
+    contrast: f64,
+}
+
+impl FbmProbability {
+    /// An fBm probability map.
+    ///
+    /// # Errors
+    /// [`EdenError::InvalidProbabilityParameters`] for invalid fBm parameters or a non-finite
+    /// contrast.
+    pub fn new(fbm: Fbm, contrast: f64) -> Result<Self, EdenError> {
+        if !fbm.is_valid() {
+            return Err(EdenError::InvalidProbabilityParameters {
+                reason: format!("fBm needs octaves ≥ 1, finite positive frequency and lacunarity, gain ≥ 0: {fbm:?}"),
+            });
+        }
+        if !contrast.is_finite() {
+            return Err(EdenError::InvalidProbabilityParameters {
+                reason: format!("contrast {contrast} is not finite"),
+            });
+        }
+        Ok(Self { fbm, contrast })
+    }
+}
+
+impl ProbabilityMap for FbmProbability {
+    fn probability(&self, p: DVec2) -> f64 {
+        (self.contrast * self.fbm.sample(p)).exp()
+    }
+}
+
+/// A raster probability map (a painted image, Fig. 11): bilinear values, clamped at the edges,
+/// raised to `exponent` (the authors' river map is used to the power 4). No-data reads as 0.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RasterProbability {
+    field: Heightfield,
+    exponent: f64,
+}
+
+impl RasterProbability {
+    /// A raster map.
+    ///
+    /// # Errors
+    /// [`EdenError::InvalidProbabilityParameters`] when a sample is negative or the exponent is
+    /// not finite and positive.
+    pub fn new(field: Heightfield, exponent: f64) -> Result<Self, EdenError> {
+        if !(exponent.is_finite() && exponent > 0.0) {
+            return Err(EdenError::InvalidProbabilityParameters {
+                reason: format!("exponent {exponent} must be finite and > 0"),
+            });
+        }
+        if let Some(k) = field.samples().iter().position(|&v| v < 0.0) {
+            let (i, j) = field.grid().coords(k);
+            return Err(EdenError::InvalidProbabilityParameters {
+                reason: format!("raster sample ({i}, {j}) is {}; probabilities must be >= 0", field.samples()[k]),
+            });
+        }
+        Ok(Self { field, exponent })
+    }
+}
+
+impl ProbabilityMap for RasterProbability {
+    fn probability(&self, p: DVec2) -> f64 {
+        self.field.sample_bilinear_clamped(p).map_or(0.0, |v| f64::from(v).powf(self.exponent))
+    }
+}

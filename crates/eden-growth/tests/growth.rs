@@ -1,0 +1,307 @@
+//! Properties of graph creation and inward Open Eden Growth.
+
+use glam::DVec2;
+use proptest::prelude::*;
+use relief_eden_growth::{
+    EdenError, FbmProbability, Graph, GraphOptions, Growth, LabelMap, Region, RegionTree, UNRANKED, Uniform, grow,
+};
+use relief_tin::heightfield::GridSpec;
+use relief_tin::heightfield::noise::Fbm;
+use relief_tin::poisson_sampling::Polygon;
+
+fn star(center: DVec2, radius: f64, radii: &[f64]) -> Polygon {
+    let n = radii.len();
+    let ring = (0..n)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            center + radius * (0.6 + 0.4 * radii[k]) * DVec2::new(t.cos(), t.sin())
+        })
+        .collect();
+    Polygon::from_exterior(ring).expect("star polygons are simple")
+}
+
+/// Checks the invariants every growth must satisfy.
+#[track_caller]
+fn check_growth(graph: &Graph, growth: &Growth) {
+    let tin = graph.tin();
+    let levels = graph.levels();
+    let ranks = growth.ranks();
+    // Exactly one rank per inside node, none outside.
+    assert_eq!(growth.order().len(), graph.inside_count());
+    let mut seen = vec![false; tin.num_points()];
+    for (k, &v) in growth.order().iter().enumerate() {
+        assert!(!std::mem::replace(&mut seen[v as usize], true), "node {v} ranked twice");
+        assert_eq!(ranks[v as usize], k as u32);
+        assert!(levels[v as usize] >= 1, "outside node {v} was ranked");
+    }
+    for (v, &r) in ranks.iter().enumerate() {
+        assert_eq!(r == UNRANKED, levels[v] == 0);
+    }
+    // Levels are contiguous and increasing along the order.
+    for w in growth.order().windows(2) {
+        assert!(levels[w[0] as usize] <= levels[w[1] as usize], "order mixes levels");
+    }
+    for l in 1..=growth.levels() {
+        assert!(growth.order()[growth.level_range(l)].iter().all(|&v| levels[v as usize] == l));
+    }
+    // No endorheic basin: a lower-ranked (or outside) neighbour, except seeds and depressions.
+    for (k, &v) in growth.order().iter().enumerate().skip(growth.seeds()) {
+        if graph.depressions()[v as usize] {
+            continue;
+        }
+        let has_lower =
+            tin.neighbors(v).iter().any(|&w| ranks[w as usize] == UNRANKED || (ranks[w as usize] as usize) < k);
+        assert!(has_lower, "node {v} (rank {k}, level {}) has no lower neighbour", levels[v as usize]);
+    }
+    // Seeds are ∂G ∩ level 1.
+    let mut seeds: Vec<u32> = growth.order()[..growth.seeds()].to_vec();
+    seeds.sort_unstable();
+    let expected: Vec<u32> = graph.boundary().iter().copied().filter(|&v| levels[v as usize] == 1).collect();
+    assert_eq!(seeds, expected);
+}
+
+fn regions() -> impl Strategy<Value = Vec<Region>> {
+    (
+        proptest::collection::vec(0.0f64..1.0, 5..24),
+        proptest::collection::vec((0.0f64..1.0, proptest::collection::vec(0.0f64..1.0, 4..10)), 0..3),
+        any::<bool>(),
+    )
+        .prop_map(|(coast, inner, summit)| {
+            let mut out = vec![Region::new(star(DVec2::ZERO, 1000.0, &coast))];
+            // Up to three ranges on a ring of radius 330, each of radius ≤ 150: inside the coast
+            // (which reaches at least 600) and apart from each other.
+            for (k, (_, shape)) in inner.iter().enumerate() {
+                let t = std::f64::consts::TAU * k as f64 / 3.0;
+                let c = 330.0 * DVec2::new(t.cos(), t.sin());
+                out.push(Region::new(star(c, 150.0, shape)));
+                if summit && k == 0 {
+                    out.push(Region::new(star(c, 50.0, shape)));
+                }
+            }
+            out
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    #[test]
+    fn growth_invariants_hold_on_random_regions(regs in regions(), seed in any::<u64>(), fbm in any::<bool>()) {
+        let tree = RegionTree::new(regs).unwrap();
+        let graph = Graph::from_regions(&tree, &GraphOptions::particles(3_000).with_seed(seed)).unwrap();
+        let growth = if fbm {
+            let p = FbmProbability::new(Fbm { frequency: 1.0 / 300.0, seed, ..Fbm::default() }, 4.0).unwrap();
+            grow(&graph, &p, seed).unwrap()
+        } else {
+            grow(&graph, &Uniform, seed).unwrap()
+        };
+        check_growth(&graph, &growth);
+        prop_assert_eq!(graph.max_level(), tree.max_level());
+        // Same seed, same order.
+        let again = if fbm {
+            let p = FbmProbability::new(Fbm { frequency: 1.0 / 300.0, seed, ..Fbm::default() }, 4.0).unwrap();
+            grow(&graph, &p, seed).unwrap()
+        } else {
+            grow(&graph, &Uniform, seed).unwrap()
+        };
+        prop_assert_eq!(&again, &growth);
+    }
+}
+
+#[test]
+fn different_seeds_give_different_orders_and_graphs_are_reproducible() {
+    let tree = RegionTree::new(vec![Region::new(Polygon::circle(DVec2::ZERO, 500.0, 48).unwrap())]).unwrap();
+    let opts = GraphOptions::particles(2_000).with_seed(3);
+    let g1 = Graph::from_regions(&tree, &opts).unwrap();
+    let g2 = Graph::from_regions(&tree, &opts).unwrap();
+    assert_eq!(g1.tin(), g2.tin());
+    let a = grow(&g1, &Uniform, 1).unwrap();
+    let b = grow(&g1, &Uniform, 2).unwrap();
+    assert_ne!(a.order(), b.order());
+    let inside = g1.inside_count() as f64;
+    assert!((inside / 2_000.0 - 1.0).abs() < 0.08, "{inside} inside nodes for 2000 requested");
+}
+
+#[test]
+fn probability_steers_the_growth() {
+    // P high in the west: the west half is reached earlier on average.
+    let tree = RegionTree::new(vec![Region::new(Polygon::circle(DVec2::ZERO, 500.0, 48).unwrap())]).unwrap();
+    let graph = Graph::from_regions(&tree, &GraphOptions::particles(4_000).with_seed(5)).unwrap();
+    let growth = grow(&graph, &|p: DVec2| if p.x < 0.0 { 50.0 } else { 1.0 }, 9).unwrap();
+    check_growth(&graph, &growth);
+    let pts = graph.tin().points();
+    let mean = |west: bool| {
+        let r: Vec<f64> = growth
+            .order()
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| (pts[**v as usize].x < 0.0) == west)
+            .map(|(k, _)| k as f64)
+            .collect();
+        r.iter().sum::<f64>() / r.len() as f64
+    };
+    assert!(mean(true) < 0.8 * mean(false), "west {} vs east {}", mean(true), mean(false));
+}
+
+#[test]
+fn a_marked_crater_is_the_only_basin() {
+    let coast = Region::new(Polygon::circle(DVec2::ZERO, 1000.0, 64).unwrap());
+    let mountain = Region::new(Polygon::circle(DVec2::ZERO, 600.0, 48).unwrap());
+    let crater = Region::new(Polygon::circle(DVec2::ZERO, 200.0, 32).unwrap()).as_depression();
+    let tree = RegionTree::new(vec![coast, mountain, crater]).unwrap();
+    let graph = Graph::from_regions(&tree, &GraphOptions::particles(6_000).with_seed(2)).unwrap();
+    let growth = grow(&graph, &Uniform, 4).unwrap();
+    check_growth(&graph, &growth);
+    assert_eq!(graph.filled_nodes(), 0);
+    // Crater nodes are level 1 (as low as the coast band) but ranked within level 1 by their own
+    // downward order: at least one of them has no lower neighbour (the crater floor).
+    let pts = graph.tin().points();
+    let ranks = growth.ranks();
+    let crater: Vec<u32> = (0..pts.len() as u32).filter(|&v| pts[v as usize].length() < 190.0).collect();
+    assert!(crater.iter().all(|&v| graph.levels()[v as usize] == 1 && graph.depressions()[v as usize]));
+    let floors = crater
+        .iter()
+        .filter(|&&v| {
+            graph
+                .tin()
+                .neighbors(v)
+                .iter()
+                .all(|&w| ranks[w as usize] != UNRANKED && ranks[w as usize] > ranks[v as usize])
+        })
+        .count();
+    assert!(floors >= 1, "the crater should hold a local minimum");
+}
+
+#[test]
+fn enclosed_lower_labels_are_filled_unless_depressions_are_allowed() {
+    // Label 1 island, label 2 ring, label 1 again inside the ring: an enclosed basin.
+    let grid = GridSpec::new(101, 101, DVec2::ZERO, DVec2::splat(10.0)).unwrap();
+    let depth: Vec<u16> = (0..grid.len())
+        .map(|k| {
+            let (i, j) = grid.coords(k);
+            let r = grid.position(i, j).distance(DVec2::splat(500.0));
+            match r {
+                r if r < 150.0 => 1,
+                r if r < 300.0 => 2,
+                r if r < 450.0 => 1,
+                _ => 0,
+            }
+        })
+        .collect();
+    let opts = GraphOptions::particles(5_000).with_seed(8);
+    let filled = Graph::from_labels(&LabelMap::new(grid, depth.clone()).unwrap(), &opts).unwrap();
+    assert!(filled.filled_nodes() > 100, "{} nodes filled", filled.filled_nodes());
+    assert!(filled.depressions().iter().all(|&d| !d));
+    check_growth(&filled, &grow(&filled, &Uniform, 1).unwrap());
+    let kept = Graph::from_labels(&LabelMap::new(grid, depth).unwrap().with_depressions(true), &opts).unwrap();
+    assert_eq!(kept.filled_nodes(), 0);
+    assert!(kept.depressions().iter().filter(|&&d| d).count() > 100);
+    check_growth(&kept, &grow(&kept, &Uniform, 1).unwrap());
+}
+
+#[test]
+fn label_maps_from_gray_values() {
+    let grid = GridSpec::new(50, 50, DVec2::ZERO, DVec2::ONE).unwrap();
+    let values: Vec<f32> = (0..grid.len())
+        .map(|k| {
+            let (i, j) = grid.coords(k);
+            let r = grid.position(i, j).distance(DVec2::splat(25.0));
+            if r < 10.0 {
+                0.8
+            } else if r < 20.0 {
+                0.4
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let labels = LabelMap::from_values(grid, &values).unwrap();
+    assert_eq!(labels.max_level(), 2);
+    let continuous: Vec<f32> = (0..grid.len()).map(|k| k as f32).collect();
+    assert!(matches!(LabelMap::from_values(grid, &continuous), Err(EdenError::InvalidLabelMap { .. })));
+    assert!(matches!(LabelMap::from_values(grid, &vec![0.5; grid.len()]), Err(EdenError::InvalidLabelMap { .. })));
+    assert!(matches!(LabelMap::new(grid, vec![0; 3]), Err(EdenError::InvalidLabelMap { .. })));
+}
+
+#[test]
+fn bad_regions_are_typed_errors() {
+    let c = |x: f64, r: f64| Polygon::circle(DVec2::new(x, 0.0), r, 32).unwrap();
+    assert_eq!(RegionTree::new(vec![]).unwrap_err(), EdenError::NoRegions);
+    let err = RegionTree::new(vec![Region::new(c(0.0, 100.0)), Region::new(c(150.0, 100.0))]).unwrap_err();
+    assert!(matches!(err, EdenError::RegionsOverlap { a: 0, b: 1, .. }), "{err}");
+    let ring = Polygon::new(c(0.0, 50.0).exterior().to_vec(), vec![c(0.0, 20.0).exterior().to_vec()]).unwrap();
+    let err = RegionTree::new(vec![Region::new(c(0.0, 100.0)), Region::new(ring)]).unwrap_err();
+    assert_eq!(err, EdenError::HoleInRaisedRegion { region: 1, depth: 2 });
+    let err = RegionTree::new(vec![Region::new(c(0.0, 100.0)), Region::new(c(0.0, 50.0)).as_depression()]).unwrap_err();
+    assert_eq!(err, EdenError::DepressionNotNested { region: 1, parent_depth: 1 });
+    let err = RegionTree::new(vec![
+        Region::new(c(0.0, 100.0)),
+        Region::new(c(0.0, 80.0)),
+        Region::new(c(0.0, 50.0)).as_depression(),
+        Region::new(c(0.0, 20.0)),
+    ])
+    .unwrap_err();
+    assert_eq!(err, EdenError::DepressionWithChildren { region: 2, child: 3 });
+    let err = RegionTree::new(vec![
+        Region::new(c(0.0, 1000.0)),
+        Region::new(c(-300.0, 100.0)).with_height(10.0),
+        Region::new(c(300.0, 100.0)).with_height(20.0),
+    ])
+    .unwrap_err();
+    assert!(matches!(err, EdenError::ConflictingHeights { depth: 2, .. }), "{err}");
+    let err = RegionTree::new(vec![
+        Region::new(c(0.0, 100.0)).with_height(50.0),
+        Region::new(c(0.0, 50.0)).with_height(40.0),
+    ])
+    .unwrap_err();
+    assert!(matches!(err, EdenError::HeightsNotIncreasing { depth: 2, .. }), "{err}");
+    let err = RegionTree::new(vec![Region::new(c(0.0, 100.0)).with_height(f64::NAN)]).unwrap_err();
+    assert!(matches!(err, EdenError::InvalidHeight { region: 0, .. }));
+    // A region far smaller than the sampling radius gets no node.
+    let tree = RegionTree::new(vec![Region::new(c(0.0, 1000.0)), Region::new(c(0.0, 1.0))]).unwrap();
+    let err = Graph::from_regions(&tree, &GraphOptions::particles(500)).unwrap_err();
+    assert!(matches!(err, EdenError::RegionTooSmall { region: 1, .. }), "{err}");
+}
+
+#[test]
+fn bad_parameters_are_typed_errors() {
+    let tree = RegionTree::new(vec![Region::new(Polygon::circle(DVec2::ZERO, 100.0, 16).unwrap())]).unwrap();
+    assert_eq!(
+        Graph::from_regions(&tree, &GraphOptions::particles(0)).unwrap_err(),
+        EdenError::InvalidParticleCount { count: 0 }
+    );
+    let mut opts = GraphOptions::particles(1_000_000);
+    opts.max_particles = 10_000;
+    assert!(matches!(
+        Graph::from_regions(&tree, &opts).unwrap_err(),
+        EdenError::TooManyParticles { limit: 10_000, .. }
+    ));
+    let mut opts = GraphOptions::particles(100);
+    opts.margin = 0.5;
+    assert!(matches!(Graph::from_regions(&tree, &opts).unwrap_err(), EdenError::InvalidMargin { .. }));
+    let graph = Graph::from_regions(&tree, &GraphOptions::particles(300)).unwrap();
+    assert_eq!(grow(&graph, &|_: DVec2| 0.0, 1).unwrap_err(), EdenError::ZeroProbability);
+    assert!(matches!(
+        grow(&graph, &|p: DVec2| if p.x > 0.0 { -1.0 } else { 1.0 }, 1),
+        Err(EdenError::InvalidProbability { .. })
+    ));
+    assert!(matches!(grow(&graph, &|_: DVec2| f64::NAN, 1), Err(EdenError::InvalidProbability { .. })));
+    assert!(FbmProbability::new(Fbm { octaves: 0, ..Fbm::default() }, 1.0).is_err());
+    // Zero probability on part of the domain is allowed: growth still reaches every node.
+    let half = grow(&graph, &|p: DVec2| if p.x > 0.0 { 0.0 } else { 1.0 }, 1).unwrap();
+    check_growth(&graph, &half);
+}
+
+#[test]
+fn siblings_grow_together_so_the_larger_range_reaches_higher() {
+    // Two ranges at depth 2: the larger one holds the later (higher) ranks of level 2.
+    let coast = Region::new(Polygon::circle(DVec2::ZERO, 1000.0, 64).unwrap());
+    let big = Region::new(Polygon::circle(DVec2::new(-400.0, 0.0), 350.0, 48).unwrap());
+    let small = Region::new(Polygon::circle(DVec2::new(450.0, 0.0), 120.0, 32).unwrap());
+    let tree = RegionTree::new(vec![coast, big, small]).unwrap();
+    let graph = Graph::from_regions(&tree, &GraphOptions::particles(8_000).with_seed(1)).unwrap();
+    let growth = grow(&graph, &Uniform, 3).unwrap();
+    check_growth(&graph, &growth);
+    let top = growth.order()[growth.level_range(2)].last().copied().unwrap();
+    assert!(graph.tin().points()[top as usize].x < 0.0, "the highest node should be in the larger range");
+}
