@@ -21,12 +21,13 @@ pub(crate) fn star(center: DVec2, radius: f64, radii: &[f64]) -> Vec<DVec2> {
 /// Strategy: a star polygon of radius 50 at the origin, optionally with up to two holes that fit.
 pub(crate) fn polygon_with_holes() -> impl Strategy<Value = Polygon> {
     (
-        proptest::collection::vec(0.0f64..1.0, 3..40),
+        // At least 8 vertices: a chord of the star then stays at ≥ 25·cos(π/8) ≈ 23.1 from the centre.
+        proptest::collection::vec(0.0f64..1.0, 8..40),
         proptest::collection::vec(proptest::collection::vec(0.0f64..1.0, 3..12), 0..3),
     )
         .prop_map(|(outer, holes)| {
-            // Exterior reaches at least radius 25; holes of radius ≤ 10 centred at x = ±12.5 stay
-            // inside it and apart from each other.
+            // The exterior's edges stay at least 23.1 from the centre (see above); holes of radius
+            // ≤ 10 centred at x = ±12.5 reach 22.5, so they stay inside it and apart from each other.
             let exterior = star(DVec2::ZERO, 50.0, &outer);
             let holes = holes
                 .iter()
