@@ -1,14 +1,18 @@
-//! Exact Euclidean distance transform of a sample mask (Felzenszwalb & Huttenlocher 2012): two
-//! separable passes of a 1-D lower-envelope-of-parabolas transform, O(samples).
+//! Exact Euclidean distance transforms (Felzenszwalb & Huttenlocher 2012): two separable passes of
+//! a 1-D lower-envelope-of-parabolas transform, O(samples).
+
+use glam::DVec2;
 
 use crate::GridSpec;
 
-/// Squared 1-D distance transform of `f` in place, for samples `spacing` apart:
-/// `out[q] = min_p (spacing·(q − p))² + f[p]`. `v`, `z` are scratch buffers (≥ n, n + 1).
-fn transform_1d(f: &mut [f64], spacing: f64, v: &mut [usize], z: &mut [f64], out: &mut [f64]) {
+/// Squared 1-D transform of `f` in place, for samples `spacing` apart:
+/// `f[q] ← min_p (spacing·(q − p))² + f[p]`, with `label[q]` taken from the minimising `p`.
+/// `v`, `z`, `out`, `lab` are scratch buffers (≥ n, n + 1, n, n).
+fn transform_1d(f: &mut [f64], label: &mut [u32], spacing: f64, scratch: &mut Scratch) {
     let n = f.len();
     let s2 = spacing * spacing;
-    // The lower envelope of parabolas rooted at finite samples.
+    let Scratch { v, z, out, lab } = scratch;
+    // The lower envelope of the parabolas rooted at finite samples.
     let mut k = usize::MAX;
     for q in 0..n {
         if !f[q].is_finite() {
@@ -23,7 +27,7 @@ fn transform_1d(f: &mut [f64], spacing: f64, v: &mut [usize], z: &mut [f64], out
                 break;
             }
             let p = v[k];
-            // Intersection of the parabolas rooted at p and q.
+            // Where the parabolas rooted at p and q intersect.
             let s = ((f[q] + s2 * (q * q) as f64) - (f[p] + s2 * (p * p) as f64)) / (2.0 * s2 * (q as f64 - p as f64));
             if s <= z[k] {
                 if k == 0 {
@@ -41,18 +45,62 @@ fn transform_1d(f: &mut [f64], spacing: f64, v: &mut [usize], z: &mut [f64], out
         }
     }
     if k == usize::MAX {
-        out[..n].fill(f64::INFINITY);
-    } else {
-        let mut j = 0;
-        for (q, o) in out.iter_mut().enumerate().take(n) {
-            while z[j + 1] < q as f64 {
-                j += 1;
-            }
-            let d = q as f64 - v[j] as f64;
-            *o = s2 * d * d + f[v[j]];
+        return; // no seed on this line: everything stays infinite
+    }
+    let mut j = 0;
+    for q in 0..n {
+        while z[j + 1] < q as f64 {
+            j += 1;
         }
+        let d = q as f64 - v[j] as f64;
+        out[q] = s2 * d * d + f[v[j]];
+        lab[q] = label[v[j]];
     }
     f.copy_from_slice(&out[..n]);
+    label.copy_from_slice(&lab[..n]);
+}
+
+struct Scratch {
+    v: Vec<usize>,
+    z: Vec<f64>,
+    out: Vec<f64>,
+    lab: Vec<u32>,
+}
+
+impl Scratch {
+    fn new(n: usize) -> Self {
+        Self { v: vec![0; n], z: vec![0.0; n + 1], out: vec![0.0; n], lab: vec![0; n] }
+    }
+}
+
+/// Generalised distance transform on an `nx × ny` grid with cell size `cell`: on entry `sq` holds
+/// each seed's own squared distance (0 at an exact seed, a small value for a seed near a curve,
+/// `f64::INFINITY` elsewhere) and `label` each seed's label; on return `sq[p]` is
+/// `min_q (|p − q|² + sq₀[q])` over seeds `q` and `label[p]` the label of the minimising seed.
+///
+/// Seeding pixels near a curve with their exact squared distance to it gives distances to the curve
+/// itself, not to pixel centres, to within a fraction of a cell.
+///
+/// # Panics
+/// If `sq` or `label` does not hold `nx · ny` values.
+pub fn distance_transform_seeded(nx: usize, ny: usize, cell: DVec2, sq: &mut [f64], label: &mut [u32]) {
+    assert!(sq.len() == nx * ny && label.len() == nx * ny, "buffers of {} / {} for {nx}x{ny}", sq.len(), label.len());
+    let mut scratch = Scratch::new(nx.max(ny));
+    for (row, lab) in sq.chunks_exact_mut(nx).zip(label.chunks_exact_mut(nx)) {
+        transform_1d(row, lab, cell.x, &mut scratch);
+    }
+    let (mut col, mut col_lab) = (vec![0.0f64; ny], vec![0u32; ny]);
+    for i in 0..nx {
+        for j in 0..ny {
+            col[j] = sq[j * nx + i];
+            col_lab[j] = label[j * nx + i];
+        }
+        transform_1d(&mut col, &mut col_lab, cell.y, &mut scratch);
+        for j in 0..ny {
+            sq[j * nx + i] = col[j];
+            label[j * nx + i] = col_lab[j];
+        }
+    }
 }
 
 /// Euclidean distance, in world units, from every sample of `grid` to the nearest sample where
@@ -62,23 +110,11 @@ fn transform_1d(f: &mut [f64], spacing: f64, v: &mut [usize], z: &mut [f64], out
 /// If `seed.len() != grid.len()`.
 pub fn distance_transform(grid: &GridSpec, seed: &[bool]) -> Vec<f64> {
     assert_eq!(seed.len(), grid.len(), "mask of {} samples for a grid of {}", seed.len(), grid.len());
-    let (nx, ny) = (grid.nx(), grid.ny());
-    let cell = grid.cell_size();
     let mut d: Vec<f64> = seed.iter().map(|&s| if s { 0.0 } else { f64::INFINITY }).collect();
-    let n = nx.max(ny);
-    let (mut v, mut z, mut out) = (vec![0usize; n], vec![0.0f64; n + 1], vec![0.0f64; n]);
-    for row in d.chunks_exact_mut(nx) {
-        transform_1d(row, cell.x, &mut v, &mut z, &mut out);
-    }
-    let mut col = vec![0.0f64; ny];
-    for i in 0..nx {
-        for j in 0..ny {
-            col[j] = d[j * nx + i];
-        }
-        transform_1d(&mut col, cell.y, &mut v, &mut z, &mut out);
-        for j in 0..ny {
-            d[j * nx + i] = col[j].sqrt();
-        }
+    let mut label = vec![0u32; d.len()];
+    distance_transform_seeded(grid.nx(), grid.ny(), grid.cell_size(), &mut d, &mut label);
+    for v in &mut d {
+        *v = v.sqrt();
     }
     d
 }
@@ -106,6 +142,19 @@ mod tests {
                 .fold(f64::INFINITY, f64::min);
             assert!((dk - best).abs() < 1e-9, "sample ({i}, {j}): {dk} vs {best}");
         }
+    }
+
+    #[test]
+    fn labels_follow_the_nearest_seed_and_offsets_add() {
+        // Two seeds on a 9x1 line: label 7 at x = 0 (offset² 4), label 9 at x = 8 (offset 0).
+        let mut sq = vec![f64::INFINITY; 9];
+        let mut label = vec![0u32; 9];
+        (sq[0], label[0]) = (4.0, 7);
+        (sq[8], label[8]) = (0.0, 9);
+        distance_transform_seeded(9, 1, DVec2::ONE, &mut sq, &mut label);
+        assert_eq!(sq[0], 4.0);
+        assert_eq!((sq[3], label[3]), (13.0, 7)); // 3² + 4 = 13 < 5² = 25
+        assert_eq!((sq[5], label[5]), (9.0, 9)); // 3² = 9 < 5² + 4
     }
 
     #[test]

@@ -14,8 +14,9 @@
 //! - [`Units::Degrees`] grids are (longitude, latitude) and measure ground distances in metres with
 //!   the WGS84 radii at each row's latitude, so slopes of an SRTM tile are true slopes.
 //!
-//! Shared grid utilities: [`distance_transform`] (exact Euclidean, O(samples)) and the [`noise`]
-//! module (seeded gradient noise and fBm) that the generators share.
+//! Shared grid utilities: [`distance_transform`] (exact Euclidean, O(samples)),
+//! [`fill_depressions`] (Priority-Flood+ε) and the [`noise`] module (seeded gradient noise and fBm)
+//! that the generators share.
 //!
 //! ```
 //! use glam::DVec2;
@@ -36,11 +37,13 @@
 
 mod distance;
 mod error;
+mod fill;
 mod grid;
 mod heightfield;
 pub mod noise;
 
-pub use distance::distance_transform;
+pub use distance::{distance_transform, distance_transform_seeded};
 pub use error::HeightfieldError;
+pub use fill::fill_depressions;
 pub use grid::{Extent, GridSpec, MAX_SAMPLES, Units, metres_per_degree};
 pub use heightfield::{Heightfield, Statistics};

@@ -1,6 +1,6 @@
 use glam::DVec2;
 
-use crate::geometry::{SegmentGrid, segment_distance_sq};
+use crate::geometry::{SegmentIndex, segment_distance_sq};
 use crate::{Polygon, PolygonSet, Rect, SamplingError};
 
 /// A region of the plane that can be sampled: a bounding rectangle and a membership test.
@@ -88,7 +88,7 @@ pub struct ExtendedDomain<'a> {
     core: &'a PolygonSet,
     margin: f64,
     edges: Vec<[DVec2; 2]>,
-    grid: SegmentGrid,
+    grid: SegmentIndex,
 }
 
 impl<'a> ExtendedDomain<'a> {
@@ -107,7 +107,7 @@ impl<'a> ExtendedDomain<'a> {
         }
         let edges: Vec<[DVec2; 2]> = core.edges().collect();
         let max_cells = (4 * edges.len()).clamp(4096, 1 << 22);
-        let grid = SegmentGrid::new(&edges, b, margin.max(b.size().max_element() / 4096.0), max_cells);
+        let grid = SegmentIndex::new(&edges, b, margin.max(b.size().max_element() / 4096.0), max_cells);
         Ok(Self { core, margin, edges, grid })
     }
 

@@ -69,7 +69,7 @@ impl Rect {
 /// Sign of the turn `a → b → c`: > 0 counter-clockwise, < 0 clockwise, exactly 0 when collinear
 /// (Shewchuk's adaptive-precision predicate).
 #[inline]
-pub(crate) fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
+pub fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
     let k = |p: DVec2| robust::Coord { x: p.x, y: p.y };
     robust::orient2d(k(a), k(b), k(c))
 }
@@ -84,7 +84,7 @@ fn crosses_ray(p: DVec2, a: DVec2, b: DVec2) -> bool {
 
 /// Squared distance from `p` to segment `a–b`.
 #[inline]
-pub(crate) fn segment_distance_sq(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+pub fn segment_distance_sq(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     let ab = b - a;
     let len2 = ab.length_squared();
     let t = if len2 > 0.0 { ((p - a).dot(ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
@@ -92,7 +92,7 @@ pub(crate) fn segment_distance_sq(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 }
 
 /// Whether closed segments `a–b` and `c–d` share at least one point (exact predicates).
-pub(crate) fn segments_touch(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
+pub fn segments_touch(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
     let (o1, o2) = (orient(a, b, c), orient(a, b, d));
     let (o3, o4) = (orient(c, d, a), orient(c, d, b));
     if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
@@ -162,10 +162,10 @@ impl EdgeBands {
     }
 }
 
-/// A uniform grid binning segments by the cells they pass through, for distance and intersection
-/// queries that only look at nearby segments.
+/// A uniform grid binning segments by the cells they pass through (a conservative supercover), for
+/// distance and intersection queries that only look at nearby segments.
 #[derive(Debug, Clone)]
-pub(crate) struct SegmentGrid {
+pub struct SegmentIndex {
     origin: DVec2,
     cell: f64,
     w: usize,
@@ -174,10 +174,10 @@ pub(crate) struct SegmentGrid {
     items: Vec<u32>,
 }
 
-impl SegmentGrid {
+impl SegmentIndex {
     /// Bins `segments` over `bounds` with square cells of side `cell` (enlarged so the grid has at
     /// most `max_cells` cells).
-    pub(crate) fn new(segments: &[[DVec2; 2]], bounds: Rect, cell: f64, max_cells: usize) -> Self {
+    pub fn new(segments: &[[DVec2; 2]], bounds: Rect, cell: f64, max_cells: usize) -> Self {
         let size = bounds.size().max(DVec2::splat(f64::MIN_POSITIVE));
         let mut cell = cell.max(f64::MIN_POSITIVE);
         while (size.x / cell).ceil() * (size.y / cell).ceil() > max_cells as f64 {
@@ -233,8 +233,9 @@ impl SegmentGrid {
         }
     }
 
-    /// Segment ids binned in cells overlapping `[lo, hi]` (a segment may repeat).
-    pub(crate) fn for_each_near(&self, lo: DVec2, hi: DVec2, mut f: impl FnMut(u32) -> bool) -> bool {
+    /// Calls `f` with the ids of segments binned in cells overlapping `[lo, hi]` (a segment may be
+    /// seen more than once) until `f` returns true; returns whether it did.
+    pub fn for_each_near(&self, lo: DVec2, hi: DVec2, mut f: impl FnMut(u32) -> bool) -> bool {
         let (c0, c1) = (self.col(lo.x), self.col(hi.x));
         let (r0, r1) = (self.row(lo.y), self.row(hi.y));
         for r in r0..=r1 {
@@ -251,7 +252,7 @@ impl SegmentGrid {
     }
 
     /// Segment ids binned in each cell, one slice per cell.
-    pub(crate) fn cells(&self) -> impl Iterator<Item = &[u32]> {
+    pub fn cells(&self) -> impl Iterator<Item = &[u32]> {
         (0..self.w * self.h).map(|k| &self.items[self.offsets[k] as usize..self.offsets[k + 1] as usize])
     }
 }
@@ -334,7 +335,7 @@ fn check_simple(rings: &[&[DVec2]]) -> Result<(), PolygonError> {
     let bounds = segments.iter().fold(Rect::bounding(&[]), |b, s| b.union(&Rect::bounding(s)));
     let total_len: f64 = segments.iter().map(|[a, b]| (*b - *a).length()).sum();
     let cell = 2.0 * total_len / segments.len() as f64;
-    let grid = SegmentGrid::new(&segments, bounds, cell, 4 * segments.len() + 16);
+    let grid = SegmentIndex::new(&segments, bounds, cell, 4 * segments.len() + 16);
     for cell in grid.cells() {
         for (x, &s) in cell.iter().enumerate() {
             for &t in &cell[x + 1..] {

@@ -7,8 +7,9 @@
 //!
 //! Main types: [`PoissonDisc`] (fixed radius), [`VariablePoissonDisc`] (radius function),
 //! [`Domain`] (what can be sampled: [`Rect`], [`Polygon`], [`PolygonSet`], [`FnDomain`],
-//! [`ExtendedDomain`]), [`TaggedSamples`]. The polygon types live here because this is the lowest
-//! crate that needs them; `relief-tin` re-exports them.
+//! [`ExtendedDomain`]), [`TaggedSamples`]. The polygon types and the exact 2-D predicates
+//! ([`orient`], [`segments_touch`], [`SegmentIndex`]) live here because this is the lowest crate
+//! that needs them; `relief-tin` re-exports the crate for the crates above it.
 //!
 //! ```
 //! use glam::DVec2;
@@ -37,7 +38,7 @@ mod sampler;
 
 pub use domain::{Domain, ExtendedDomain, FnDomain};
 pub use error::{PolygonError, SamplingError};
-pub use geometry::{Polygon, PolygonSet, Rect};
+pub use geometry::{Polygon, PolygonSet, Rect, SegmentIndex, orient, segment_distance_sq, segments_touch};
 pub use sampler::{
     DEFAULT_ATTEMPTS, DEFAULT_MAX_POINTS, DENSITY, PoissonDisc, TaggedSamples, VariablePoissonDisc, VariableSamples,
     radius_for_count,

@@ -1,0 +1,248 @@
+use glam::DVec2;
+use rayon::prelude::*;
+use relief_heightfield::Heightfield;
+use relief_tin::{NO_TRIANGLE, Tin};
+
+use crate::levels::check_levels;
+use crate::{Contour, ContourSet, ContoursError};
+
+/// A triangle mesh with heights at its nodes: the TIN of a generated terrain, or a raster DEM seen
+/// as two triangles per cell. Triangles are counter-clockwise; neighbour `k` lies across the edge
+/// opposite corner `k`. A NaN height marks no-data.
+pub(crate) trait Mesh: Sync {
+    fn num_triangles(&self) -> usize;
+    fn corners(&self, t: u32) -> [u32; 3];
+    fn neighbor(&self, t: u32, k: usize) -> Option<u32>;
+    fn point(&self, v: u32) -> DVec2;
+    fn height(&self, v: u32) -> f64;
+}
+
+pub(crate) struct TinMesh<'a> {
+    pub(crate) tin: &'a Tin,
+    pub(crate) heights: &'a [f64],
+}
+
+impl Mesh for TinMesh<'_> {
+    fn num_triangles(&self) -> usize {
+        self.tin.num_triangles()
+    }
+    fn corners(&self, t: u32) -> [u32; 3] {
+        self.tin.triangles()[t as usize]
+    }
+    fn neighbor(&self, t: u32, k: usize) -> Option<u32> {
+        let u = self.tin.triangle_neighbors()[t as usize][k];
+        (u != NO_TRIANGLE).then_some(u)
+    }
+    fn point(&self, v: u32) -> DVec2 {
+        self.tin.points()[v as usize]
+    }
+    fn height(&self, v: u32) -> f64 {
+        self.heights[v as usize]
+    }
+}
+
+/// A raster split into two triangles per cell: `(v00, v10, v11)` and `(v00, v11, v01)`.
+pub(crate) struct GridMesh<'a> {
+    pub(crate) dem: &'a Heightfield,
+}
+
+impl GridMesh<'_> {
+    fn cells_x(&self) -> usize {
+        self.dem.nx() - 1
+    }
+    fn node(&self, i: usize, j: usize) -> u32 {
+        (j * self.dem.nx() + i) as u32
+    }
+}
+
+impl Mesh for GridMesh<'_> {
+    fn num_triangles(&self) -> usize {
+        2 * (self.dem.nx() - 1) * (self.dem.ny() - 1)
+    }
+    fn corners(&self, t: u32) -> [u32; 3] {
+        let cell = (t / 2) as usize;
+        let (i, j) = (cell % self.cells_x(), cell / self.cells_x());
+        if t.is_multiple_of(2) {
+            [self.node(i, j), self.node(i + 1, j), self.node(i + 1, j + 1)]
+        } else {
+            [self.node(i, j), self.node(i + 1, j + 1), self.node(i, j + 1)]
+        }
+    }
+    fn neighbor(&self, t: u32, k: usize) -> Option<u32> {
+        let (cx, cy) = (self.cells_x(), self.dem.ny() - 1);
+        let cell = (t / 2) as usize;
+        let (i, j) = (cell % cx, cell / cx);
+        let tri = |i: usize, j: usize, s: u32| (2 * (j * cx + i)) as u32 + s;
+        match (t % 2, k) {
+            (0, 0) => (i + 1 < cx).then(|| tri(i + 1, j, 1)),
+            (0, 1) | (1, 2) => Some(t ^ 1),
+            (0, _) => (j > 0).then(|| tri(i, j - 1, 1)),
+            (1, 0) => (j + 1 < cy).then(|| tri(i, j + 1, 0)),
+            (_, _) => (i > 0).then(|| tri(i - 1, j, 0)),
+        }
+    }
+    fn point(&self, v: u32) -> DVec2 {
+        let (i, j) = self.dem.grid().coords(v as usize);
+        self.dem.grid().position(i, j)
+    }
+    fn height(&self, v: u32) -> f64 {
+        f64::from(self.dem.samples()[v as usize])
+    }
+}
+
+/// Triangles per parallel work item.
+const CHUNK: usize = 4096;
+
+/// Fraction of an edge by which a crossing exactly at a node is moved off it: the numeric form
+/// of the symbolic rule "a node at the level counts as above", which keeps contours apart.
+const TIE_NUDGE: f64 = 1e-6;
+
+/// One contour segment inside a triangle, oriented with higher ground on its left.
+#[derive(Clone, Copy)]
+struct Segment {
+    level: u32,
+    entry_slot: u8,
+    exit_slot: u8,
+    entry: DVec2,
+    exit: DVec2,
+}
+
+/// Where the level `l` crosses the edge between nodes `a` and `b` (one above, one below).
+/// Computed from the endpoints in node-index order so both triangles sharing the edge agree.
+fn crossing(mesh: &impl Mesh, a: u32, b: u32, l: f64) -> DVec2 {
+    let (u, v) = if a < b { (a, b) } else { (b, a) };
+    let (hu, hv) = (mesh.height(u), mesh.height(v));
+    let t = ((l - hu) / (hv - hu)).clamp(TIE_NUDGE, 1.0 - TIE_NUDGE);
+    let (pu, pv) = (mesh.point(u), mesh.point(v));
+    pu + t * (pv - pu)
+}
+
+/// The segments of triangle `t`, one per level strictly inside its height range, in level order.
+fn triangle_segments(mesh: &impl Mesh, levels: &[f64], t: u32, out: &mut Vec<Segment>) {
+    let c = mesh.corners(t);
+    let h = c.map(|v| mesh.height(v));
+    if h.iter().any(|x| x.is_nan()) {
+        return;
+    }
+    let lo = h[0].min(h[1]).min(h[2]);
+    let hi = h[0].max(h[1]).max(h[2]);
+    // Mixed for level L iff lo < L <= hi (a node at exactly L counts as above).
+    let first = levels.partition_point(|&l| l <= lo);
+    let last = levels.partition_point(|&l| l <= hi);
+    for (k, &l) in levels.iter().enumerate().take(last).skip(first) {
+        let above = h.map(|x| x >= l);
+        let count = above.iter().filter(|&&a| a).count();
+        // The lone corner (the only one above, or the only one below).
+        let i = (0..3).find(|&i| above[i] == (count == 1)).unwrap_or(0);
+        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+        let p_first = crossing(mesh, c[i], c[i1], l); // on edge (v_i, v_i+1), opposite corner i+2
+        let p_second = crossing(mesh, c[i2], c[i], l); // on edge (v_i+2, v_i), opposite corner i+1
+        let (entry, entry_slot, exit, exit_slot) =
+            if count == 1 { (p_first, i2, p_second, i1) } else { (p_second, i1, p_first, i2) };
+        out.push(Segment { level: k as u32, entry_slot: entry_slot as u8, exit_slot: exit_slot as u8, entry, exit });
+    }
+}
+
+/// Marching triangles over `mesh` for all `levels` at once: O(triangles + output), parallel over
+/// triangles, then segments are linked through the mesh's neighbour relation into polylines.
+pub(crate) fn extract(mesh: &impl Mesh, levels: &[f64]) -> Result<ContourSet, ContoursError> {
+    check_levels(levels)?;
+    let n = mesh.num_triangles();
+    let chunks: Vec<(Vec<u32>, Vec<Segment>)> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut counts = Vec::with_capacity(CHUNK);
+            let mut segs = Vec::new();
+            for t in c * CHUNK..n.min((c + 1) * CHUNK) {
+                let before = segs.len();
+                triangle_segments(mesh, levels, t as u32, &mut segs);
+                counts.push((segs.len() - before) as u32);
+            }
+            (counts, segs)
+        })
+        .collect();
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0u32);
+    let mut segments = Vec::with_capacity(chunks.iter().map(|c| c.1.len()).sum());
+    for (counts, segs) in chunks {
+        for c in counts {
+            offsets.push(offsets[offsets.len() - 1] + c);
+        }
+        segments.extend(segs);
+    }
+    let owner: Vec<u32> = (0..n as u32)
+        .flat_map(|t| std::iter::repeat_n(t, (offsets[t as usize + 1] - offsets[t as usize]) as usize))
+        .collect();
+    // The segment of `level` in triangle `t`, if any (segments of a triangle are sorted by level).
+    let find = |t: u32, level: u32| -> Option<usize> {
+        let (a, b) = (offsets[t as usize] as usize, offsets[t as usize + 1] as usize);
+        let k = segments[a..b].partition_point(|s: &Segment| s.level < level);
+        (a + k < b && segments[a + k].level == level).then_some(a + k)
+    };
+    let next =
+        |s: usize| mesh.neighbor(owner[s], segments[s].exit_slot as usize).and_then(|u| find(u, segments[s].level));
+    let prev =
+        |s: usize| mesh.neighbor(owner[s], segments[s].entry_slot as usize).and_then(|u| find(u, segments[s].level));
+    let mut visited = vec![false; segments.len()];
+    let mut contours = Vec::new();
+    for s0 in 0..segments.len() {
+        if visited[s0] {
+            continue;
+        }
+        // Walk back to the start of an open chain (or all the way round a closed one).
+        let mut start = s0;
+        let mut closed = false;
+        while let Some(p) = prev(start) {
+            if p == s0 {
+                closed = true;
+                break;
+            }
+            start = p;
+        }
+        let mut points = Vec::new();
+        let mut s = start;
+        loop {
+            visited[s] = true;
+            points.push(segments[s].entry);
+            match next(s) {
+                Some(q) if q == start && closed => break,
+                Some(q) if !visited[q] => s = q,
+                _ => {
+                    points.push(segments[s].exit);
+                    break;
+                }
+            }
+        }
+        points.dedup();
+        let level = segments[s0].level;
+        contours.push(Contour { level, height: levels[level as usize], points, closed });
+    }
+    ContourSet::new(levels.to_vec(), contours)
+}
+
+/// Contours of per-node `heights` on `tin` at each of `levels` (sorted ascending).
+///
+/// Closed contours run counter-clockwise around higher ground; contours reaching the mesh
+/// boundary or no-data (NaN heights) are open.
+///
+/// # Errors
+/// [`ContoursError::HeightCountMismatch`], [`ContoursError::InvalidLevels`].
+pub fn extract_tin(tin: &Tin, heights: &[f64], levels: &[f64]) -> Result<ContourSet, ContoursError> {
+    if heights.len() != tin.num_points() {
+        return Err(ContoursError::HeightCountMismatch { expected: tin.num_points(), found: heights.len() });
+    }
+    extract(&TinMesh { tin, heights }, levels)
+}
+
+/// Contours of a raster DEM at `levels` (like `gdal_contour`): each cell is split into two
+/// triangles along its south-west–north-east diagonal; no-data cells produce no contour, so
+/// contours end (open) at holes and at the raster edge.
+///
+/// # Errors
+/// [`ContoursError::InvalidLevels`]; a DEM with fewer than 2×2 samples yields no contours.
+pub fn extract_dem(dem: &Heightfield, levels: &[f64]) -> Result<ContourSet, ContoursError> {
+    if dem.nx() < 2 || dem.ny() < 2 {
+        return ContourSet::new(levels.to_vec(), Vec::new());
+    }
+    extract(&GridMesh { dem }, levels)
+}

@@ -1,0 +1,216 @@
+use glam::DVec2;
+use relief_tin::poisson_sampling::{orient, segment_distance_sq};
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::{BoxIndex, segments_touch};
+use crate::{ContourSet, ContoursError};
+
+/// Parameters of contour smoothing (the contours paper, §5.1):
+/// `qᵢ ← (1 − α)·qᵢ + α/(2k)·Σⱼ₌₁..ₖ (qᵢ₋ⱼ + qᵢ₊ⱼ)`, repeated `iterations` times.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Smoothing {
+    /// Strength α in (0, 1].
+    pub alpha: f64,
+    /// Neighbourhood half-width k ≥ 1 (vertices on each side).
+    pub k: usize,
+    /// Number of passes.
+    pub iterations: u32,
+}
+
+impl Default for Smoothing {
+    fn default() -> Self {
+        Self { alpha: 0.5, k: 2, iterations: 4 }
+    }
+}
+
+/// How many times a blocked move is halved before it is skipped.
+const RETRIES: u32 = 3;
+
+/// Minimum feature size kept by smoothing, as a fraction of the set's median segment length.
+const CLEARANCE: f64 = 0.1;
+
+impl ContourSet {
+    /// Smooths every contour without ever making two contours (or two parts of one) touch or cross.
+    ///
+    /// The paper gives no such guarantee; here each vertex move sweeps the two triangles between
+    /// the old and the new position, and the move is taken only if no other segment meets them
+    /// (exact predicates) — a blocked move is halved up to three times, then skipped. Any crossing
+    /// would have to pass through the swept area, so nesting is preserved exactly. A move must also
+    /// keep a minimum feature size (a tenth of the median segment length) between the moved vertex
+    /// and other segments, along its new segments, and between them and other vertices, so small
+    /// loops stop shrinking before they degenerate. Endpoints of open contours stay fixed.
+    ///
+    /// # Errors
+    /// [`ContoursError::InvalidSmoothing`] for α outside (0, 1] or k = 0.
+    pub fn smoothed(&self, params: &Smoothing) -> Result<ContourSet, ContoursError> {
+        if !(params.alpha > 0.0 && params.alpha <= 1.0) {
+            return Err(ContoursError::InvalidSmoothing {
+                reason: format!("alpha {} must be in (0, 1]", params.alpha),
+            });
+        }
+        if params.k == 0 {
+            return Err(ContoursError::InvalidSmoothing { reason: "k must be at least 1".into() });
+        }
+        let mut pts: Vec<Vec<DVec2>> = self.contours().iter().map(|c| c.points.clone()).collect();
+        let closed: Vec<bool> = self.contours().iter().map(|c| c.closed).collect();
+        let mut lengths: Vec<f64> =
+            self.contours().iter().flat_map(|c| c.segments().map(|[a, b]| a.distance(b))).collect();
+        let clearance = if lengths.is_empty() {
+            0.0
+        } else {
+            let mid = lengths.len() / 2;
+            CLEARANCE * *lengths.select_nth_unstable_by(mid, f64::total_cmp).1
+        };
+        for _ in 0..params.iterations {
+            pass(&mut pts, &closed, params, clearance);
+        }
+        self.with_geometry(pts)
+    }
+}
+
+/// Where vertex `i` of a polyline wants to go (Jacobi: from the pass's starting positions).
+fn target(p: &[DVec2], closed: bool, i: usize, params: &Smoothing) -> Option<DVec2> {
+    let n = p.len();
+    if !closed && (i == 0 || i + 1 == n) {
+        return None;
+    }
+    // Open polylines use the neighbours that exist, symmetrically.
+    let k = if closed { params.k.min((n - 1) / 2) } else { params.k.min(i).min(n - 1 - i) };
+    if k == 0 {
+        return None;
+    }
+    let sum: DVec2 = (1..=k).map(|j| p[(i + n - j) % n] + p[(i + j) % n]).sum();
+    Some((1.0 - params.alpha) * p[i] + params.alpha / (2.0 * k as f64) * sum)
+}
+
+fn pass(pts: &mut [Vec<DVec2>], closed: &[bool], params: &Smoothing, clearance: f64) {
+    let targets: Vec<Vec<Option<DVec2>>> =
+        pts.iter().zip(closed).map(|(p, &c)| (0..p.len()).map(|i| target(p, c, i, params)).collect()).collect();
+    // Each segment is indexed by the box of every position it can take during this pass (its
+    // endpoints move, at most, straight to their targets), so queries need no global margin.
+    let mut boxes = Vec::new();
+    let mut owner = Vec::new();
+    let mut total = 0.0;
+    for (k, p) in pts.iter().enumerate() {
+        let n = p.len();
+        let count = if closed[k] { n } else { n - 1 };
+        for i in 0..count {
+            let j = (i + 1) % n;
+            let corners = [p[i], p[j], targets[k][i].unwrap_or(p[i]), targets[k][j].unwrap_or(p[j])];
+            let lo = corners.iter().fold(DVec2::INFINITY, |m, q| m.min(*q));
+            let hi = corners.iter().fold(DVec2::NEG_INFINITY, |m, q| m.max(*q));
+            total += p[i].distance(p[j]);
+            boxes.push([lo, hi]);
+            owner.push((k, i));
+        }
+    }
+    let index = BoxIndex::new(&boxes, 2.0 * total / boxes.len().max(1) as f64);
+    let ctx = Context { closed, index: &index, owner: &owner, clearance };
+    for k in 0..pts.len() {
+        for i in 0..pts[k].len() {
+            let Some(goal) = targets[k][i] else { continue };
+            let mut step = goal - pts[k][i];
+            for _ in 0..=RETRIES {
+                let to = pts[k][i] + step;
+                if ctx.move_is_safe(pts, k, i, to) {
+                    pts[k][i] = to;
+                    break;
+                }
+                step *= 0.5;
+            }
+        }
+    }
+}
+
+/// What every move check of a pass shares.
+struct Context<'a> {
+    closed: &'a [bool],
+    index: &'a BoxIndex,
+    owner: &'a [(usize, usize)],
+    clearance: f64,
+}
+
+impl Context<'_> {
+    /// Whether moving vertex `i` of contour `k` to `to` sweeps over no other segment and keeps the
+    /// clearance.
+    fn move_is_safe(&self, pts: &[Vec<DVec2>], k: usize, i: usize, to: DVec2) -> bool {
+        let p = &pts[k];
+        let n = p.len();
+        let from = p[i];
+        if to == from {
+            return true;
+        }
+        let prev = (self.closed[k] || i > 0).then(|| (i + n - 1) % n);
+        let next = (self.closed[k] || i + 1 < n).then(|| (i + 1) % n);
+        let ends: Vec<usize> = [prev, next].iter().flatten().copied().collect();
+        let c2 = self.clearance * self.clearance;
+        if ends.iter().any(|&j| p[j].distance_squared(to) < c2) {
+            return false;
+        }
+        // The swept triangles, each with the neighbour vertex it shares with the rest of the contour.
+        let tris: Vec<([DVec2; 3], usize)> = ends.iter().map(|&j| ([p[j], from, to], j)).collect();
+        if tris.iter().any(|([a, b, c], _)| orient(*a, *b, *c) == 0.0) {
+            // Moving straight along a segment: rare, and skipping it is always safe.
+            return false;
+        }
+        let lo = tris.iter().flat_map(|(t, _)| t.iter()).fold(DVec2::INFINITY, |m, q| m.min(*q))
+            - DVec2::splat(self.clearance);
+        let hi = tris.iter().flat_map(|(t, _)| t.iter()).fold(DVec2::NEG_INFINITY, |m, q| m.max(*q))
+            + DVec2::splat(self.clearance);
+        // The two segments at vertex i are the ones being replaced.
+        let own = |ko: usize, s: usize| ko == k && (s == i || Some(s) == prev);
+        let is_vertex = |ko: usize, q: DVec2| ko == k && (q == from || ends.iter().any(|&j| p[j] == q));
+        !self.index.any_near(lo, hi, |s| {
+            let (ko, so) = self.owner[s as usize];
+            if own(ko, so) {
+                return false;
+            }
+            let q = &pts[ko];
+            let (r, t) = (q[so], q[(so + 1) % q.len()]);
+            // Most candidates share a grid cell with the move but are nowhere near it.
+            if r.max(t).cmplt(lo).any() || r.min(t).cmpgt(hi).any() {
+                return false;
+            }
+            // Clearance: the new vertex from this segment, this segment's free ends from the new segments.
+            if segment_distance_sq(to, r, t) < c2 {
+                return true;
+            }
+            let too_close = |v: DVec2| !is_vertex(ko, v) && ends.iter().any(|&j| segment_distance_sq(v, p[j], to) < c2);
+            if too_close(r) || too_close(t) {
+                return true;
+            }
+            tris.iter().any(|(tri, shared)| {
+                let sv = p[*shared];
+                let at_shared = ko == k && (r == sv || t == sv);
+                if at_shared {
+                    enters_at_vertex(tri, sv, if r == sv { t } else { r })
+                } else {
+                    meets_triangle(tri, r, t)
+                }
+            })
+        })
+    }
+}
+
+/// Whether segment `r–t` meets the closed triangle `tri` (exact predicates).
+fn meets_triangle(tri: &[DVec2; 3], r: DVec2, t: DVec2) -> bool {
+    let [a, b, c] = *tri;
+    let inside = |q: DVec2| {
+        let (o1, o2, o3) = (orient(a, b, q), orient(b, c, q), orient(c, a, q));
+        (o1 >= 0.0 && o2 >= 0.0 && o3 >= 0.0) || (o1 <= 0.0 && o2 <= 0.0 && o3 <= 0.0)
+    };
+    inside(r) || inside(t) || segments_touch(a, b, r, t) || segments_touch(b, c, r, t) || segments_touch(c, a, r, t)
+}
+
+/// For a segment leaving triangle vertex `v` towards `w`: whether it enters the triangle (points
+/// into the triangle's corner at `v`, or runs along one of its sides). A segment from a corner of
+/// a convex triangle that does not enter it there cannot meet it anywhere else.
+fn enters_at_vertex(tri: &[DVec2; 3], v: DVec2, w: DVec2) -> bool {
+    let others: Vec<DVec2> = tri.iter().copied().filter(|&q| q != v).collect();
+    let [b, c] = [others[0], others[1]];
+    let (ob, oc) = (orient(v, b, w), orient(v, w, c));
+    let turn = orient(v, b, c);
+    let along = |e: DVec2| orient(v, e, w) == 0.0 && (e - v).dot(w - v) > 0.0;
+    along(b) || along(c) || (ob != 0.0 && oc != 0.0 && ob.signum() == turn.signum() && oc.signum() == turn.signum())
+}

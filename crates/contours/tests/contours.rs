@@ -1,0 +1,384 @@
+//! Properties of heights, extraction, nesting, smoothing and reconstruction.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use glam::DVec2;
+use proptest::prelude::*;
+use relief_contours::{
+    Contour, ContourSet, ContoursError, Histogram, Interpolation, Ranking, Smoothing, Summit, assign_heights,
+    evenly_spaced_levels, extract_dem, extract_tin, reconstruct_interpolated, reconstruct_stairs,
+};
+use relief_eden_growth::{Graph, GraphOptions, Growth, Region, RegionTree, Uniform, grow};
+use relief_heightfield::{Extent, GridSpec, Heightfield};
+use relief_tin::poisson_sampling::Polygon;
+
+fn star(center: DVec2, radius: f64, radii: &[f64]) -> Polygon {
+    let n = radii.len();
+    let ring = (0..n)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            center + radius * (0.6 + 0.4 * radii[k]) * DVec2::new(t.cos(), t.sin())
+        })
+        .collect();
+    Polygon::from_exterior(ring).expect("star polygons are simple")
+}
+
+struct Terrain {
+    graph: Graph,
+    growth: Growth,
+    heights: relief_contours::Heights,
+}
+
+fn terrain(regions: Vec<Region>, seed: u64, particles: usize, histogram: &Histogram) -> Terrain {
+    let tree = RegionTree::new(regions).unwrap();
+    let graph = Graph::from_regions(&tree, &GraphOptions::particles(particles).with_seed(seed)).unwrap();
+    let growth = grow(&graph, &Uniform, seed).unwrap();
+    let level_ends: Vec<usize> = (1..=growth.levels()).map(|l| growth.level_range(l).end).collect();
+    let ranking =
+        Ranking { order: growth.order(), level_ends: &level_ends, level_heights: &graph.level_heights()[1..] };
+    let heights = assign_heights(graph.tin().num_points(), &ranking, histogram).unwrap();
+    Terrain { graph, growth, heights }
+}
+
+/// A height ordered by `f32::total_cmp`, for the priority queue.
+#[derive(PartialEq)]
+struct Height(f32);
+
+impl Eq for Height {}
+
+impl PartialOrd for Height {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Height {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// Cells whose priority-flood fill rises above them by more than `tol`: endorheic basins.
+fn endorheic_cells(hf: &Heightfield, tol: f32) -> usize {
+    let (nx, ny) = (hf.nx(), hf.ny());
+    let s = hf.samples();
+    let mut filled = vec![f32::NAN; s.len()];
+    let mut heap = BinaryHeap::new();
+    let key = |v: f32| Reverse(Height(v));
+    for j in 0..ny {
+        for i in 0..nx {
+            if i == 0 || j == 0 || i + 1 == nx || j + 1 == ny {
+                let k = j * nx + i;
+                filled[k] = s[k];
+                heap.push((key(s[k]), k));
+            }
+        }
+    }
+    while let Some((_, k)) = heap.pop() {
+        let (i, j) = (k % nx, k / nx);
+        for (di, dj) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)] {
+            let (a, b) = (i as i64 + di, j as i64 + dj);
+            if a < 0 || b < 0 || a >= nx as i64 || b >= ny as i64 {
+                continue;
+            }
+            let w = b as usize * nx + a as usize;
+            if filled[w].is_nan() {
+                filled[w] = s[w].max(filled[k]);
+                heap.push((key(filled[w]), w));
+            }
+        }
+    }
+    filled.iter().zip(s).filter(|(f, h)| **f > **h + tol).count()
+}
+
+fn regions() -> impl Strategy<Value = Vec<Region>> {
+    (
+        proptest::collection::vec(0.0f64..1.0, 5..20),
+        proptest::collection::vec(proptest::collection::vec(0.0f64..1.0, 4..9), 0..3),
+    )
+        .prop_map(|(coast, inner)| {
+            let mut out = vec![Region::new(star(DVec2::ZERO, 1000.0, &coast))];
+            for (k, shape) in inner.iter().enumerate() {
+                let t = std::f64::consts::TAU * k as f64 / 3.0;
+                out.push(Region::new(star(330.0 * DVec2::new(t.cos(), t.sin()), 150.0, shape)));
+            }
+            out
+        })
+}
+
+fn histogram() -> impl Strategy<Value = Histogram> {
+    proptest::collection::vec(0.0f64..1.0, 2..8).prop_map(|w| {
+        let edges = (0..=w.len()).map(|k| 100.0 * k as f64).collect();
+        let weights = w.iter().map(|x| x + 0.05).collect();
+        Histogram::from_bins(edges, weights).unwrap()
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(16))]
+
+    #[test]
+    fn generated_contours_nest_never_cross_and_match_the_histogram(regs in regions(), seed in any::<u64>(), hist in histogram(), count in 3usize..20) {
+        let t = terrain(regs, seed, 2_500, &hist);
+        let inside: Vec<f64> = t.growth.order().iter().map(|&v| t.heights.heights[v as usize]).collect();
+        // Exact histogram match: quantiles at (i + ½)/N are within ½N of the target CDF.
+        prop_assert!(hist.ks_distance(&inside) <= 0.5 / inside.len() as f64 + 1e-9);
+        // Heights increase with rank.
+        prop_assert!(inside.windows(2).all(|w| w[0] <= w[1]));
+        let mut levels = evenly_spaced_levels(hist.min(), hist.max(), count).unwrap();
+        levels.push(t.heights.level_boundaries[0]);
+        levels.sort_by(f64::total_cmp);
+        levels.dedup();
+        let set = extract_tin(t.graph.tin(), &t.heights.heights, &levels).unwrap();
+        prop_assert!(set.contours().iter().all(|c| c.closed), "every contour of a generated terrain is closed");
+        set.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
+        prop_assert_eq!(set.nests_by_level(), Ok(()));
+        // Smoothing keeps every invariant.
+        let smooth = set.smoothed(&Smoothing { alpha: 0.8, k: 3, iterations: 5 }).unwrap();
+        smooth.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
+        prop_assert_eq!(smooth.nests_by_level(), Ok(()));
+        // The interpolated reconstruction drains: no endorheic cell. Draining only fixes the
+        // cell-scale pits of valleys narrower than a cell, so it touches few cells.
+        let grid = GridSpec::from_extent(128, 128, Extent::new(DVec2::splat(-1100.0), DVec2::splat(1100.0))).unwrap();
+        let raw = reconstruct_interpolated(&set, &grid, t.heights.outside, &Interpolation { drain: false, ..Interpolation::default() }).unwrap();
+        let dem = reconstruct_interpolated(&set, &grid, t.heights.outside, &Interpolation::default()).unwrap();
+        prop_assert_eq!(endorheic_cells(&dem, 0.0), 0);
+        let changed = dem.samples().iter().zip(raw.samples()).filter(|(a, b)| a != b).count();
+        prop_assert!(changed * 50 < grid.len(), "draining changed {} of {} cells", changed, grid.len());
+    }
+}
+
+#[test]
+fn explicit_level_heights_make_input_contours_iso_contours() {
+    let coast = Region::new(Polygon::circle(DVec2::ZERO, 1000.0, 64).unwrap()).with_height(0.0);
+    let range = Region::new(Polygon::circle(DVec2::new(150.0, 0.0), 500.0, 48).unwrap()).with_height(800.0);
+    let hist = Histogram::from_bins(vec![0.0, 500.0, 1000.0, 2000.0], vec![5.0, 3.0, 1.0]).unwrap();
+    let t = terrain(vec![coast, range], 3, 5_000, &hist);
+    let levels = t.graph.levels();
+    for (v, &h) in t.heights.heights.iter().enumerate() {
+        match levels[v] {
+            0 => assert!(h < 0.0),
+            1 => assert!((0.0..800.0).contains(&h), "level-1 node at {h}"),
+            _ => assert!(h >= 800.0, "level-2 node at {h}"),
+        }
+    }
+    assert_eq!(t.heights.level_boundaries, vec![0.0, 800.0]);
+    let set = extract_tin(t.graph.tin(), &t.heights.heights, &[800.0]).unwrap();
+    // The 800 m contour is the discretised range outline: a single closed loop around it.
+    assert_eq!(set.len(), 1);
+    assert!(set.contours()[0].points.iter().all(|p| (p.distance(DVec2::new(150.0, 0.0)) - 500.0).abs() < 60.0));
+}
+
+#[test]
+fn heights_reject_bad_rankings_and_levels() {
+    let hist = Histogram::uniform(0.0, 10.0).unwrap();
+    let r = |order: &'static [u32], ends: &'static [usize], hs: &'static [Option<f64>]| Ranking {
+        order,
+        level_ends: ends,
+        level_heights: hs,
+    };
+    assert!(assign_heights(3, &r(&[0, 1], &[2], &[None]), &hist).is_ok());
+    assert!(matches!(assign_heights(3, &r(&[0, 0], &[2], &[None]), &hist), Err(ContoursError::InvalidRanking { .. })));
+    assert!(matches!(assign_heights(3, &r(&[0, 5], &[2], &[None]), &hist), Err(ContoursError::InvalidRanking { .. })));
+    assert!(matches!(assign_heights(3, &r(&[0, 1], &[1], &[None]), &hist), Err(ContoursError::InvalidRanking { .. })));
+    assert!(matches!(assign_heights(3, &r(&[], &[0], &[None]), &hist), Err(ContoursError::InvalidRanking { .. })));
+    assert!(matches!(
+        assign_heights(3, &r(&[0, 1], &[1, 2], &[None, Some(20.0)]), &hist),
+        Err(ContoursError::InvalidLevelRequest { .. })
+    ));
+    assert!(matches!(
+        assign_heights(3, &r(&[0, 1], &[1, 2], &[Some(5.0), Some(4.0)]), &hist),
+        Err(ContoursError::InvalidLevelRequest { .. })
+    ));
+}
+
+/// A pyramid over a 4 × 4 lattice: apex 3 at the centre node.
+fn pyramid() -> (relief_tin::Tin, Vec<f64>) {
+    let points: Vec<DVec2> =
+        (0..=4).flat_map(|j| (0..=4).map(move |i| DVec2::new(f64::from(i), f64::from(j)))).collect();
+    let heights = points.iter().map(|p| 2.0 - (p.x - 2.0).abs().max((p.y - 2.0).abs())).collect();
+    (relief_tin::Tin::new(points).unwrap(), heights)
+}
+
+#[test]
+fn pyramid_contours_are_squares_counter_clockwise_around_the_summit() {
+    let (tin, heights) = pyramid();
+    let set = extract_tin(&tin, &heights, &[0.5, 1.5]).unwrap();
+    set.check_invariants().unwrap();
+    assert_eq!(set.len(), 2);
+    for c in set.contours() {
+        assert!(c.closed && c.is_counter_clockwise());
+        let half = 2.0 - c.height;
+        // Every vertex lies on the square of half-side `half` around (2, 2).
+        assert!(c.points.iter().all(|p| ((p.x - 2.0).abs().max((p.y - 2.0).abs()) - half).abs() < 1e-12));
+    }
+    let inner = set.contours().iter().position(|c| c.height == 1.5).unwrap();
+    let outer = set.contours().iter().position(|c| c.height == 0.5).unwrap();
+    assert_eq!(set.parent(inner), Some(outer));
+    assert_eq!(set.children(outer).collect::<Vec<_>>(), vec![inner]);
+    // A level exactly at a node height (1.0 at eight nodes): still simple, nudged off the nodes.
+    let tied = extract_tin(&tin, &heights, &[1.0]).unwrap();
+    tied.check_invariants().unwrap();
+    assert_eq!(tied.len(), 1);
+}
+
+#[test]
+fn pits_run_clockwise_and_stairs_step_down_inside_them() {
+    // An inverted pyramid: a pit in the middle of a plateau at 2.
+    let (tin, heights) = pyramid();
+    let inverted: Vec<f64> = heights.iter().map(|h| 2.0 - h).collect();
+    let set = extract_tin(&tin, &inverted, &[0.5, 1.5]).unwrap();
+    set.check_invariants().unwrap();
+    // The pyramid's border is at 2: the contours close inside, clockwise around the lower ground.
+    assert!(set.contours().iter().all(|c| c.closed && !c.is_counter_clockwise()));
+    assert!(set.nests_by_level().is_err());
+    let grid = GridSpec::from_extent(9, 9, Extent::new(DVec2::ZERO, DVec2::splat(4.0))).unwrap();
+    let stairs = reconstruct_stairs(&set, &grid, 2.0).unwrap();
+    assert_eq!(stairs.get(4, 4), Some(-0.5), "pit floor below every level: one level step under 0.5");
+    assert_eq!(stairs.get(2, 4), Some(0.5), "between the contours (ground at 1.0)");
+    assert_eq!(stairs.get(0, 0), Some(2.0));
+}
+
+#[test]
+fn dem_contours_end_at_holes_and_edges() {
+    // A ramp h = x over 20 × 10 with a no-data hole in the middle.
+    let grid = GridSpec::new(20, 10, DVec2::ZERO, DVec2::ONE).unwrap();
+    let mut dem = Heightfield::from_fn(grid, |p| p.x as f32).unwrap();
+    for j in 4..6 {
+        for i in 9..11 {
+            dem.set(i, j, f32::NAN).unwrap();
+        }
+    }
+    let set = extract_dem(&dem, &[5.5, 9.5]).unwrap();
+    set.check_invariants().unwrap();
+    let at = |h: f64| set.contours().iter().filter(|c| c.height == h).collect::<Vec<_>>();
+    assert_eq!(at(5.5).len(), 1, "a full-height line from edge to edge");
+    assert!(!at(5.5)[0].closed);
+    assert_eq!(at(9.5).len(), 2, "the hole cuts the 9.5 line in two");
+    assert!(at(9.5).iter().all(|c| !c.closed && c.points.iter().all(|p| (p.x - 9.5).abs() < 1e-9)));
+    // Higher ground on the left of the direction of travel: the ramp rises to the east, so lines run south.
+    let c = &at(5.5)[0];
+    assert!(c.points.last().unwrap().y < c.points[0].y);
+}
+
+#[test]
+fn dem_to_contours_to_stairs_reproduces_the_level_sets() {
+    // A hill whose border lies below every level, so every contour closes.
+    let grid = GridSpec::from_extent(61, 47, Extent::new(DVec2::ZERO, DVec2::new(60.0, 46.0))).unwrap();
+    let dem = Heightfield::from_fn(grid, |p| {
+        let q = p - DVec2::new(30.0, 23.0);
+        (100.0 * (-q.length_squared() / 150.0).exp()
+            + 15.0 * (p.x * 0.3).sin() * (p.y * 0.25).cos() * (-q.length_squared() / 300.0).exp()) as f32
+    })
+    .unwrap();
+    let levels = evenly_spaced_levels(5.0, 95.0, 8).unwrap();
+    let set = extract_dem(&dem, &levels).unwrap();
+    set.check_invariants().unwrap();
+    assert!(set.contours().iter().all(|c| c.closed));
+    let stairs = reconstruct_stairs(&set, &grid, -1.0).unwrap();
+    for (k, (&h, &s)) in dem.samples().iter().zip(stairs.samples()).enumerate() {
+        let below = levels.iter().filter(|&&l| f64::from(h) >= l).count();
+        let expected = if below == 0 { -1.0 } else { levels[below - 1] as f32 };
+        assert_eq!(s, expected, "sample {:?}: height {h}", grid.coords(k));
+    }
+}
+
+#[test]
+fn smoothing_never_lets_close_contours_cross() {
+    // Two zig-zag rings 0.05 apart: unconstrained smoothing would pull the jagged outer ring across
+    // the inner one.
+    let ring = |r: f64, amp: f64| -> Vec<DVec2> {
+        (0..200)
+            .map(|k| {
+                let t = std::f64::consts::TAU * f64::from(k) / 200.0;
+                let rr = r + if k % 2 == 0 { amp } else { -amp };
+                DVec2::new(rr * t.cos(), rr * t.sin())
+            })
+            .collect()
+    };
+    let contours = vec![
+        Contour { level: 0, height: 1.0, points: ring(10.0, 0.3), closed: true },
+        Contour { level: 1, height: 2.0, points: ring(9.5, 0.0), closed: true },
+    ];
+    let set = ContourSet::new(vec![1.0, 2.0], contours).unwrap();
+    set.check_invariants().unwrap();
+    let smooth = set.smoothed(&Smoothing { alpha: 1.0, k: 5, iterations: 20 }).unwrap();
+    smooth.check_invariants().unwrap();
+    assert_eq!(smooth.nests_by_level(), Ok(()));
+    assert_ne!(smooth.contours()[0].points, set.contours()[0].points, "smoothing moved the vertices");
+    assert!(matches!(
+        set.smoothed(&Smoothing { alpha: 0.0, k: 1, iterations: 1 }),
+        Err(ContoursError::InvalidSmoothing { .. })
+    ));
+    assert!(matches!(
+        set.smoothed(&Smoothing { alpha: 0.5, k: 0, iterations: 1 }),
+        Err(ContoursError::InvalidSmoothing { .. })
+    ));
+}
+
+#[test]
+fn contour_sets_round_trip_through_serde_and_reject_bad_input() {
+    let (tin, heights) = pyramid();
+    let set = extract_tin(&tin, &heights, &[0.5, 1.5]).unwrap();
+    let json = serde_json::to_string(&set).unwrap();
+    let back: ContourSet = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, set);
+    assert!(matches!(extract_tin(&tin, &heights[1..], &[1.0]), Err(ContoursError::HeightCountMismatch { .. })));
+    assert!(matches!(extract_tin(&tin, &heights, &[1.0, 1.0]), Err(ContoursError::InvalidLevels { index: 1 })));
+    assert!(matches!(extract_tin(&tin, &heights, &[f64::NAN]), Err(ContoursError::InvalidLevels { index: 0 })));
+    let crossing = vec![
+        Contour {
+            level: 0,
+            height: 1.0,
+            points: vec![DVec2::ZERO, DVec2::new(2.0, 0.0), DVec2::new(2.0, 2.0), DVec2::new(0.0, 2.0)],
+            closed: true,
+        },
+        Contour {
+            level: 1,
+            height: 2.0,
+            points: vec![DVec2::splat(1.0), DVec2::new(3.0, 1.0), DVec2::new(3.0, 3.0), DVec2::new(1.0, 3.0)],
+            closed: true,
+        },
+    ];
+    assert!(ContourSet::new(vec![1.0, 2.0], crossing).unwrap().check_invariants().is_err());
+    assert!(matches!(
+        reconstruct_stairs(&set, &GridSpec::new(2, 2, DVec2::ZERO, DVec2::ONE).unwrap(), f64::NAN),
+        Err(ContoursError::NonFinite { .. })
+    ));
+}
+
+#[test]
+fn interpolated_reconstruction_is_bounded_and_continuous_on_a_cone() {
+    // Concentric circles of a cone h = 10 − r: interpolation reproduces the cone closely.
+    let circle = |r: f64| {
+        (0..400).map(|k| r * DVec2::from_angle(std::f64::consts::TAU * f64::from(k) / 400.0)).collect::<Vec<_>>()
+    };
+    let contours = (1..=9)
+        .map(|k| Contour { level: k - 1, height: f64::from(k), points: circle(10.0 - f64::from(k)), closed: true })
+        .collect();
+    let set = ContourSet::new((1..=9).map(f64::from).collect(), contours).unwrap();
+    let grid = GridSpec::from_extent(201, 201, Extent::new(DVec2::splat(-10.0), DVec2::splat(10.0))).unwrap();
+    let dem = reconstruct_interpolated(&set, &grid, 0.0, &Interpolation::default()).unwrap();
+    for j in 0..201 {
+        for i in 0..201 {
+            let p = grid.position(i, j);
+            let r = p.length();
+            // Between the outermost and innermost circles; inside r = 1 the summit rule applies.
+            if (1.0..9.0).contains(&r) {
+                let got = f64::from(dem.get(i, j).unwrap());
+                assert!((got - (10.0 - r)).abs() < 0.06, "at {p}: {got} vs {}", 10.0 - r);
+            }
+        }
+    }
+    let flat =
+        reconstruct_interpolated(&set, &grid, 0.0, &Interpolation { summit: Summit::Flat, drain: false }).unwrap();
+    assert_eq!(flat.get(100, 100), Some(9.0));
+    let dome = dem.get(100, 100).unwrap();
+    assert!(dome > 9.0 && dome <= 9.5 + 1e-6, "summit dome at {dome}");
+    let surface = |_: DVec2| 100.0;
+    let clamped =
+        reconstruct_interpolated(&set, &grid, 0.0, &Interpolation { summit: Summit::Surface(&surface), drain: false })
+            .unwrap();
+    assert_eq!(clamped.get(100, 100), Some(10.0), "surface values are clamped to one level step");
+}
