@@ -275,12 +275,16 @@ impl State<'_> {
         if order.len() == members.len() {
             return order;
         }
-        // Basins: interleave by score with the reachable nodes' relative positions.
-        let reached = order.len() as f64;
+        // Basins: interleave by score with the reachable nodes' relative positions, after the
+        // seeds, which Algorithm 1 ranks first whatever the scores.
+        let seeds = if pre_assign { lower.len() } else { 0 };
+        let reached = (order.len() - seeds).max(1) as f64;
         let mut keyed: Vec<(f64, u32)> =
-            order.iter().enumerate().map(|(k, &v)| ((k as f64 + 0.5) / reached, v)).collect();
+            order[seeds..].iter().enumerate().map(|(k, &v)| ((k as f64 + 0.5) / reached, v)).collect();
         keyed.extend(members.iter().copied().filter(|&v| self.stamp[v as usize] != run).map(|v| (score(v), v)));
         keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        keyed.into_iter().map(|(_, v)| v).collect()
+        order.truncate(seeds);
+        order.extend(keyed.into_iter().map(|(_, v)| v));
+        order
     }
 }

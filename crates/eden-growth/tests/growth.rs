@@ -64,9 +64,9 @@ fn regions() -> impl Strategy<Value = Vec<Region>> {
     (
         proptest::collection::vec(0.0f64..1.0, 5..24),
         proptest::collection::vec((0.0f64..1.0, proptest::collection::vec(0.0f64..1.0, 4..10)), 0..3),
-        any::<bool>(),
+        0u8..3,
     )
-        .prop_map(|(coast, inner, summit)| {
+        .prop_map(|(coast, inner, top)| {
             let mut out = vec![Region::new(star(DVec2::ZERO, 1000.0, &coast))];
             // Up to three ranges on a ring of radius 330, each of radius ≤ 150: inside the coast
             // (which reaches at least 600) and apart from each other.
@@ -74,8 +74,11 @@ fn regions() -> impl Strategy<Value = Vec<Region>> {
                 let t = std::f64::consts::TAU * k as f64 / 3.0;
                 let c = 330.0 * DVec2::new(t.cos(), t.sin());
                 out.push(Region::new(star(c, 150.0, shape)));
-                if summit && k == 0 {
-                    out.push(Region::new(star(c, 50.0, shape)));
+                // On the first range: nothing, a summit, or a marked crater (range radius ≥ 90).
+                match (k, top) {
+                    (0, 1) => out.push(Region::new(star(c, 50.0, shape))),
+                    (0, 2) => out.push(Region::new(Polygon::circle(c, 40.0, 16).unwrap()).as_depression()),
+                    _ => {}
                 }
             }
             out
