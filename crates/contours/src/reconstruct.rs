@@ -1,7 +1,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
-use relief_heightfield::{GridSpec, Heightfield, distance_transform_seeded, fill_depressions};
-use relief_tin::poisson_sampling::segment_distance_sq;
+use relief_heightfield::{DistanceScratch, GridSpec, Heightfield, distance_transform_seeded_with, fill_depressions};
+use relief_tin::poisson_sampling::{Rect, segment_distance_sq};
 
 use crate::{ContourSet, ContoursError};
 
@@ -151,8 +151,10 @@ pub fn reconstruct_stairs(set: &ContourSet, grid: &GridSpec, base: f64) -> Resul
 ///
 /// Distances are Euclidean distances to the contour polylines themselves: samples near a curve are
 /// seeded with their exact squared distance, then a labelled Felzenszwalb–Huttenlocher transform
-/// over each contour's bounding window propagates them (error well under a cell). With
-/// [`Interpolation::drain`] the result is then made to drain.
+/// propagates them (error well under a cell). One transform per contour that has contours nested in
+/// it, over its bounding box and seeded with those children only, serves two regions exactly: its
+/// own (distance to the nearest child) and each child's (distance to that child, which is nearer
+/// than any sibling from inside it). With [`Interpolation::drain`] the result is then made to drain.
 ///
 /// # Errors
 /// [`ContoursError::NonFinite`] for a non-finite `base`.
@@ -162,17 +164,68 @@ pub fn reconstruct_interpolated(
     base: f64,
     options: &Interpolation<'_>,
 ) -> Result<Heightfield, ContoursError> {
-    let summit = options.summit;
     check_base(base)?;
     let labels = region_labels(set, grid);
+    let members = region_members(set.len(), &labels);
+    let region = |k: usize| &members.1[members.0[k]..members.0[k + 1]];
+    // One transform per parent (and one for the roots), seeded with its children only: it gives
+    // the children's regions their distance to their own contour and the parent's region its
+    // distance to the nearest child, exactly.
+    let parents: Vec<Option<usize>> =
+        std::iter::once(None).chain((0..set.len()).filter(|&k| set.children(k).next().is_some()).map(Some)).collect();
+    let parts: Vec<ParentDistances> = parents
+        .par_iter()
+        .map_init(Buffers::default, |buffers, &parent| {
+            let children: Vec<usize> = match parent {
+                Some(p) => set.children(p).collect(),
+                None => set.roots().filter(|&k| set.contours()[k].closed).collect(),
+            };
+            let bounds = match parent {
+                Some(p) => set.contours()[p].bounds(),
+                None => {
+                    children.iter().map(|&k| set.contours()[k].bounds()).fold(Rect::bounding(&[]), |a, b| a.union(&b))
+                }
+            };
+            let Some(win) = Window::around(grid, bounds.min, bounds.max) else { return ParentDistances::default() };
+            // The nearest child's identity matters only when the children differ in height.
+            let first = children.first().map(|&c| set.contours()[c].height);
+            let labelled = parent.is_some() && children.iter().any(|&c| Some(set.contours()[c].height) != first);
+            let (sq, label) = transform(set, grid, win, &children, labelled, buffers);
+            let nearest_default = children.first().map_or(NONE, |&c| c as u32);
+            let own: Vec<(u32, f64)> = children
+                .iter()
+                .flat_map(|&c| region(c).iter().map(|&g| (g, sq[win.local(grid, g as usize)].sqrt())))
+                .collect();
+            let nearest: Vec<(u32, f64, u32)> = parent.map_or_else(Vec::new, |p| {
+                region(p)
+                    .iter()
+                    .map(|&g| {
+                        let w = win.local(grid, g as usize);
+                        (g, sq[w].sqrt(), label.get(w).copied().unwrap_or(nearest_default))
+                    })
+                    .collect()
+            });
+            ParentDistances { own, nearest }
+        })
+        .collect();
+    let mut d_own = vec![f64::INFINITY; grid.len()];
+    let mut d_child = vec![(f64::INFINITY, NONE); grid.len()];
+    for ParentDistances { own, nearest } in parts {
+        for (g, d) in own {
+            d_own[g as usize] = d;
+        }
+        for (g, d, c) in nearest {
+            d_child[g as usize] = (d, c);
+        }
+    }
     let mut values: Vec<f64> = labels.iter().map(|&l| if l == NONE { base } else { f64::NAN }).collect();
-    let updates: Vec<Vec<(usize, f64)>> = (0..set.len())
+    let regions: Vec<Vec<(u32, f64)>> = (0..set.len())
         .into_par_iter()
         .filter(|&k| set.contours()[k].closed)
-        .map(|k| region_values(set, grid, &labels, k, summit))
+        .map(|k| region_values(set, grid, k, region(k), &d_own, &d_child, options.summit))
         .collect();
-    for (idx, v) in updates.into_iter().flatten() {
-        values[idx] = v;
+    for (g, v) in regions.into_iter().flatten() {
+        values[g as usize] = v;
     }
     // A sample labelled by an open contour cannot occur; anything left is outside every region.
     for v in values.iter_mut().filter(|v| v.is_nan()) {
@@ -190,7 +243,25 @@ pub fn reconstruct_interpolated(
     Ok(dem)
 }
 
-/// A rectangle of samples `[i0, i1) × [j0, j1)`.
+/// The samples of each region, grouped by contour: `(starts, samples)`, CSR.
+fn region_members(n: usize, labels: &[u32]) -> (Vec<usize>, Vec<u32>) {
+    let mut starts = vec![0usize; n + 1];
+    for &l in labels.iter().filter(|&&l| l != NONE) {
+        starts[l as usize + 1] += 1;
+    }
+    for k in 0..n {
+        starts[k + 1] += starts[k];
+    }
+    let mut fill = starts.clone();
+    let mut members = vec![0u32; starts[n]];
+    for (g, &l) in labels.iter().enumerate().filter(|(_, l)| **l != NONE) {
+        members[fill[l as usize]] = g as u32;
+        fill[l as usize] += 1;
+    }
+    (starts, members)
+}
+
+/// A rectangle of samples `[i0, i0 + w) × [j0, j0 + h)`.
 #[derive(Clone, Copy)]
 struct Window {
     i0: usize,
@@ -209,6 +280,57 @@ impl Window {
         let j1 = ((b.y.ceil() + 3.0).max(0.0) as usize).min(grid.ny());
         (i1 > i0 && j1 > j0).then_some(Self { i0, j0, w: i1 - i0, h: j1 - j0 })
     }
+
+    /// Index in the window of grid sample `g` (which must lie inside it).
+    fn local(&self, grid: &GridSpec, g: usize) -> usize {
+        let (i, j) = grid.coords(g);
+        (j - self.j0) * self.w + (i - self.i0)
+    }
+}
+
+/// Squared distances over a window to the given contours, with nearest-contour labels when
+/// `labelled` (otherwise the labels are `NONE`), in buffers reused across calls.
+fn transform<'s>(
+    set: &ContourSet,
+    grid: &GridSpec,
+    win: Window,
+    sources: &[usize],
+    labelled: bool,
+    buffers: &'s mut Buffers,
+) -> (&'s [f64], &'s [u32]) {
+    let Buffers { sq, label, scratch } = buffers;
+    sq.clear();
+    sq.resize(win.w * win.h, f64::INFINITY);
+    label.clear();
+    label.resize(if labelled { win.w * win.h } else { 0 }, NONE);
+    for &s in sources {
+        seed_contour(set, grid, win, s, sq, label);
+    }
+    distance_transform_seeded_with(
+        scratch,
+        win.w,
+        win.h,
+        grid.cell_size(),
+        sq,
+        labelled.then_some(label.as_mut_slice()),
+    );
+    (sq, label)
+}
+
+/// What one parent's transform yields: `(sample, distance to its own contour)` for the children's
+/// regions and `(sample, distance to the nearest child, that child)` for the parent's region.
+#[derive(Default)]
+struct ParentDistances {
+    own: Vec<(u32, f64)>,
+    nearest: Vec<(u32, f64, u32)>,
+}
+
+/// Per-thread buffers of [`transform`].
+#[derive(Default)]
+struct Buffers {
+    sq: Vec<f64>,
+    label: Vec<u32>,
+    scratch: DistanceScratch,
 }
 
 /// Seeds the samples of `win` near the segments of contour `k` with their exact squared distance
@@ -235,7 +357,9 @@ fn seed_contour(set: &ContourSet, grid: &GridSpec, win: Window, k: usize, sq: &m
                     let w = (j - win.j0) * win.w + (i - win.i0);
                     if d2 < sq[w] {
                         sq[w] = d2;
-                        label[w] = k as u32;
+                        if let Some(l) = label.get_mut(w) {
+                            *l = k as u32;
+                        }
                     }
                 }
             }
@@ -243,70 +367,62 @@ fn seed_contour(set: &ContourSet, grid: &GridSpec, win: Window, k: usize, sq: &m
     }
 }
 
-/// Values of the samples whose innermost contour is `k`.
-fn region_values(set: &ContourSet, grid: &GridSpec, labels: &[u32], k: usize, summit: Summit<'_>) -> Vec<(usize, f64)> {
+/// Values of region `k`'s samples: Hormann's blend of the distance to its own contour and to the
+/// nearest child, or the summit rule when nothing is nested in it.
+fn region_values(
+    set: &ContourSet,
+    grid: &GridSpec,
+    k: usize,
+    pixels: &[u32],
+    d_own: &[f64],
+    d_child: &[(f64, u32)],
+    summit: Summit<'_>,
+) -> Vec<(u32, f64)> {
     let c = &set.contours()[k];
-    let bounds = c.bounds();
-    let Some(win) = Window::around(grid, bounds.min, bounds.max) else { return Vec::new() };
-    let nx = grid.nx();
-    let members: Vec<(usize, usize)> = (0..win.h)
-        .flat_map(|wj| (0..win.w).map(move |wi| (wj * win.w + wi, (win.j0 + wj) * nx + win.i0 + wi)))
-        .filter(|&(_, g)| labels[g] == k as u32)
-        .collect();
-    if members.is_empty() {
-        return Vec::new();
-    }
-    let distances = |sources: &[usize]| {
-        let mut sq = vec![f64::INFINITY; win.w * win.h];
-        let mut label = vec![NONE; win.w * win.h];
-        for &s in sources {
-            seed_contour(set, grid, win, s, &mut sq, &mut label);
-        }
-        distance_transform_seeded(win.w, win.h, grid.cell_size(), &mut sq, &mut label);
-        (sq, label)
-    };
-    let (own, _) = distances(&[k]);
-    let children: Vec<usize> = set.children(k).collect();
     let h_k = c.height;
-    if children.is_empty() {
-        let d_max = members.iter().map(|&(w, _)| own[w]).fold(0.0, f64::max).sqrt();
-        let levels = set.levels();
-        let l = c.level as usize;
-        let step = if l + 1 < levels.len() {
-            levels[l + 1] - levels[l]
-        } else if l > 0 {
-            levels[l] - levels[l - 1]
-        } else {
-            0.0
-        };
-        let up = if c.is_counter_clockwise() { 1.0 } else { -1.0 };
-        return members
+    if set.children(k).next().is_some() {
+        return pixels
             .iter()
-            .map(|&(w, g)| {
-                let v = match summit {
-                    Summit::Flat => h_k,
-                    Summit::Dome => {
-                        let t = if d_max > 0.0 { own[w].sqrt() / d_max } else { 0.0 };
-                        h_k + up * 0.5 * step * (1.0 - (1.0 - t) * (1.0 - t))
-                    }
-                    Summit::Surface(f) => {
-                        let (i, j) = grid.coords(g);
-                        let s = f(grid.position(i, j));
-                        let (lo, hi) = if up > 0.0 { (h_k, h_k + step) } else { (h_k - step, h_k) };
-                        if s.is_finite() { s.clamp(lo, hi) } else { h_k }
-                    }
+            .map(|&g| {
+                let (dk, (dn, child)) = (d_own[g as usize], d_child[g as usize]);
+                let h_n = if child == NONE { h_k } else { set.contours()[child as usize].height };
+                let v = if dk + dn > 0.0 && dn.is_finite() && dk.is_finite() {
+                    (dn * h_k + dk * h_n) / (dk + dn)
+                } else {
+                    h_k
                 };
                 (g, v)
             })
             .collect();
     }
-    let (inner, inner_label) = distances(&children);
-    members
+    let d_max = pixels.iter().map(|&g| d_own[g as usize]).filter(|d| d.is_finite()).fold(0.0, f64::max);
+    let levels = set.levels();
+    let l = c.level as usize;
+    let step = if l + 1 < levels.len() {
+        levels[l + 1] - levels[l]
+    } else if l > 0 {
+        levels[l] - levels[l - 1]
+    } else {
+        0.0
+    };
+    let up = if c.is_counter_clockwise() { 1.0 } else { -1.0 };
+    pixels
         .iter()
-        .map(|&(w, g)| {
-            let (dk, dn) = (own[w].sqrt(), inner[w].sqrt());
-            let h_n = if inner_label[w] == NONE { h_k } else { set.contours()[inner_label[w] as usize].height };
-            let v = if dk + dn > 0.0 && dn.is_finite() { (dn * h_k + dk * h_n) / (dk + dn) } else { h_k };
+        .map(|&g| {
+            let d = d_own[g as usize];
+            let v = match summit {
+                Summit::Flat => h_k,
+                Summit::Dome => {
+                    let t = if d_max > 0.0 && d.is_finite() { d / d_max } else { 0.0 };
+                    h_k + up * 0.5 * step * (1.0 - (1.0 - t) * (1.0 - t))
+                }
+                Summit::Surface(f) => {
+                    let (i, j) = grid.coords(g as usize);
+                    let s = f(grid.position(i, j));
+                    let (lo, hi) = if up > 0.0 { (h_k, h_k + step) } else { (h_k - step, h_k) };
+                    if s.is_finite() { s.clamp(lo, hi) } else { h_k }
+                }
+            };
             (g, v)
         })
         .collect()

@@ -1,27 +1,49 @@
 //! Depression filling by Priority-Flood+ε (Barnes, Lehman & Mulla 2014): the minimal raise that
 //! makes every cell drain to an outlet along a strictly descending path.
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
 use crate::Heightfield;
 
-/// A cell in the flood queue, lowest elevation first (ties by index, so the fill is deterministic).
-#[derive(PartialEq)]
-struct Cell(f32, usize);
+/// A monotone priority queue keyed by `u32` (Ahuja et al.'s radix heap): O(1) push and amortised
+/// O(log C) pop, valid because Priority-Flood never pushes a key below the last one popped.
+/// Ties pop in a deterministic order (the order of the bucket vectors).
+struct RadixHeap {
+    last: u32,
+    buckets: [Vec<(u32, u32)>; 33],
+}
 
-impl Eq for Cell {}
+impl RadixHeap {
+    fn new() -> Self {
+        Self { last: 0, buckets: std::array::from_fn(|_| Vec::new()) }
+    }
 
-impl PartialOrd for Cell {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
+    fn bucket(&self, key: u32) -> usize {
+        (32 - (key ^ self.last).leading_zeros()) as usize
+    }
+
+    fn push(&mut self, key: u32, value: u32) {
+        debug_assert!(key >= self.last, "radix heap keys must not decrease");
+        let b = self.bucket(key);
+        self.buckets[b].push((key, value));
+    }
+
+    fn pop(&mut self) -> Option<(u32, u32)> {
+        if self.buckets[0].is_empty() {
+            let i = (1..33).find(|&i| !self.buckets[i].is_empty())?;
+            let moved = std::mem::take(&mut self.buckets[i]);
+            self.last = moved.iter().map(|e| e.0).min()?;
+            for e in moved {
+                let b = self.bucket(e.0);
+                self.buckets[b].push(e);
+            }
+        }
+        self.buckets[0].pop()
     }
 }
 
-impl Ord for Cell {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other.0.total_cmp(&self.0).then(other.1.cmp(&self.1))
-    }
+/// Maps f32 to u32 preserving order (NaN excluded).
+fn key(v: f32) -> u32 {
+    let b = v.to_bits();
+    if b & 0x8000_0000 != 0 { !b } else { b | 0x8000_0000 }
 }
 
 const NEIGHBOURS: [(i64, i64); 8] = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)];
@@ -30,43 +52,110 @@ const NEIGHBOURS: [(i64, i64); 8] = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1),
 /// an outlet: the grid border, a cell next to no-data, or a cell where `outlet(i, j)` is true
 /// (sea, a lake meant to stay, a marked crater). A filled cell is raised to its spill height plus
 /// the smallest f32 step per cell along the way (the "+ε" of Priority-Flood+ε), so flats drain too.
-/// Returns the number of raised cells. O(N log N).
+/// Returns the number of raised cells.
+///
+/// Cells that already have a strictly descending path to an outlet are never raised by
+/// Priority-Flood, so an O(N) breadth-first search uphill from the outlets finds them first; the
+/// priority queue (a radix heap: the flood pops keys in non-decreasing order) then only sees the
+/// cells of actual depressions. A nearly drained raster costs little more than one pass.
 pub fn fill_depressions(hf: &mut Heightfield, outlet: impl Fn(usize, usize) -> bool) -> usize {
     let (nx, ny) = (hf.nx(), hf.ny());
     let z = hf.samples_mut();
-    let mut done = vec![false; z.len()];
-    let mut heap = BinaryHeap::new();
-    let neighbours = |k: usize| {
-        let (i, j) = ((k % nx) as i64, (k / nx) as i64);
-        NEIGHBOURS.iter().filter_map(move |&(di, dj)| {
-            let (a, b) = (i + di, j + dj);
-            (a >= 0 && b >= 0 && a < nx as i64 && b < ny as i64).then(|| b as usize * nx + a as usize)
-        })
-    };
-    for k in 0..z.len() {
-        if z[k].is_nan() {
-            done[k] = true;
-            continue;
-        }
+    let interior = |k: usize| {
         let (i, j) = (k % nx, k / nx);
-        let edge = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
-        if edge || outlet(i, j) || neighbours(k).any(|w| z[w].is_nan()) {
-            done[k] = true;
-            heap.push(Cell(z[k], k));
+        i > 0 && j > 0 && i + 1 < nx && j + 1 < ny
+    };
+    // Interior cells reach their neighbours by fixed offsets; border cells go the slow way.
+    let stride = nx as isize;
+    let offsets = [-1, 1, -stride, stride, -stride - 1, -stride + 1, stride - 1, stride + 1];
+    let neighbours = |k: usize, out: &mut [usize; 8]| -> usize {
+        if interior(k) {
+            for (o, d) in out.iter_mut().zip(offsets) {
+                *o = k.wrapping_add_signed(d);
+            }
+            return 8;
+        }
+        let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+        let mut n = 0;
+        for (di, dj) in NEIGHBOURS {
+            let (a, b) = (i + di, j + dj);
+            if a >= 0 && b >= 0 && a < nx as i64 && b < ny as i64 {
+                out[n] = b as usize * nx + a as usize;
+                n += 1;
+            }
+        }
+        n
+    };
+    let has_nan = z.iter().any(|v| v.is_nan());
+    let mut nb = [0usize; 8];
+    // Outlets (and no-data) never change.
+    let mut drained: Vec<bool> = (0..z.len())
+        .map(|k| {
+            let (i, j) = (k % nx, k / nx);
+            z[k].is_nan()
+                || !interior(k)
+                || outlet(i, j)
+                || (has_nan && {
+                    let c = neighbours(k, &mut nb);
+                    nb[..c].iter().any(|&w| z[w].is_nan())
+                })
+        })
+        .collect();
+    // Uphill breadth-first search from the outlets that border other ground: a cell above a
+    // drained neighbour drains through it.
+    // Reachability only: any visiting order will do, so a stack.
+    let mut queue = Vec::new();
+    for k in 0..z.len() {
+        if drained[k] && !z[k].is_nan() {
+            let c = neighbours(k, &mut nb);
+            if nb[..c].iter().any(|&w| !drained[w]) {
+                queue.push(k);
+            }
         }
     }
+    while let Some(k) = queue.pop() {
+        let c = neighbours(k, &mut nb);
+        for &w in &nb[..c] {
+            if !drained[w] && z[w] > z[k] {
+                drained[w] = true;
+                queue.push(w);
+            }
+        }
+    }
+    // Priority-Flood+ε over the depressions, seeded by the drained cells around them.
+    let mut seeds: Vec<(u32, u32)> = (0..z.len())
+        .filter(|&k| {
+            drained[k] && !z[k].is_nan() && {
+                let c = neighbours(k, &mut nb);
+                nb[..c].iter().any(|&w| !drained[w])
+            }
+        })
+        .map(|k| (key(z[k]), k as u32))
+        .collect();
+    if seeds.is_empty() {
+        return 0;
+    }
+    // The radix heap needs its first key at or below every later one.
+    seeds.sort_unstable();
+    let mut heap = RadixHeap::new();
+    heap.last = seeds[0].0;
+    for (k, v) in seeds {
+        heap.push(k, v);
+    }
     let mut raised = 0;
-    while let Some(Cell(h, k)) = heap.pop() {
-        for w in neighbours(k) {
-            if done[w] {
+    while let Some((_, k)) = heap.pop() {
+        let h = z[k as usize];
+        let c = neighbours(k as usize, &mut nb);
+        for &w in &nb[..c] {
+            if drained[w] {
                 continue;
             }
-            done[w] = true;
+            drained[w] = true;
             if z[w] <= h {
                 z[w] = h.next_up();
                 raised += 1;
             }
-            heap.push(Cell(z[w], w));
+            heap.push(key(z[w]), w as u32);
         }
     }
     raised

@@ -42,7 +42,7 @@ mod grid;
 mod heightfield;
 pub mod noise;
 
-pub use distance::{distance_transform, distance_transform_seeded};
+pub use distance::{DistanceScratch, distance_transform, distance_transform_seeded, distance_transform_seeded_with};
 pub use error::HeightfieldError;
 pub use fill::fill_depressions;
 pub use grid::{Extent, GridSpec, MAX_SAMPLES, Units, metres_per_degree};
