@@ -185,7 +185,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(2);
         assert!((0..1000).all(|_| {
             let v = f.sample(&mut rng);
-            v % 3 != 0 && v % 7 != 0
+            !v.is_multiple_of(3) && !v.is_multiple_of(7)
         }));
     }
 }
