@@ -1,0 +1,95 @@
+use glam::DVec2;
+use thiserror::Error;
+
+/// Why a warp could not be built or applied.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum WarpError {
+    /// A stroke or curve has fewer than two distinct points (or zero length).
+    #[error("stroke has {distinct} distinct point(s) and length {length}: a stroke needs two distinct points")]
+    DegenerateStroke {
+        /// Distinct points found.
+        distinct: usize,
+        /// Total length.
+        length: f64,
+    },
+    /// A coordinate or parameter is NaN or infinite.
+    #[error("{what} is not finite ({value})")]
+    NonFinite {
+        /// What the value is.
+        what: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// The radius is not positive.
+    #[error("radius {radius} must be > 0")]
+    InvalidRadius {
+        /// The radius given.
+        radius: f64,
+    },
+    /// The strength is outside its valid range.
+    #[error("strength μ = {mu} is outside {range}")]
+    InvalidStrength {
+        /// The strength given.
+        mu: f64,
+        /// The valid range, as text.
+        range: &'static str,
+    },
+    /// A forced segment length exceeds the bijectivity bound (Appendix B).
+    #[error("segment length ε = {epsilon} exceeds the bijectivity limit {limit} for radius {radius} and strength {mu}")]
+    SegmentTooLong {
+        /// The forced segment length.
+        epsilon: f64,
+        /// The largest valid one.
+        limit: f64,
+        /// The radius.
+        radius: f64,
+        /// The strength.
+        mu: f64,
+    },
+    /// A displacement profile does not satisfy Appendix A's conditions.
+    #[error("invalid displacement profile: {reason}")]
+    InvalidProfile {
+        /// What is wrong.
+        reason: String,
+    },
+    /// A slope-modulation curve bends more sharply than its radius allows.
+    #[error("curve bends with radius {curvature_radius} near ({}, {}), below the modulation radius {radius}: the warp would fold", at.x, at.y)]
+    CurvatureTooHigh {
+        /// Where.
+        at: DVec2,
+        /// The curve's radius of curvature there.
+        curvature_radius: f64,
+        /// The modulation radius.
+        radius: f64,
+    },
+    /// Two distant parts of a slope-modulation curve come within twice the radius of each other.
+    #[error("curve parts near ({}, {}) and ({}, {}) are {distance} apart, closer than twice the radius {radius}: the warp would fold", a.x, a.y, b.x, b.y)]
+    CurveTooClose {
+        /// A point on one part.
+        a: DVec2,
+        /// A point on the other.
+        b: DVec2,
+        /// Their distance.
+        distance: f64,
+        /// The modulation radius.
+        radius: f64,
+    },
+    /// A subdivision tolerance is not finite and positive.
+    #[error("tolerance {tolerance} must be finite and > 0")]
+    InvalidTolerance {
+        /// The tolerance given.
+        tolerance: f64,
+    },
+}
+
+pub(crate) fn finite(what: &'static str, value: f64) -> Result<f64, WarpError> {
+    if value.is_finite() { Ok(value) } else { Err(WarpError::NonFinite { what, value }) }
+}
+
+pub(crate) fn finite_points(what: &'static str, points: &[DVec2]) -> Result<(), WarpError> {
+    match points.iter().find(|p| !p.is_finite()) {
+        Some(p) => Err(WarpError::NonFinite { what, value: if p.x.is_finite() { p.y } else { p.x } }),
+        None => Ok(()),
+    }
+}
