@@ -25,13 +25,18 @@ pub struct Contour {
 }
 
 impl Contour {
-    /// Twice the signed area (> 0 counter-clockwise); 0 for open contours.
+    /// The signed area (> 0 counter-clockwise); 0 for open contours.
+    ///
+    /// Computed relative to the first vertex, so a tiny loop far from the origin (a contour around
+    /// a single node whose height equals the level) keeps its true sign instead of drowning in
+    /// the cancellation of large cross products.
     pub fn signed_area(&self) -> f64 {
-        if !self.closed {
+        if !self.closed || self.points.is_empty() {
             return 0.0;
         }
+        let o = self.points[0];
         let n = self.points.len();
-        0.5 * (0..n).map(|i| self.points[i].perp_dot(self.points[(i + 1) % n])).sum::<f64>()
+        0.5 * (1..n.saturating_sub(1)).map(|i| (self.points[i] - o).perp_dot(self.points[i + 1] - o)).sum::<f64>()
     }
 
     /// Whether a closed contour runs counter-clockwise (higher ground inside).

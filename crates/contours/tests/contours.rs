@@ -223,6 +223,20 @@ fn pyramid_contours_are_squares_counter_clockwise_around_the_summit() {
     assert_eq!(tied.len(), 1);
 }
 
+/// A summit node exactly at a level, far from the origin (as with integer DEM histograms): the
+/// level wraps it in a loop of sub-millimetre size, which must still run counter-clockwise.
+#[test]
+fn tiny_loops_around_a_node_at_a_level_keep_their_orientation_far_from_the_origin() {
+    let (tin, heights) = pyramid();
+    let far: Vec<DVec2> = tin.points().iter().map(|p| *p * 30.0 + DVec2::new(6_000_000.0, 4_000_000.0)).collect();
+    let tin = relief_tin::Tin::new(far).unwrap();
+    let set = extract_tin(&tin, &heights, &[2.0]).unwrap();
+    assert_eq!(set.len(), 1);
+    let c = &set.contours()[0];
+    assert!(c.closed && c.signed_area() > 0.0 && c.signed_area() < 1e-6, "area {}", c.signed_area());
+    assert_eq!(set.nests_by_level(), Ok(()));
+}
+
 #[test]
 fn pits_run_clockwise_and_stairs_step_down_inside_them() {
     // An inverted pyramid: a pit in the middle of a plateau at 2.

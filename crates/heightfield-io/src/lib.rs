@@ -352,13 +352,54 @@ fn encode_bytes(hf: &Heightfield, format: Format, compress: bool) -> Result<Vec<
 /// [`IoErrorKind::Encode`] if the image is too large for PNG.
 #[cfg(feature = "png")]
 pub fn write_preview_png(path: impl AsRef<Path>, hf: &Heightfield, options: &ShadeOptions) -> Result<(), IoError> {
+    write_rgb_png(path, &shaded_relief(hf, options))
+}
+
+/// Writes an RGB image (a preview, possibly with overlays drawn on it) as an 8-bit PNG, atomically.
+///
+/// # Errors
+/// [`IoErrorKind::Unsupported`] for images beyond PNG's size limit, or an I/O error.
+#[cfg(feature = "png")]
+pub fn write_rgb_png(path: impl AsRef<Path>, image: &RgbImage) -> Result<(), IoError> {
     let path = path.as_ref();
-    let image = shaded_relief(hf, options);
-    let too_big = || IoError::new(path, IoErrorKind::Unsupported("preview exceeds the PNG size limit".to_owned()));
+    let too_big = || IoError::new(path, IoErrorKind::Unsupported("image exceeds the PNG size limit".to_owned()));
     let w = u32::try_from(image.width).map_err(|_| too_big())?;
     let h = u32::try_from(image.height).map_err(|_| too_big())?;
+    if image.pixels.len() != 3 * image.width * image.height {
+        return Err(IoError::new(
+            path,
+            IoErrorKind::Encode(format!("{} bytes for a {w}x{h} RGB image", image.pixels.len())),
+        ));
+    }
     let bytes = png_gray::encode_rgb(w, h, &image.pixels).map_err(|k| IoError::new(path, k))?;
     atomic::write(path, &bytes)
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same directory, synced, then
+/// renamed over the target, so readers see the old file or the whole new one, never a part.
+///
+/// # Errors
+/// An I/O error naming `path`.
+pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<(), IoError> {
+    atomic::write(path.as_ref(), bytes)
+}
+
+/// A grayscale view of an image file, for label masks and probability maps: any PNG colour type
+/// (gray, gray + alpha, RGB, RGBA, palette) as luma in [0, 1] with fully transparent pixels as
+/// no-data, on a plain grid (origin 0, cell 1, row 0 south); any other format reads as a
+/// heightfield ([`read_with`]).
+///
+/// # Errors
+/// As [`read`].
+pub fn read_gray_image(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Heightfield, IoError> {
+    let path = path.as_ref();
+    let at = |kind| IoError::new(path, kind);
+    let bytes = std::fs::read(path).map_err(|e| at(IoErrorKind::Io(e)))?;
+    match options.format.or_else(|| Format::detect(path, &bytes)) {
+        #[cfg(feature = "png")]
+        Some(Format::Png8 | Format::Png16) => png_gray::decode_luma(&bytes, options.limits).map_err(at),
+        _ => read_with(path, options),
+    }
 }
 
 fn disabled(format: Format) -> IoErrorKind {

@@ -1,6 +1,11 @@
-//! `OpenEXR`: one f32 channel `Y`, north row first, NaN for no-data; the grid geometry in custom
-//! header attributes `relief.origin_x`, `relief.origin_y`, `relief.cell_size_x`,
-//! `relief.cell_size_y` (doubles) and `relief.units` (text).
+//! `OpenEXR`: one f32 channel `Y`, north row first, NaN for no-data; the grid geometry in one
+//! custom text attribute `relief.grid`: `"<origin x> <origin y> <cell x> <cell y> <units>"`, the
+//! numbers written in Rust's shortest round-trip form so they read back exactly.
+//!
+//! One attribute, not five: `exr` keeps custom attributes in a `HashMap`, whose iteration order —
+//! and so the header's bytes — would change from run to run with several. Files from earlier
+//! versions, with the geometry in `relief.origin_x`, `relief.origin_y`, `relief.cell_size_x`,
+//! `relief.cell_size_y` (doubles) and `relief.units` (text), still read.
 
 use std::io::Cursor;
 
@@ -20,6 +25,7 @@ const ORIGIN_Y: &str = "relief.origin_y";
 const CELL_X: &str = "relief.cell_size_x";
 const CELL_Y: &str = "relief.cell_size_y";
 const UNITS: &str = "relief.units";
+const GRID: &str = "relief.grid";
 /// Channel names accepted, in order of preference, when a file has more than one.
 const PREFERRED: [&str; 4] = ["Y", "height", "Z", "R"];
 
@@ -108,6 +114,11 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
 }
 
 fn geometry(attrs: &LayerAttributes, nx: usize, ny: usize) -> Result<GridSpec, IoErrorKind> {
+    match attrs.other.get(&Text::from(GRID)) {
+        None => {}
+        Some(AttributeValue::Text(t)) => return parse_grid(&t.to_string(), nx, ny),
+        Some(other) => return Err(IoErrorKind::InvalidMetadata(format!("attribute {GRID} is {other:?}, not text"))),
+    }
     let get = |name: &str| -> Result<Option<f64>, IoErrorKind> {
         match attrs.other.get(&Text::from(name)) {
             None => Ok(None),
@@ -139,24 +150,43 @@ fn geometry(attrs: &LayerAttributes, nx: usize, ny: usize) -> Result<GridSpec, I
 }
 
 /// Encodes uncompressed, or with ZIP over 16-line blocks when `compress` is set.
+/// Reads `"<origin x> <origin y> <cell x> <cell y> <units>"`.
+fn parse_grid(text: &str, nx: usize, ny: usize) -> Result<GridSpec, IoErrorKind> {
+    let bad = || {
+        IoErrorKind::InvalidMetadata(format!(
+            "attribute {GRID} is {text:?}; expected \"<origin x> <origin y> <cell x> <cell y> metres|degrees\""
+        ))
+    };
+    let parts: Vec<&str> = text.split_whitespace().collect();
+    let [ox, oy, cx, cy, units] = parts[..] else { return Err(bad()) };
+    let number = |s: &str| s.parse::<f64>().map_err(|_| bad());
+    let units = match units {
+        "metres" => Units::Metres,
+        "degrees" => Units::Degrees,
+        _ => return Err(bad()),
+    };
+    GridSpec::new(nx, ny, DVec2::new(number(ox)?, number(oy)?), DVec2::new(number(cx)?, number(cy)?))
+        .and_then(|g| g.with_units(units))
+        .map_err(|e| IoErrorKind::InvalidMetadata(e.to_string()))
+}
+
 pub(crate) fn encode(hf: &Heightfield, compress: bool) -> Result<Vec<u8>, IoErrorKind> {
     let g = hf.grid();
     let data = north_up(hf, |_, _, v| v);
     let channel = AnyChannel::new("Y", FlatSamples::F32(data));
     let mut attrs = LayerAttributes::default();
-    let mut set = |k: &str, v: AttributeValue| attrs.other.insert(Text::from(k), v);
-    set(ORIGIN_X, AttributeValue::F64(g.origin().x));
-    set(ORIGIN_Y, AttributeValue::F64(g.origin().y));
-    set(CELL_X, AttributeValue::F64(g.cell_size().x));
-    set(CELL_Y, AttributeValue::F64(g.cell_size().y));
     let units = match g.units() {
         Units::Metres => "metres",
         Units::Degrees => "degrees",
     };
-    set(UNITS, AttributeValue::Text(Text::from(units)));
+    let (o, c) = (g.origin(), g.cell_size());
+    let grid = format!("{} {} {} {} {units}", o.x, o.y, c.x, c.y);
+    attrs.other.insert(Text::from(GRID), AttributeValue::Text(Text::from(grid.as_str())));
     let encoding = if compress { Encoding::SMALL_LOSSLESS } else { Encoding::UNCOMPRESSED };
     let layer = Layer::new((hf.nx(), hf.ny()), attrs, encoding, AnyChannels::sort(SmallVec::from_vec(vec![channel])));
     let mut out = Cursor::new(Vec::new());
+    // SMALL_LOSSLESS writes lines in increasing order, so the parallel writer's output is
+    // reproducible (checked by the round-trip tests).
     Image::from_layer(layer).write().to_buffered(&mut out).map_err(|e| IoErrorKind::Encode(e.to_string()))?;
     Ok(out.into_inner())
 }

@@ -142,6 +142,55 @@ pub(crate) fn encode(hf: &Heightfield, bits: u8) -> Result<Vec<u8>, IoErrorKind>
 }
 
 /// Encodes an 8-bit RGB image (used by the shaded-relief preview).
+/// Decodes any PNG (gray, gray + alpha, RGB, RGBA, palette, any bit depth) as luma in [0, 1]
+/// (ITU-R BT.601 weights for colour), fully transparent pixels as no-data, on a plain grid
+/// (origin 0, cell 1, rows flipped to south-first): label masks and probability maps.
+pub(crate) fn decode_luma(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErrorKind> {
+    let found = bytes.len();
+    let budget = png::Limits { bytes: limits.byte_budget(8, 16 << 20) };
+    let mut decoder = png::Decoder::new_with_limits(Cursor::new(bytes), budget);
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let header = decoder.read_header_info().map_err(|e| decode_error(e, found))?;
+    let (w, h) = (header.width, header.height);
+    limits.check(u64::from(w), u64::from(h))?;
+    let mut reader = decoder.read_info().map_err(|e| decode_error(e, found))?;
+    let len = reader
+        .output_buffer_size()
+        .ok_or_else(|| IoErrorKind::TooLarge { cells: u64::from(w) * u64::from(h), limit: limits.max_cells })?;
+    if (found as u64).saturating_mul(1032) < len as u64 {
+        return Err(IoErrorKind::HeaderMismatch(format!(
+            "header announces {w}x{h} pixels ({len} bytes) but the file holds only {found} bytes"
+        )));
+    }
+    let mut buf = vec![0u8; len];
+    let frame = reader.next_frame(&mut buf).map_err(|e| decode_error(e, found))?;
+    let (color, depth) = (frame.color_type, frame.bit_depth);
+    let channels = color.samples();
+    let wide = depth == png::BitDepth::Sixteen;
+    let max = if wide { 65535.0 } else { 255.0 };
+    let sample = |k: usize| -> f32 {
+        if wide { f32::from(u16::from_be_bytes([buf[2 * k], buf[2 * k + 1]])) } else { f32::from(buf[k]) }
+    };
+    let (nx, ny) = (w as usize, h as usize);
+    let mut values: Vec<f32> = (0..nx * ny)
+        .map(|p| {
+            let base = p * channels;
+            let (luma, alpha) = match color {
+                png::ColorType::Grayscale => (sample(base), max),
+                png::ColorType::GrayscaleAlpha => (sample(base), sample(base + 1)),
+                png::ColorType::Rgb => {
+                    (0.299 * sample(base) + 0.587 * sample(base + 1) + 0.114 * sample(base + 2), max)
+                }
+                // Indexed images arrive expanded to RGB(A); anything else is RGBA.
+                _ => (0.299 * sample(base) + 0.587 * sample(base + 1) + 0.114 * sample(base + 2), sample(base + 3)),
+            };
+            if alpha == 0.0 { f32::NAN } else { luma / max }
+        })
+        .collect();
+    flip_rows(&mut values, nx);
+    Heightfield::from_samples(plain_grid(nx, ny)?, values).map_err(IoErrorKind::InvalidData)
+}
+
 pub(crate) fn encode_rgb(width: u32, height: u32, pixels: &[u8]) -> Result<Vec<u8>, IoErrorKind> {
     let enc_err = |e: png::EncodingError| IoErrorKind::Encode(e.to_string());
     let mut out = Vec::new();

@@ -497,6 +497,23 @@ fn successful_writes_leave_only_the_files_and_their_sidecars() {
     assert_eq!(dir_entries(dir.path()), expected);
 }
 
+/// Written files get the permissions of any new file (0666 less the umask), not the private 0600
+/// of the temporary file they start as: other users can read a DEM someone shares.
+#[cfg(unix)]
+#[test]
+fn written_files_are_not_private_to_their_owner() {
+    use std::os::unix::fs::PermissionsExt as _;
+    let dir = tempfile::tempdir().unwrap();
+    // What this process's umask makes of a plainly created file.
+    std::fs::write(dir.path().join("plain"), b"x").unwrap();
+    let plain = std::fs::metadata(dir.path().join("plain")).unwrap().permissions().mode() & 0o777;
+    for file in all_files() {
+        write(dir.path().join(file), &small_field(4, 4)).unwrap();
+        let mode = std::fs::metadata(dir.path().join(file)).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, plain, "{file}: {mode:o} != {plain:o}");
+    }
+}
+
 #[test]
 fn a_failed_rename_leaves_no_temporary_file() {
     let dir = tempfile::tempdir().unwrap();

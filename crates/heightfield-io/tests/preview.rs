@@ -121,3 +121,59 @@ fn cells_below_sea_level_are_water_and_no_data_is_grey() {
     let w = &no_sea.pixels[3 * (2 * img.width + 1)..3 * (2 * img.width + 1) + 3];
     assert!(w[2] <= w[1], "without a sea level the lowlands are tinted as land: {w:?}");
 }
+
+#[cfg(feature = "png")]
+#[test]
+fn gray_images_read_any_png_colour_type_as_luma() {
+    use relief_heightfield_io::{ReadOptions, read_gray_image};
+    let dir = tempfile::tempdir().unwrap();
+    // A 3 × 2 RGBA image, north row first: red, green, transparent / white, black, blue.
+    let rgba: [u8; 24] = [255, 0, 0, 255, 0, 255, 0, 255, 9, 9, 9, 0, 255, 255, 255, 255, 0, 0, 0, 255, 0, 0, 255, 255];
+    let path = dir.path().join("mask.png");
+    let mut bytes = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut bytes, 3, 2);
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut w = enc.write_header().unwrap();
+        w.write_image_data(&rgba).unwrap();
+    }
+    std::fs::write(&path, &bytes).unwrap();
+    // RGB is rejected as a heightmap…
+    assert!(relief_heightfield_io::read(&path).is_err());
+    // …but reads as luma for masks, south row first.
+    let img = read_gray_image(&path, &ReadOptions::default()).unwrap();
+    assert_eq!((img.nx(), img.ny()), (3, 2));
+    let close = |a: Option<f32>, b: f32| a.is_some_and(|a| (a - b).abs() < 1e-6);
+    assert!(close(img.get(0, 1), 0.299), "red");
+    assert!(close(img.get(1, 1), 0.587), "green");
+    assert!(img.is_no_data(2, 1), "transparent");
+    assert!(close(img.get(0, 0), 1.0) && close(img.get(1, 0), 0.0) && close(img.get(2, 0), 0.114));
+    // 16-bit gray + alpha keeps its precision.
+    let path16 = dir.path().join("ga16.png");
+    let mut bytes = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut bytes, 1, 1);
+        enc.set_color(png::ColorType::GrayscaleAlpha);
+        enc.set_depth(png::BitDepth::Sixteen);
+        let mut w = enc.write_header().unwrap();
+        w.write_image_data(&[0x80, 0x00, 0xff, 0xff]).unwrap();
+    }
+    std::fs::write(&path16, &bytes).unwrap();
+    let g = read_gray_image(&path16, &ReadOptions::default()).unwrap();
+    assert!(close(g.get(0, 0), 32768.0 / 65535.0));
+}
+
+#[cfg(feature = "png")]
+#[test]
+fn rgb_images_write_atomically_and_reject_wrong_sizes() {
+    use relief_heightfield_io::{RgbImage, write_rgb_png};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("overlay.png");
+    let image = RgbImage { width: 2, height: 1, pixels: vec![1, 2, 3, 4, 5, 6] };
+    write_rgb_png(&path, &image).unwrap();
+    assert!(std::fs::read(&path).unwrap().starts_with(b"\x89PNG"));
+    let bad = RgbImage { width: 2, height: 2, pixels: vec![0; 5] };
+    assert!(write_rgb_png(dir.path().join("bad.png"), &bad).is_err());
+    assert!(!dir.path().join("bad.png").exists());
+}

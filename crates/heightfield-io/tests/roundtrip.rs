@@ -304,3 +304,24 @@ fn jacksboro_pasted_into_its_srtm_tile_round_trips_through_hgt() {
     let err = write(dir.path().join("N36W085.hgt"), &hf).unwrap_err();
     assert!(matches!(err.kind(), IoErrorKind::Unsupported(m) if m.contains("403x344")), "{err}");
 }
+
+/// Same field ⇒ same bytes, every time and in every format: outputs are reproducible (an EXR
+/// header with several custom attributes would not be: `exr` keeps them in a `HashMap`).
+#[test]
+fn encoding_is_byte_for_byte_reproducible() {
+    let grid = GridSpec::new(700, 530, DVec2::new(-3.0, 2.0), DVec2::splat(10.0)).unwrap();
+    let hf =
+        Heightfield::from_fn(grid, |p| (p.x * 0.01).sin() as f32 * 300.0 + (p.y * 0.013).cos() as f32 * 200.0).unwrap();
+    let formats: Vec<Format> = [Format::Asc, Format::R16, Format::R32]
+        .into_iter()
+        .chain(cfg!(feature = "exr").then_some(Format::Exr))
+        .chain(cfg!(feature = "png").then_some(Format::Png16))
+        .chain(cfg!(feature = "geotiff").then_some(Format::GeoTiff))
+        .collect();
+    for f in formats {
+        let first = write_bytes(&hf, f).unwrap();
+        for _ in 0..3 {
+            assert!(write_bytes(&hf, f).unwrap() == first, "{f} bytes vary between runs");
+        }
+    }
+}

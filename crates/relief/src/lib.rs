@@ -1,34 +1,63 @@
 //! relief turns a few strokes of user intent — coastlines, nested contours, feature curves,
 //! divide trees — into real terrain. This facade re-exports every relief crate under one name, so
-//! an application depends on `relief` alone; each crate can also be used on its own.
+//! an application depends on `relief` alone (each crate can also be used on its own), and adds what
+//! composes them: the versioned JSON [`scene`] format, the [`pipeline`] that runs a scene end to end
+//! with progress and a run summary, and [`export`] of contours as GeoJSON and SVG.
 //!
 //! | module | crate | what it does |
 //! |---|---|---|
-//! | [`heightfield`] | `relief-heightfield` | the shared grid type, sampling, gradients, noise, distance transform |
+//! | [`heightfield`] | `relief-heightfield` | the shared grid type, sampling, gradients, noise, distance transform, depression filling |
 //! | [`poisson_sampling`] | `relief-poisson-sampling` | blue-noise points in polygons and extended domains |
 //! | [`tin`] | `relief-tin` | Delaunay TINs as flat arrays, location, interpolation, rasterization |
 //! | [`io`] | `relief-heightfield-io` | PNG/EXR/RAW/ASC/HGT/GeoTIFF heightfields and shaded previews |
+//! | [`eden_growth`] | `relief-eden-growth` | inward Open Eden Growth: region trees, label maps, probability maps |
+//! | [`contours`] | `relief-contours` | histogram heights, contour extraction, nesting, smoothing, reconstruction |
+//! | [`warp`] | `relief-warp` | bijective coherent warps and slope modulation |
+//!
+//! A scene is a few nested contours plus a histogram; [`pipeline::generate`] turns it into a
+//! heightfield and its contours:
 //!
 //! ```
-//! use relief::heightfield::{Extent, GridSpec, Heightfield};
-//! use relief::poisson_sampling::{PoissonDisc, Polygon};
-//! use relief::tin::Tin;
-//! use glam::DVec2;
+//! use relief::Scene;
 //!
-//! // Sample an island, triangulate it, give every node its distance to the centre as depth.
-//! let island = Polygon::circle(DVec2::ZERO, 100.0, 64)?;
-//! let points = PoissonDisc::new(5.0)?.with_seed(3).sample(&island)?;
-//! let tin = Tin::new(points)?;
-//! let heights: Vec<f64> = tin.points().iter().map(|p| 100.0 - p.length()).collect();
-//! let grid = GridSpec::from_extent(64, 64, Extent::new(DVec2::splat(-100.0), DVec2::splat(100.0)))?;
-//! let dem: Heightfield = tin.rasterize(&heights, &grid)?;
-//! assert!(dem.min_max().unwrap().1 > 90.0);
+//! let scene = Scene::from_json(r#"{
+//!   "version": 1,
+//!   "seed": 3,
+//!   "generator": { "contours": {
+//!     "regions": [
+//!       { "polygon": { "exterior": [[0, 0], [4000, 0], [4000, 3000], [0, 3000]] }, "height": 0 },
+//!       { "polygon": { "exterior": [[1500, 1000], [2500, 1000], [2500, 2000], [1500, 2000]] } }
+//!     ],
+//!     "particles": 5000,
+//!     "histogram": { "uniform": { "min": 0, "max": 800 } },
+//!     "levels": { "count": 8 }
+//!   } },
+//!   "reconstruction": { "resolution": [128, 96] }
+//! }"#)?;
+//! let terrain = relief::pipeline::generate(&scene, std::path::Path::new("."), &mut ())?;
+//! assert_eq!((terrain.heightfield.nx(), terrain.heightfield.ny()), (128, 96));
+//! assert_eq!(terrain.contours.nests_by_level(), Ok(()));
+//! // Elevations follow the histogram: the node heights exactly, the raster closely.
+//! assert!(terrain.summary.histogram_match.nodes < 1e-3);
+//! assert!(terrain.summary.histogram_match.raster < 0.1);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+pub use relief_contours as contours;
+pub use relief_eden_growth as eden_growth;
 pub use relief_heightfield as heightfield;
 pub use relief_heightfield_io as io;
 pub use relief_poisson_sampling as poisson_sampling;
 pub use relief_tin as tin;
+pub use relief_warp as warp;
+
+mod error;
+pub mod export;
+pub mod pipeline;
+pub mod scene;
+
+pub use error::ReliefError;
+pub use pipeline::{Progress, Summary, Terrain};
+pub use scene::Scene;

@@ -1,0 +1,365 @@
+//! `relief`: terrain from a few strokes of intent, on the command line.
+//!
+//! `relief demo` generates the built-in scene; `relief generate SCENE.json` any scene file;
+//! `contours`, `convert`, `info` and `preview` work on existing DEMs. Argument parsing is clap
+//! (derive), progress is indicatif spinners on stderr (hidden when stderr is not a terminal or with
+//! `--quiet`), errors are anyhow chains printed on one line. Exit codes: 0 success, 1 failure,
+//! 2 usage error.
+#![forbid(unsafe_code)]
+
+use std::io::IsTerminal as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context as _, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use relief::contours::{ContourSet, evenly_spaced_levels, extract_dem, interval_levels};
+use relief::heightfield::{Heightfield, Units};
+use relief::io::Format;
+use relief::pipeline::{self, MAX_LEVELS};
+use relief::{Progress, Scene};
+
+/// Terrain from a few strokes of intent: iso-contour generation, DEM contours, conversion and
+/// previews.
+#[derive(Debug, Parser)]
+#[command(name = "relief", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+    /// Print the time of every step on stderr.
+    #[arg(short, long, global = true)]
+    verbose: bool,
+    /// Print nothing but errors (no progress, no report).
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Worker threads (default: one per core). Outputs are identical for any count.
+    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    threads: Option<u16>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Generate the built-in demo scene: an island with two ranges, a summit and a crater.
+    Demo {
+        /// Output directory.
+        #[arg(long, default_value = "relief-demo")]
+        out: PathBuf,
+    },
+    /// Generate the terrain a scene file describes.
+    Generate {
+        /// The scene (JSON; see docs/scene.schema.json).
+        scene: PathBuf,
+        /// Output directory (default: relief-out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Replace the scene's seed.
+        #[arg(long)]
+        seed: Option<u64>,
+    },
+    /// Extract contour lines from a DEM (as GDAL's contour utility does).
+    Contours(ContoursArgs),
+    /// Convert a heightfield between formats (chosen by extension).
+    Convert {
+        /// Input (.exr, .png, .r16, .r32, .asc, .tif, .hgt).
+        input: PathBuf,
+        /// Output; the extension picks the format.
+        output: PathBuf,
+    },
+    /// Describe a heightfield: size, extent, elevation range, no-data.
+    Info {
+        /// The heightfield.
+        dem: PathBuf,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Render a shaded-relief preview (hillshade × hypsometric tint), optionally with contours.
+    Preview {
+        /// The heightfield.
+        dem: PathBuf,
+        /// Output PNG.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Draw contours every this many units of elevation.
+        #[arg(long, value_name = "INTERVAL")]
+        contours: Option<f64>,
+        /// Elevation of the sea: lower ground is drawn as water.
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        sea_level: f64,
+        /// Largest image side (bigger DEMs are decimated).
+        #[arg(long)]
+        max_size: Option<usize>,
+    },
+    /// Print the JSON Schema of scene files.
+    Schema,
+}
+
+#[derive(Debug, Args)]
+struct ContoursArgs {
+    /// The DEM.
+    dem: PathBuf,
+    /// Contour every this many units of elevation.
+    #[arg(long, required_unless_present = "levels", conflicts_with = "levels")]
+    interval: Option<f64>,
+    /// This many evenly spaced levels between the lowest and highest elevation.
+    #[arg(long)]
+    levels: Option<usize>,
+    /// GeoJSON output (default: <DEM name>.contours.geojson when no output is given).
+    #[arg(long)]
+    geojson: Option<PathBuf>,
+    /// SVG output.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(&cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: &Cli) -> Result<()> {
+    if let Some(n) = cli.threads {
+        rayon::ThreadPoolBuilder::new().num_threads(n.into()).build_global().context("starting the thread pool")?;
+    }
+    let mut ui = Ui::new(cli.verbose, cli.quiet);
+    match &cli.command {
+        Command::Demo { out } => {
+            let scene = Scene::demo();
+            run_scene(&scene, Path::new("."), out, &mut ui)?;
+            ui.say(format_args!("open {} to see it", out.join("preview.png").display()));
+            Ok(())
+        }
+        Command::Generate { scene: path, out, seed } => {
+            let mut scene = pipeline::load_scene(path)?;
+            if let Some(seed) = seed {
+                scene.seed = *seed;
+            }
+            let base = path.parent().unwrap_or(Path::new("."));
+            let out = out
+                .clone()
+                .unwrap_or_else(|| Path::new("relief-out").join(path.file_stem().unwrap_or(path.as_os_str())));
+            run_scene(&scene, base, &out, &mut ui)
+        }
+        Command::Contours(args) => contours(args, &mut ui),
+        Command::Convert { input, output } => {
+            let format = Format::from_extension(output)
+                .with_context(|| format!("{}: unknown output extension", output.display()))?;
+            let dem = ui.step("read", || relief::io::read(input))?;
+            ui.step("write", || relief::io::write(output, &dem))?;
+            ui.say(format_args!(
+                "{} ({} x {}) -> {} ({format:?})",
+                input.display(),
+                dem.nx(),
+                dem.ny(),
+                output.display()
+            ));
+            Ok(())
+        }
+        Command::Info { dem: path, json } => {
+            let dem = relief::io::read(path)?;
+            println!("{}", if *json { info_json(path, &dem) } else { info_text(path, &dem) });
+            Ok(())
+        }
+        Command::Preview { dem: path, output, contours, sea_level, max_size } => {
+            let dem = ui.step("read", || relief::io::read(path))?;
+            let dem = match max_size {
+                Some(m) if dem.nx().max(dem.ny()) > *m => {
+                    let stride = dem.nx().max(dem.ny()).div_ceil(*m);
+                    dem.resample(dem.nx().div_ceil(stride).max(2), dem.ny().div_ceil(stride).max(2))?
+                }
+                _ => dem,
+            };
+            let set = match contours {
+                Some(interval) => Some(ui.step("contours", || dem_contours(&dem, Some(*interval), None))?),
+                None => None,
+            };
+            let image = ui.step("shade", || relief::export::preview_image(&dem, set.as_ref(), Some(*sea_level)));
+            ui.step("write", || relief::io::write_rgb_png(output, &image))?;
+            ui.say(format_args!("wrote {} ({} x {})", output.display(), image.width, image.height));
+            Ok(())
+        }
+        Command::Schema => {
+            println!("{}", Scene::json_schema());
+            Ok(())
+        }
+    }
+}
+
+fn run_scene(scene: &Scene, base: &Path, out: &Path, ui: &mut Ui) -> Result<()> {
+    let start = Instant::now();
+    let (terrain, written) = pipeline::run(scene, base, out, ui)?;
+    let s = &terrain.summary;
+    ui.say(format_args!(
+        "{} nodes, {} contours on {} levels, {} x {} heightfield in {:.2} s (histogram match: KS {:.4})",
+        s.graph.nodes,
+        s.contours.contours,
+        s.contours.levels,
+        s.heightfield.nx,
+        s.heightfield.ny,
+        start.elapsed().as_secs_f64(),
+        s.histogram_match.raster
+    ));
+    for path in &written {
+        ui.say(format_args!("  {}", path.display()));
+    }
+    if s.histogram_match.nodes > HISTOGRAM_WARNING && !ui.quiet {
+        eprintln!(
+            "warning: elevations deviate from the histogram (KS {:.3}): explicit region heights give each \
+             level a fixed share of the histogram, which differs here from its share of the area; adjust the \
+             weights or drop a height",
+            s.histogram_match.nodes
+        );
+    }
+    Ok(())
+}
+
+/// Node heights match the histogram to 1/(2N) unless explicit heights force a different split.
+const HISTOGRAM_WARNING: f64 = 0.02;
+
+fn contours(args: &ContoursArgs, ui: &mut Ui) -> Result<()> {
+    let dem = ui.step("read", || relief::io::read(&args.dem))?;
+    let set = ui.step("contours", || dem_contours(&dem, args.interval, args.levels))?;
+    let geojson = match (&args.geojson, &args.svg) {
+        (None, None) => Some(PathBuf::from(format!(
+            "{}.contours.geojson",
+            args.dem.file_stem().unwrap_or(args.dem.as_os_str()).to_string_lossy()
+        ))),
+        (g, _) => g.clone(),
+    };
+    ui.step("write", || -> Result<()> {
+        if let Some(path) = &geojson {
+            relief::io::write_atomic(path, relief::export::contours_geojson(&set).as_bytes())?;
+        }
+        if let Some(path) = &args.svg {
+            relief::io::write_atomic(path, relief::export::contours_svg(&set, &dem.extent(), 1024).as_bytes())?;
+        }
+        Ok(())
+    })?;
+    ui.say(format_args!("{} contours on {} levels, {} vertices", set.len(), set.levels().len(), set.vertex_count()));
+    for path in geojson.iter().chain(&args.svg) {
+        ui.say(format_args!("  {}", path.display()));
+    }
+    Ok(())
+}
+
+/// Contours of `dem` every `interval` (multiples of it, like `gdal_contour -i`) or at `count`
+/// evenly spaced levels.
+fn dem_contours(dem: &Heightfield, interval: Option<f64>, count: Option<usize>) -> Result<ContourSet> {
+    let Some((lo, hi)) = dem.min_max() else { bail!("the DEM has no valid sample") };
+    let (lo, hi) = (f64::from(lo), f64::from(hi));
+    let levels = match (interval, count) {
+        (Some(m), _) => interval_levels(lo, hi, m, 0.0, MAX_LEVELS)?,
+        (None, Some(k)) if k > MAX_LEVELS => bail!("{k} levels, more than {MAX_LEVELS}"),
+        (None, Some(k)) if lo < hi => evenly_spaced_levels(lo, hi, k)?,
+        (None, Some(_)) => Vec::new(),
+        (None, None) => bail!("give --interval or --levels"),
+    };
+    Ok(extract_dem(dem, &levels)?)
+}
+
+fn info_text(path: &Path, dem: &Heightfield) -> String {
+    let grid = dem.grid();
+    let (e, c) = (grid.extent(), grid.cell_size());
+    let unit = match grid.units() {
+        Units::Metres => "m",
+        Units::Degrees => "°",
+    };
+    let stats = dem.statistics();
+    let range = stats.map_or_else(
+        || "no valid sample".to_owned(),
+        |s| format!("{} .. {} (mean {:.3}, std dev {:.3})", s.min, s.max, s.mean, s.std_dev),
+    );
+    format!(
+        "{}\n  size       {} x {} ({} samples)\n  extent     x {} .. {}, y {} .. {} ({unit})\n  cell size  {} x {} {unit}\n  elevation  {range}\n  no-data    {}",
+        path.display(),
+        dem.nx(),
+        dem.ny(),
+        grid.len(),
+        e.min.x,
+        e.max.x,
+        e.min.y,
+        e.max.y,
+        c.x,
+        c.y,
+        dem.no_data_count()
+    )
+}
+
+fn info_json(path: &Path, dem: &Heightfield) -> String {
+    let grid = dem.grid();
+    let (e, c) = (grid.extent(), grid.cell_size());
+    let stats = dem.statistics();
+    let value = serde_json::json!({
+        "path": path,
+        "nx": dem.nx(),
+        "ny": dem.ny(),
+        "extent": { "min": [e.min.x, e.min.y], "max": [e.max.x, e.max.y] },
+        "cell_size": [c.x, c.y],
+        "units": match grid.units() { Units::Metres => "metres", Units::Degrees => "degrees" },
+        "min": stats.map(|s| s.min),
+        "max": stats.map(|s| s.max),
+        "mean": stats.map(|s| s.mean),
+        "no_data": dem.no_data_count(),
+    });
+    serde_json::to_string_pretty(&value).unwrap_or_default()
+}
+
+/// Spinners on stderr, step timings with `-v`, reports on stdout unless `-q`.
+struct Ui {
+    verbose: bool,
+    quiet: bool,
+    bar: Option<ProgressBar>,
+    draw: bool,
+}
+
+impl Ui {
+    fn new(verbose: bool, quiet: bool) -> Self {
+        Self { verbose, quiet, bar: None, draw: !quiet && std::io::stderr().is_terminal() }
+    }
+
+    fn say(&self, message: std::fmt::Arguments<'_>) {
+        if !self.quiet {
+            println!("{message}");
+        }
+    }
+
+    /// Runs `f` as a step with a spinner.
+    fn step<T>(&mut self, name: &'static str, f: impl FnOnce() -> T) -> T {
+        self.start(name);
+        let start = Instant::now();
+        let out = f();
+        self.finish(name, start.elapsed());
+        out
+    }
+}
+
+impl Progress for Ui {
+    fn start(&mut self, step: &'static str) {
+        let target = if self.draw { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+        let bar = ProgressBar::with_draw_target(None, target);
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        bar.set_message(step);
+        bar.enable_steady_tick(Duration::from_millis(100));
+        self.bar = Some(bar);
+    }
+
+    fn finish(&mut self, step: &'static str, elapsed: Duration) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+        if self.verbose {
+            eprintln!("{step:>15} {:>9.1} ms", elapsed.as_secs_f64() * 1e3);
+        }
+    }
+}

@@ -1,0 +1,262 @@
+//! End to end: the real `relief` binary on the fixtures. Outputs exist and parse, the heightfield
+//! follows the scene's histogram, the contours (read back from the GeoJSON) nest and never cross,
+//! the same seed gives byte-identical files with one or two threads, and every failure is a
+//! one-line error with the right exit code.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use glam::DVec2;
+use relief::contours::{Contour, ContourSet, Histogram};
+use relief::scene::{Generator, HistogramSource, Scene};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn relief() -> Command {
+    let mut cmd = Command::cargo_bin("relief").unwrap();
+    cmd.current_dir(root());
+    cmd
+}
+
+/// Runs `relief args…`, expecting success; returns stdout.
+#[track_caller]
+fn ok(args: &[&str]) -> String {
+    let out = relief().args(args).output().unwrap();
+    assert!(out.status.success(), "relief {args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Runs `relief args…`, expecting exit code `code`; returns stderr.
+#[track_caller]
+fn fails(args: &[&str], code: i32) -> String {
+    let out = relief().args(args).output().unwrap();
+    assert_eq!(out.status.code(), Some(code), "relief {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
+/// The contours of a GeoJSON file, rebuilt into a [`ContourSet`] (which recomputes the nesting).
+fn read_geojson(path: &Path) -> ContourSet {
+    let value: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let features = value["features"].as_array().unwrap();
+    let mut levels: Vec<f64> = features.iter().map(|f| f["properties"]["elevation"].as_f64().unwrap()).collect();
+    levels.sort_by(f64::total_cmp);
+    levels.dedup();
+    let contours = features
+        .iter()
+        .map(|f| {
+            let height = f["properties"]["elevation"].as_f64().unwrap();
+            let closed = f["properties"]["closed"].as_bool().unwrap();
+            let mut points: Vec<DVec2> = f["geometry"]["coordinates"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|p| DVec2::new(p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
+                .collect();
+            if closed {
+                assert_eq!(points.first(), points.last(), "closed rings repeat their first point");
+                points.pop();
+            }
+            let level = levels.iter().position(|&l| l == height).unwrap() as u32;
+            Contour { level, height, points, closed }
+        })
+        .collect();
+    ContourSet::new(levels, contours).unwrap()
+}
+
+fn scene_histogram(scene_path: &Path) -> Histogram {
+    let scene = relief::pipeline::load_scene(scene_path).unwrap();
+    let Generator::Contours(g) = &scene.generator;
+    match &g.histogram {
+        HistogramSource::Bins { edges, weights } => Histogram::from_bins(edges.clone(), weights.clone()).unwrap(),
+        HistogramSource::Uniform { min, max } => Histogram::uniform(*min, *max).unwrap(),
+        HistogramSource::Samples(s) => Histogram::from_samples(s.clone()).unwrap(),
+        HistogramSource::Dem(p) => {
+            let dem = relief::io::read(scene_path.parent().unwrap().join(p)).unwrap();
+            Histogram::from_samples(dem.samples().iter().map(|&v| f64::from(v)).collect()).unwrap()
+        }
+    }
+}
+
+/// The checks every generated output directory passes.
+fn check_outputs(dir: &Path, histogram: &Histogram, depressions: bool) {
+    for file in ["terrain.exr", "terrain.png", "contours.geojson", "contours.svg", "preview.png", "summary.json"] {
+        assert!(dir.join(file).is_file(), "{} missing", dir.join(file).display());
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let sea_level = summary["heightfield"]["sea_level"].as_f64().unwrap();
+    // The heightfield follows the histogram on land.
+    let dem = relief::io::read(dir.join("terrain.exr")).unwrap();
+    let land: Vec<f64> = dem.samples().iter().map(|&v| f64::from(v)).filter(|&v| v >= sea_level).collect();
+    let ks = histogram.ks_distance(&land);
+    assert!(ks < 0.08, "{}: raster KS {ks}", dir.display());
+    // The 16-bit PNG holds the same terrain, quantized.
+    let png = relief::io::read(dir.join("terrain.png")).unwrap();
+    let (lo, hi) = dem.min_max().unwrap();
+    let step = f64::from(hi - lo) / 65535.0;
+    let worst = png.samples().iter().zip(dem.samples()).map(|(a, b)| f64::from((a - b).abs())).fold(0.0, f64::max);
+    assert!(worst <= step, "png differs by {worst} (step {step})");
+    // The exported contours nest and never cross.
+    let set = read_geojson(&dir.join("contours.geojson"));
+    assert!(!set.is_empty());
+    set.check_invariants().unwrap();
+    if !depressions {
+        assert_eq!(set.nests_by_level(), Ok(()), "{}", dir.display());
+    }
+    // The preview is a PNG of the raster's size.
+    let preview = relief::io::read_gray_image(dir.join("preview.png"), &relief::io::ReadOptions::default()).unwrap();
+    assert_eq!((preview.nx(), preview.ny()), (dem.nx(), dem.ny()));
+}
+
+#[test]
+fn every_fixture_scene_generates_checked_outputs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = root().join("fixtures/scenes");
+    let mut count = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "json") {
+            continue;
+        }
+        let out = tmp.path().join(path.file_stem().unwrap());
+        let stdout = ok(&["generate", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        assert!(stdout.contains("contours on"), "{stdout}");
+        let scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let Generator::Contours(g) = &scene.generator;
+        let depressions = g.regions.iter().any(|r| r.depression);
+        check_outputs(&out, &scene_histogram(&path), depressions);
+        count += 1;
+    }
+    assert!(count >= 5);
+}
+
+#[test]
+fn demo_writes_its_outputs_and_says_where() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("demo");
+    let stdout = ok(&["demo", "--out", out.to_str().unwrap()]);
+    assert!(stdout.contains(&out.join("preview.png").display().to_string()), "{stdout}");
+    let scene = Scene::demo();
+    let Generator::Contours(g) = &scene.generator;
+    let HistogramSource::Bins { edges, weights } = &g.histogram else { panic!("the demo uses bins") };
+    check_outputs(&out, &Histogram::from_bins(edges.clone(), weights.clone()).unwrap(), true);
+}
+
+#[test]
+fn same_seed_gives_byte_identical_outputs_with_one_or_two_threads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = root().join("fixtures/scenes/editing-session.json");
+    let run = |threads: &str, seed: &str| {
+        let out = tmp.path().join(format!("t{threads}-s{seed}"));
+        ok(&[
+            "generate",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--threads",
+            threads,
+            "--seed",
+            seed,
+        ]);
+        out
+    };
+    let (one, two, other) = (run("1", "4"), run("2", "4"), run("2", "5"));
+    for file in ["terrain.exr", "terrain.png", "contours.geojson", "contours.svg", "preview.png"] {
+        let a = std::fs::read(one.join(file)).unwrap();
+        assert!(a == std::fs::read(two.join(file)).unwrap(), "{file} differs between 1 and 2 threads");
+        assert!(a != std::fs::read(other.join(file)).unwrap(), "{file} does not depend on the seed");
+    }
+    // The summaries agree on everything but the timings.
+    let strip = |dir: &Path| {
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+        v.as_object_mut().unwrap().remove("timings_ms");
+        v
+    };
+    assert_eq!(strip(&one), strip(&two));
+    assert_eq!(strip(&one)["scene"]["seed"].as_u64(), Some(4), "--seed replaces the scene's seed");
+}
+
+#[test]
+fn contours_of_a_dem_are_multiples_of_the_interval_and_nest() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (geojson, svg) = (tmp.path().join("c.geojson"), tmp.path().join("c.svg"));
+    let stdout = ok(&[
+        "contours",
+        "fixtures/dem/jacksboro.asc",
+        "--interval",
+        "100",
+        "--geojson",
+        geojson.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(stdout.contains("contours on 8 levels"), "{stdout}");
+    let set = read_geojson(&geojson);
+    assert_eq!(set.levels(), &[300.0, 400.0, 500.0, 600.0, 700.0, 800.0, 900.0, 1000.0]);
+    set.check_invariants().unwrap();
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    // --levels picks evenly spaced levels.
+    ok(&["contours", "fixtures/dem/jacksboro.asc", "--levels", "5", "--geojson", geojson.to_str().unwrap()]);
+    assert_eq!(read_geojson(&geojson).levels().len(), 5);
+}
+
+#[test]
+fn convert_info_and_preview_work_on_a_real_dem() {
+    let tmp = tempfile::tempdir().unwrap();
+    let exr = tmp.path().join("j.exr");
+    ok(&["convert", "fixtures/dem/jacksboro.asc", exr.to_str().unwrap()]);
+    let original = relief::io::read(root().join("fixtures/dem/jacksboro.asc")).unwrap();
+    assert_eq!(relief::io::read(&exr).unwrap(), original, "asc -> exr is lossless");
+    let info: serde_json::Value = serde_json::from_str(&ok(&["info", exr.to_str().unwrap(), "--json"])).unwrap();
+    assert_eq!((info["nx"].as_u64(), info["ny"].as_u64()), (Some(403), Some(344)));
+    assert_eq!(info["units"], "degrees");
+    assert_eq!(info["min"].as_f64(), Some(f64::from(original.min_max().unwrap().0)));
+    let text = ok(&["info", "fixtures/dem/jacksboro.asc"]);
+    assert!(text.contains("403 x 344") && text.contains("no-data    0"), "{text}");
+    let png = tmp.path().join("p.png");
+    ok(&["preview", exr.to_str().unwrap(), "-o", png.to_str().unwrap(), "--contours", "100"]);
+    let plain = tmp.path().join("q.png");
+    ok(&["preview", exr.to_str().unwrap(), "-o", plain.to_str().unwrap(), "--max-size", "200"]);
+    let read = |p: &Path| relief::io::read_gray_image(p, &relief::io::ReadOptions::default()).unwrap();
+    assert_eq!((read(&png).nx(), read(&png).ny()), (403, 344));
+    assert!(read(&plain).nx() <= 202);
+}
+
+#[test]
+fn schema_subcommand_prints_the_checked_in_schema() {
+    let printed = ok(&["schema"]);
+    assert_eq!(printed, std::fs::read_to_string(root().join("docs/scene.schema.json")).unwrap());
+}
+
+#[test]
+fn failures_are_one_line_errors_with_exit_code_one() {
+    let stderr = fails(&["generate", "no/such/scene.json"], 1);
+    assert!(stderr.starts_with("error: ") && stderr.contains("scene.json"), "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+
+    let tmp = tempfile::tempdir().unwrap();
+    let bad = tmp.path().join("bad.json");
+    std::fs::write(&bad, r#"{ "version": 1, "generator": { "contours": { "regions": [], "histogram": { "uniform": { "min": 0, "max": 1 } }, "particles": -4 } } }"#).unwrap();
+    let stderr = fails(&["generate", bad.to_str().unwrap()], 1);
+    assert!(stderr.contains("generator.contours.particles"), "{stderr}");
+
+    let stderr = fails(&["info", "fixtures/scenes/README.md"], 1);
+    assert!(stderr.contains("README.md"), "{stderr}");
+    let stderr = fails(&["convert", "fixtures/dem/jacksboro.asc", "out.jpeg"], 1);
+    assert!(stderr.contains("out.jpeg"), "{stderr}");
+}
+
+#[test]
+fn usage_errors_exit_with_code_two() {
+    fails(&[], 2);
+    fails(&["generate"], 2);
+    fails(&["contours", "fixtures/dem/jacksboro.asc"], 2);
+    fails(&["contours", "fixtures/dem/jacksboro.asc", "--interval", "10", "--levels", "3"], 2);
+    fails(&["demo", "--threads", "0"], 2);
+    fails(&["frobnicate"], 2);
+}

@@ -1,0 +1,418 @@
+//! The scene file: a versioned JSON description of a terrain — seed, domain, generator, edits,
+//! reconstruction and outputs. Unknown fields are errors, every error names its JSON path, and
+//! relative paths resolve against the scene file's directory. `docs/scene.schema.json` is the
+//! JSON Schema generated from these types.
+
+use std::path::PathBuf;
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use crate::ReliefError;
+
+/// The scene format version this library reads.
+pub const SCENE_VERSION: u32 = 1;
+
+/// A terrain to generate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Format version: must be 1.
+    pub version: u32,
+    /// What the scene is, for people (ignored by the pipeline).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// Seed of every random choice (sampling, growth, noise): same seed, same bytes.
+    #[serde(default)]
+    pub seed: u64,
+    /// World rectangle of the outputs (raster and drawings). Default: the regions' bounds grown by 5 %.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub domain: Option<Rectangle>,
+    /// How the terrain is generated.
+    pub generator: Generator,
+    /// Edits applied, in order, to the generated contours.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub edits: Vec<Edit>,
+    /// How the contours become a heightfield.
+    #[serde(default)]
+    pub reconstruction: Reconstruction,
+    /// What to write.
+    #[serde(default)]
+    pub outputs: Outputs,
+}
+
+/// An axis-aligned rectangle in world units.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Rectangle {
+    /// Minimum corner `[x, y]`.
+    pub min: [f64; 2],
+    /// Maximum corner `[x, y]`.
+    pub max: [f64; 2],
+}
+
+/// A terrain generator.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Generator {
+    /// Iso-contour generation by inward Open Eden Growth (Huftier et al. 2025).
+    Contours(ContoursGenerator),
+}
+
+/// Parameters of iso-contour generation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ContoursGenerator {
+    /// Nested input contours (give these or `label_image`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub regions: Vec<RegionSpec>,
+    /// A label image: each gray level one nested region, the darkest outside (give this or `regions`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label_image: Option<LabelImage>,
+    /// About this many graph nodes inside the domain (default 50 000 when `radius` is absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub particles: Option<usize>,
+    /// Poisson-disc radius in world units, instead of `particles`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Target distribution of elevations.
+    pub histogram: HistogramSource,
+    /// How readily the growth advances where (default uniform).
+    #[serde(default)]
+    pub probability: Probability,
+    /// Which contours to extract (default 30 evenly spaced levels).
+    #[serde(default)]
+    pub levels: Levels,
+}
+
+/// One input contour.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSpec {
+    /// The closed contour.
+    pub polygon: PolygonSpec,
+    /// Its elevation (applies to every region at the same nesting depth).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    /// A crater or lake: the inside is ordered downward from the rim.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub depression: bool,
+}
+
+/// A polygon: an exterior ring and optional holes, as `[x, y]` vertices (closed implicitly).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PolygonSpec {
+    /// Exterior ring.
+    pub exterior: Vec<[f64; 2]>,
+    /// Holes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub holes: Vec<Vec<[f64; 2]>>,
+}
+
+/// A label image placed in the world.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LabelImage {
+    /// The image (any PNG colour type, or any heightfield format), relative to the scene file.
+    pub path: PathBuf,
+    /// Where the image lies in the world (its pixel centres span this rectangle).
+    pub extent: Rectangle,
+    /// Keep enclosed lower areas as depressions (craters) instead of filling them.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub depressions: bool,
+}
+
+/// Where the target elevation distribution comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum HistogramSource {
+    /// Bins: `edges` (n + 1, increasing) and `weights` (n).
+    Bins {
+        /// Bin edges.
+        edges: Vec<f64>,
+        /// Relative weights.
+        weights: Vec<f64>,
+    },
+    /// Sample elevations.
+    Samples(Vec<f64>),
+    /// Uniform between two heights.
+    Uniform {
+        /// Lowest height.
+        min: f64,
+        /// Highest height.
+        max: f64,
+    },
+    /// The elevations of a real DEM (any heightfield-io format), relative to the scene file.
+    Dem(PathBuf),
+}
+
+/// A probability map.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Probability {
+    /// Every frontier node equally likely: contours follow the distance to the border.
+    #[default]
+    Uniform,
+    /// `exp(contrast · fbm(p))`: organic, fingered contours.
+    Fbm {
+        /// Octaves (default 6).
+        #[serde(default = "default_octaves")]
+        octaves: u32,
+        /// Frequency of the first octave in cycles per world unit.
+        frequency: f64,
+        /// Frequency ratio between octaves (default 2).
+        #[serde(default = "default_lacunarity")]
+        lacunarity: f64,
+        /// Amplitude ratio between octaves (default 0.5).
+        #[serde(default = "default_gain")]
+        gain: f64,
+        /// Contrast: 0 is uniform, 3–6 strongly fingered.
+        contrast: f64,
+    },
+    /// A painted map (any PNG colour type, or a heightfield), brighter = grown earlier.
+    Image {
+        /// The image, relative to the scene file.
+        path: PathBuf,
+        /// Where it lies in the world (default: the output domain).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        extent: Option<Rectangle>,
+        /// Values are raised to this power (default 1; the paper's river map uses 4).
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+    },
+}
+
+fn default_octaves() -> u32 {
+    6
+}
+fn default_lacunarity() -> f64 {
+    2.0
+}
+fn default_gain() -> f64 {
+    0.5
+}
+fn default_exponent() -> f64 {
+    1.0
+}
+
+/// Which contour levels to extract (input contours' own levels are always added).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Levels {
+    /// This many levels evenly spaced over the histogram's range.
+    Count(usize),
+    /// Multiples of this interval within the histogram's range.
+    Interval(f64),
+    /// These heights.
+    Heights(Vec<f64>),
+}
+
+impl Default for Levels {
+    fn default() -> Self {
+        Self::Count(30)
+    }
+}
+
+/// An edit of the generated contours.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Edit {
+    /// Smoothing (§5.1), never making contours cross.
+    Smooth {
+        /// Strength α in (0, 1] (default 0.5).
+        #[serde(default = "default_alpha")]
+        alpha: f64,
+        /// Neighbours on each side (default 2).
+        #[serde(default = "default_k")]
+        k: usize,
+        /// Passes (default 4).
+        #[serde(default = "default_iterations")]
+        iterations: u32,
+    },
+    /// Coherent warping along a stroke (§5.2).
+    Warp {
+        /// The stroke, `[x, y]` points from start to end.
+        stroke: Vec<[f64; 2]>,
+        /// Radius of influence in world units.
+        radius: f64,
+        /// Strength μ in [0, 1] (default 1).
+        #[serde(default = "default_strength")]
+        strength: f64,
+        /// Exponent k of the profile (4x(1 − x))^k (default 2).
+        #[serde(default = "default_exponent_k")]
+        exponent: u32,
+    },
+    /// Slope modulation around a point or a curve (§5.3).
+    Slope {
+        /// Centre point (give this or `curve`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        point: Option<[f64; 2]>,
+        /// Curve (give this or `point`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        curve: Option<Vec<[f64; 2]>>,
+        /// Radius of influence in world units.
+        radius: f64,
+        /// Strength μ in (−1, 3): positive steepens near the curve, negative flattens.
+        strength: f64,
+    },
+}
+
+fn default_alpha() -> f64 {
+    0.5
+}
+fn default_k() -> usize {
+    2
+}
+fn default_iterations() -> u32 {
+    4
+}
+fn default_strength() -> f64 {
+    1.0
+}
+fn default_exponent_k() -> u32 {
+    2
+}
+
+/// How the heightfield is rebuilt.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Reconstruction {
+    /// Method (default interpolated).
+    #[serde(default)]
+    pub mode: ReconstructionMode,
+    /// Raster size `[nx, ny]` (default 1024 × 1024).
+    #[serde(default = "default_resolution")]
+    pub resolution: [usize; 2],
+    /// Make the raster drain (no one-cell pits from valleys narrower than a cell; default on).
+    #[serde(default = "default_true")]
+    pub drain: bool,
+}
+
+fn default_resolution() -> [usize; 2] {
+    [1024, 1024]
+}
+fn default_true() -> bool {
+    true
+}
+
+impl Default for Reconstruction {
+    fn default() -> Self {
+        Self { mode: ReconstructionMode::default(), resolution: default_resolution(), drain: true }
+    }
+}
+
+/// Reconstruction method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum ReconstructionMode {
+    /// Hormann's interpolation between nested contours: smooth, continuous.
+    #[default]
+    Interpolated,
+    /// Terraces: the height of the innermost contour.
+    Stairs,
+    /// The generated TIN itself, rasterized (warps applied by backward mapping).
+    Tin,
+}
+
+/// Output files, relative to the output directory. An empty value disables an output.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Outputs {
+    /// Heightfield files; the extension picks the format (.exr, .png, .r16, .r32, .asc, .tif, .hgt).
+    #[serde(default = "default_heightfields")]
+    pub heightfield: Vec<PathBuf>,
+    /// Contours as GeoJSON line strings with an `elevation` property.
+    #[serde(default = "default_geojson")]
+    pub contours_geojson: Option<PathBuf>,
+    /// Contours as SVG.
+    #[serde(default = "default_svg")]
+    pub contours_svg: Option<PathBuf>,
+    /// Shaded-relief preview with the contours drawn on it.
+    #[serde(default = "default_preview")]
+    pub preview: Option<PathBuf>,
+    /// Run summary: parameters, counts, timings, histogram match error.
+    #[serde(default = "default_summary")]
+    pub summary: Option<PathBuf>,
+}
+
+fn default_heightfields() -> Vec<PathBuf> {
+    vec![PathBuf::from("terrain.exr"), PathBuf::from("terrain.png")]
+}
+#[allow(clippy::unnecessary_wraps, reason = "serde default for an Option field")]
+fn default_geojson() -> Option<PathBuf> {
+    Some(PathBuf::from("contours.geojson"))
+}
+#[allow(clippy::unnecessary_wraps, reason = "serde default for an Option field")]
+fn default_svg() -> Option<PathBuf> {
+    Some(PathBuf::from("contours.svg"))
+}
+#[allow(clippy::unnecessary_wraps, reason = "serde default for an Option field")]
+fn default_preview() -> Option<PathBuf> {
+    Some(PathBuf::from("preview.png"))
+}
+#[allow(clippy::unnecessary_wraps, reason = "serde default for an Option field")]
+fn default_summary() -> Option<PathBuf> {
+    Some(PathBuf::from("summary.json"))
+}
+
+impl Default for Outputs {
+    fn default() -> Self {
+        Self {
+            heightfield: default_heightfields(),
+            contours_geojson: default_geojson(),
+            contours_svg: default_svg(),
+            preview: default_preview(),
+            summary: default_summary(),
+        }
+    }
+}
+
+impl Scene {
+    /// Parses a scene from JSON, naming the JSON path of any error.
+    ///
+    /// # Errors
+    /// [`ReliefError::Scene`] with the path of the offending value (unknown fields included).
+    pub fn from_json(text: &str) -> Result<Self, ReliefError> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            ReliefError::scene(if path == "." { String::new() } else { path }, strip_position(&inner.to_string()))
+        })?;
+        if scene.version != SCENE_VERSION {
+            return Err(ReliefError::scene(
+                "version",
+                format!("version {} is not supported (this build reads {SCENE_VERSION})", scene.version),
+            ));
+        }
+        Ok(scene)
+    }
+
+    /// The scene as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// The built-in demo scene (`relief demo`): a wavy island with two ranges, a raised summit and a
+    /// crater, fBm growth, smoothing and a ravine warp.
+    ///
+    /// # Panics
+    /// Never: the embedded scene is checked by the tests.
+    pub fn demo() -> Self {
+        Self::from_json(DEMO_SCENE).expect("the embedded demo scene is valid")
+    }
+
+    /// The JSON Schema of the format.
+    pub fn json_schema() -> String {
+        serde_json::to_string_pretty(&schemars::schema_for!(Scene)).unwrap_or_default()
+    }
+}
+
+/// `serde_json` appends " at line L column C"; the JSON path is more useful, and stays.
+fn strip_position(message: &str) -> String {
+    message.find(" at line ").map_or_else(|| message.to_owned(), |k| message[..k].to_owned())
+}
+
+/// The demo scene, embedded in the binary.
+pub const DEMO_SCENE: &str = include_str!("../scenes/demo.json");

@@ -1,0 +1,252 @@
+//! The pipeline end to end, as a library: generated terrains nest, drain and follow their
+//! histogram; the same seed gives the same bytes with any number of threads; every output is
+//! written, parses and leaves no temporary file behind.
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec2;
+use proptest::prelude::*;
+use relief::contours::{Contour, ContourSet};
+use relief::heightfield::Heightfield;
+use relief::pipeline::{Progress, generate, run};
+use relief::scene::{
+    ContoursGenerator, Edit, Generator, HistogramSource, Levels, Outputs, PolygonSpec, Probability, Reconstruction,
+    ReconstructionMode, RegionSpec, Scene,
+};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A star-shaped ring: `n` vertices at radii `r·(0.7 + 0.3·wᵢ)` around `c`.
+fn star(c: [f64; 2], r: f64, wobble: &[f64]) -> Vec<[f64; 2]> {
+    let n = wobble.len();
+    (0..n)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            let rr = r * (0.7 + 0.3 * wobble[k]);
+            [c[0] + rr * t.cos(), c[1] + rr * t.sin()]
+        })
+        .collect()
+}
+
+fn region(exterior: Vec<[f64; 2]>, height: Option<f64>, depression: bool) -> RegionSpec {
+    RegionSpec { polygon: PolygonSpec { exterior, holes: Vec::new() }, height, depression }
+}
+
+fn scene(seed: u64, regions: Vec<RegionSpec>, edits: Vec<Edit>, mode: ReconstructionMode, size: usize) -> Scene {
+    Scene {
+        version: 1,
+        description: None,
+        seed,
+        domain: None,
+        generator: Generator::Contours(ContoursGenerator {
+            regions,
+            label_image: None,
+            particles: Some(3_000),
+            radius: None,
+            histogram: HistogramSource::Bins { edges: vec![0.0, 100.0, 400.0, 900.0], weights: vec![3.0, 2.0, 1.0] },
+            probability: Probability::Fbm { octaves: 4, frequency: 0.002, lacunarity: 2.0, gain: 0.5, contrast: 2.0 },
+            levels: Levels::Count(12),
+        }),
+        edits,
+        reconstruction: Reconstruction { mode, resolution: [size, size], drain: true },
+        outputs: Outputs::default(),
+    }
+}
+
+/// Cells (not on the border, on land, not `excluded`) whose eight neighbours are all strictly
+/// higher: sinks with no outlet.
+fn pits(dem: &Heightfield, sea_level: f32, excluded: impl Fn(DVec2) -> bool) -> usize {
+    let (nx, ny) = (dem.nx(), dem.ny());
+    let z = dem.samples();
+    let mut count = 0;
+    for j in 1..ny - 1 {
+        for i in 1..nx - 1 {
+            let h = z[j * nx + i];
+            if h < sea_level || excluded(dem.grid().position(i, j)) {
+                continue;
+            }
+            let lower_or_equal = (-1isize..=1).any(|dj| {
+                (-1isize..=1).any(|di| {
+                    (di, dj) != (0, 0) && z[(j as isize + dj) as usize * nx + (i as isize + di) as usize] <= h
+                })
+            });
+            count += usize::from(!lower_or_equal);
+        }
+    }
+    count
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// The main invariants of a generated terrain, on random islands with a random range: contours
+    /// never cross and nest level by level, node heights follow the histogram exactly, and the
+    /// raster has no endorheic basin (none was asked for).
+    #[test]
+    fn generated_terrains_nest_drain_and_follow_the_histogram(
+        seed in any::<u64>(),
+        coast in prop::collection::vec(0.0f64..1.0, 12..24),
+        range in prop::collection::vec(0.0f64..1.0, 8..16),
+        smooth in any::<bool>(),
+    ) {
+        let regions = vec![
+            region(star([0.0, 0.0], 3000.0, &coast), Some(0.0), false),
+            region(star([300.0, -200.0], 900.0, &range), None, false),
+        ];
+        let edits = if smooth { vec![Edit::Smooth { alpha: 0.5, k: 2, iterations: 3 }] } else { Vec::new() };
+        let terrain = generate(&scene(seed, regions, edits, ReconstructionMode::Interpolated, 96), &root(), &mut ()).unwrap();
+        terrain.contours.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
+        prop_assert_eq!(terrain.contours.nests_by_level(), Ok(()));
+        prop_assert!(terrain.contours.contours().iter().all(|c| c.closed));
+        prop_assert!(terrain.summary.histogram_match.nodes <= 0.5 / terrain.summary.graph.inside as f64 + 1e-9);
+        prop_assert!(terrain.summary.histogram_match.raster < 0.1, "raster KS {}", terrain.summary.histogram_match.raster);
+        prop_assert_eq!(pits(&terrain.heightfield, terrain.sea_level as f32, |_| false), 0);
+    }
+}
+
+/// An island with two ranges, a crater and every kind of edit.
+fn full_scene(mode: ReconstructionMode) -> Scene {
+    let wobble: Vec<f64> = (0..30).map(|k| (f64::from(k) * 1.7).sin().abs()).collect();
+    let regions = vec![
+        region(star([0.0, 0.0], 4000.0, &wobble), Some(0.0), false),
+        region(star([-1500.0, 0.0], 1200.0, &wobble[..12]), None, false),
+        region(star([1600.0, 300.0], 1000.0, &wobble[3..15]), None, false),
+        region(star([-1500.0, 0.0], 300.0, &wobble[5..13]), None, true),
+    ];
+    let edits = vec![
+        Edit::Smooth { alpha: 0.5, k: 2, iterations: 2 },
+        Edit::Warp { stroke: vec![[1600.0, -300.0], [1700.0, -900.0]], radius: 400.0, strength: 1.0, exponent: 2 },
+        Edit::Slope { point: Some([1600.0, 300.0]), curve: None, radius: 800.0, strength: 1.0 },
+        Edit::Slope {
+            point: None,
+            curve: Some(vec![[-2500.0, -1500.0], [-1500.0, -1800.0], [-500.0, -1500.0]]),
+            radius: 300.0,
+            strength: -0.5,
+        },
+    ];
+    scene(9, regions, edits, mode, 128)
+}
+
+#[test]
+fn every_reconstruction_mode_keeps_the_crater_and_drains_elsewhere() {
+    for mode in [ReconstructionMode::Interpolated, ReconstructionMode::Stairs, ReconstructionMode::Tin] {
+        let terrain = generate(&full_scene(mode), &root(), &mut ()).unwrap();
+        terrain.contours.check_invariants().unwrap();
+        let dem = &terrain.heightfield;
+        // The crater's floor is lower than its rim: a pit contour (clockwise) encloses it.
+        let pit = terrain.contours.contours().iter().find(|c| c.closed && !c.is_counter_clockwise());
+        assert!(pit.is_some(), "{mode:?}: the crater has a pit contour");
+        let floor = dem.sample_bilinear(DVec2::new(-1500.0, 0.0)).unwrap();
+        let rim = dem.sample_bilinear(DVec2::new(-1500.0, 600.0)).unwrap();
+        assert!(floor < rim, "{mode:?}: crater floor {floor} not below its rim {rim}");
+        assert_eq!(dem.no_data_count(), 0, "{mode:?}");
+        if mode != ReconstructionMode::Stairs {
+            // Away from the crater, every land cell drains.
+            let crater = |p: DVec2| p.distance(DVec2::new(-1500.0, 0.0)) < 500.0;
+            assert_eq!(pits(dem, terrain.sea_level as f32, crater), 0, "{mode:?}");
+        }
+    }
+}
+
+/// Runs `f` on a pool of `threads` threads.
+fn with_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(f)
+}
+
+fn contour_bits(set: &ContourSet) -> Vec<(u32, u64, bool, Vec<[u64; 2]>)> {
+    set.contours()
+        .iter()
+        .map(|c: &Contour| {
+            (c.level, c.height.to_bits(), c.closed, c.points.iter().map(|p| [p.x.to_bits(), p.y.to_bits()]).collect())
+        })
+        .collect()
+}
+
+#[test]
+fn same_seed_gives_identical_bytes_with_one_or_two_threads() {
+    for mode in [ReconstructionMode::Interpolated, ReconstructionMode::Tin] {
+        let scene = full_scene(mode);
+        let one = with_threads(1, || generate(&scene, &root(), &mut ()).unwrap());
+        let two = with_threads(2, || generate(&scene, &root(), &mut ()).unwrap());
+        assert_eq!(one.heightfield, two.heightfield, "{mode:?}: heightfields differ");
+        assert_eq!(contour_bits(&one.contours), contour_bits(&two.contours), "{mode:?}: contours differ");
+        let mut other = scene.clone();
+        other.seed += 1;
+        let three = generate(&other, &root(), &mut ()).unwrap();
+        assert_ne!(one.heightfield, three.heightfield, "{mode:?}: the seed matters");
+    }
+}
+
+#[derive(Default)]
+struct Steps(Vec<(&'static str, bool)>);
+
+impl Progress for Steps {
+    fn start(&mut self, step: &'static str) {
+        self.0.push((step, false));
+    }
+    fn finish(&mut self, step: &'static str, _: std::time::Duration) {
+        self.0.push((step, true));
+    }
+}
+
+#[test]
+fn run_writes_every_output_atomically_and_reports_progress() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = full_scene(ReconstructionMode::Interpolated);
+    scene.outputs.heightfield = ["t.exr", "t.png", "t.r32", "t.asc", "t.tif"].iter().map(PathBuf::from).collect();
+    let mut steps = Steps::default();
+    let (terrain, written) = run(&scene, &root(), dir.path(), &mut steps).unwrap();
+    // Every step starts, then finishes, in order.
+    let names = ["inputs", "graph", "growth", "heights", "contours", "edits", "reconstruction", "write"];
+    let expected: Vec<(&str, bool)> = names.iter().flat_map(|&s| [(s, false), (s, true)]).collect();
+    assert_eq!(steps.0, expected);
+    let mut files: Vec<String> =
+        std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    files.sort();
+    // Only the outputs (and the raw format's sidecar): no temporary file is left.
+    let expected = vec![
+        "contours.geojson",
+        "contours.svg",
+        "preview.png",
+        "summary.json",
+        "t.asc",
+        "t.exr",
+        "t.png",
+        "t.prj",
+        "t.r32",
+        "t.r32.json",
+        "t.tif",
+    ];
+    assert_eq!(files, expected);
+    assert_eq!(written.len(), 9);
+    // The heightfield files hold the terrain (EXR and r32 exactly).
+    for file in ["t.exr", "t.r32"] {
+        let back = relief::io::read(dir.path().join(file)).unwrap();
+        assert_eq!(back.samples(), terrain.heightfield.samples(), "{file}");
+    }
+    // GeoJSON: one feature per contour, each with its elevation, closed rings repeating their start.
+    let geojson: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("contours.geojson")).unwrap()).unwrap();
+    let features = geojson["features"].as_array().unwrap();
+    assert_eq!(features.len(), terrain.contours.len());
+    for (f, c) in features.iter().zip(terrain.contours.contours()) {
+        assert_eq!(f["properties"]["elevation"].as_f64(), Some(c.height));
+        let coords = f["geometry"]["coordinates"].as_array().unwrap();
+        assert_eq!(coords.len(), c.points.len() + usize::from(c.closed));
+        if c.closed {
+            assert_eq!(coords.first(), coords.last());
+        }
+    }
+    // The summary parses and carries the counts and the scene.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["contours"]["contours"].as_u64(), Some(terrain.contours.len() as u64));
+    assert_eq!(summary["scene"]["seed"].as_u64(), Some(9));
+    assert_eq!(summary["timings_ms"].as_array().unwrap().len(), 8);
+    // The SVG is a document with one path per contour.
+    let svg = std::fs::read_to_string(dir.path().join("contours.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert_eq!(svg.matches("<path ").count(), terrain.contours.len());
+}

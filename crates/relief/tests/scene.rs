@@ -1,0 +1,236 @@
+//! Scene files: every fixture and the demo parse and round-trip, the checked-in JSON Schema is the
+//! one the types generate, and every kind of bad value fails with an error naming its JSON path.
+
+use std::path::{Path, PathBuf};
+
+use relief::pipeline::{generate, load_scene, run};
+use relief::{ReliefError, Scene};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn fixtures() -> Vec<PathBuf> {
+    let dir = root().join("fixtures/scenes");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn there_are_at_least_five_fixture_scenes_and_each_parses_and_round_trips() {
+    let files = fixtures();
+    assert!(files.len() >= 5, "{files:?}");
+    for path in files.iter().chain([&root().join("crates/relief/scenes/demo.json")]) {
+        let scene = load_scene(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(Scene::from_json(&scene.to_json()).unwrap(), scene, "{}", path.display());
+        assert!(scene.description.is_some(), "{}: say what the scene shows", path.display());
+    }
+    assert_eq!(Scene::demo(), load_scene(root().join("crates/relief/scenes/demo.json")).unwrap());
+}
+
+/// `docs/scene.schema.json` is generated from the types; regenerate it with
+/// `RELIEF_BLESS=1 cargo test -p relief --test scene` (or `relief schema > docs/scene.schema.json`).
+#[test]
+fn checked_in_schema_matches_the_types() {
+    let path = root().join("docs/scene.schema.json");
+    let expected = format!("{}\n", Scene::json_schema());
+    if std::env::var_os("RELIEF_BLESS").is_some() {
+        std::fs::write(&path, &expected).unwrap();
+    }
+    let found = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        found == expected,
+        "docs/scene.schema.json is stale: run `RELIEF_BLESS=1 cargo test -p relief --test scene`"
+    );
+    // It really is a schema of the format: the fields a reader needs are there.
+    let schema: serde_json::Value = serde_json::from_str(&found).unwrap();
+    for key in ["version", "seed", "generator", "edits", "reconstruction", "outputs", "domain"] {
+        assert!(schema["properties"].get(key).is_some(), "{key} missing from the schema");
+    }
+}
+
+/// A small valid scene as a JSON value, to break in one place per test.
+fn base() -> serde_json::Value {
+    serde_json::json!({
+        "version": 1,
+        "seed": 1,
+        "generator": { "contours": {
+            "regions": [
+                { "polygon": { "exterior": [[0, 0], [3000, 0], [3000, 2000], [0, 2000]] }, "height": 0 },
+                { "polygon": { "exterior": [[1000, 600], [2000, 600], [2000, 1400], [1000, 1400]] } }
+            ],
+            "particles": 2000,
+            "histogram": { "uniform": { "min": 0, "max": 500 } },
+            "levels": { "count": 5 }
+        } },
+        "reconstruction": { "resolution": [64, 48] }
+    })
+}
+
+/// The scene error of `value` (parsing, then running with no outputs).
+#[track_caller]
+fn scene_error(value: &serde_json::Value) -> (String, String) {
+    let result = Scene::from_json(&value.to_string()).and_then(|scene| generate(&scene, &root(), &mut ()).map(|_| ()));
+    match result {
+        Err(ReliefError::Scene { path, message }) => (path, message),
+        Err(other) => panic!("expected a scene error, got {other}"),
+        Ok(()) => panic!("expected a scene error for {value}"),
+    }
+}
+
+#[track_caller]
+fn assert_path(value: &serde_json::Value, expected_path: &str, message_contains: &str) {
+    let (path, message) = scene_error(value);
+    assert_eq!(path, expected_path, "message: {message}");
+    assert!(message.contains(message_contains), "{path}: {message}");
+}
+
+#[test]
+fn the_base_scene_is_valid() {
+    let scene = Scene::from_json(&base().to_string()).unwrap();
+    let terrain = generate(&scene, &root(), &mut ()).unwrap();
+    assert_eq!(terrain.heightfield.nx(), 64);
+}
+
+#[test]
+fn unknown_fields_are_named_with_their_path() {
+    let mut v = base();
+    v["generator"]["contours"]["regions"][1]["hieght"] = 3.into();
+    assert_path(&v, "generator.contours.regions[1].hieght", "unknown field `hieght`, expected one of");
+    let mut v = base();
+    v["colour"] = "green".into();
+    assert_path(&v, "colour", "unknown field `colour`");
+}
+
+#[test]
+fn wrong_types_and_versions_are_named_with_their_path() {
+    let mut v = base();
+    v["generator"]["contours"]["particles"] = "many".into();
+    assert_path(&v, "generator.contours.particles", "invalid type");
+    let mut v = base();
+    v["generator"]["contours"]["regions"][0]["polygon"]["exterior"][2] = serde_json::json!([1.0]);
+    assert_path(&v, "generator.contours.regions[0].polygon.exterior[2]", "");
+    let mut v = base();
+    v["version"] = 2.into();
+    assert_path(&v, "version", "not supported");
+}
+
+#[test]
+fn bad_polygons_and_region_layouts_name_the_region() {
+    let mut v = base();
+    // A bow tie: the ring crosses itself.
+    v["generator"]["contours"]["regions"][1]["polygon"]["exterior"] =
+        serde_json::json!([[1000, 600], [2000, 1400], [2000, 600], [1000, 1400]]);
+    assert_path(&v, "generator.contours.regions[1].polygon", "");
+    let mut v = base();
+    // Sticks out of the coastline.
+    v["generator"]["contours"]["regions"][1]["polygon"]["exterior"] =
+        serde_json::json!([[2500, 600], [3500, 600], [3500, 1400], [2500, 1400]]);
+    assert_path(&v, "generator.contours.regions[1].polygon", "overlap");
+    let mut v = base();
+    v["generator"]["contours"]["regions"][1]["depression"] = true.into();
+    assert_path(&v, "generator.contours.regions[1].depression", "depth");
+    let mut v = base();
+    v["generator"]["contours"]["regions"][1]["height"] = (-10.0).into();
+    assert_path(&v, "generator.contours.regions", "not above");
+}
+
+#[test]
+fn out_of_range_values_are_named_with_their_path() {
+    let cases: Vec<(&str, serde_json::Value, &str, &str)> = vec![
+        ("/generator/contours/particles", 0.into(), "generator.contours.particles", "at least 1"),
+        ("/generator/contours/radius", (-1.0).into(), "generator.contours", "not both"),
+        ("/generator/contours/levels", serde_json::json!({ "count": 0 }), "generator.contours.levels", "levels"),
+        ("/generator/contours/levels", serde_json::json!({ "interval": -5 }), "generator.contours.levels", "interval"),
+        (
+            "/generator/contours/histogram",
+            serde_json::json!({ "bins": { "edges": [0, 1], "weights": [1, 2] } }),
+            "generator.contours.histogram",
+            "",
+        ),
+        ("/reconstruction/resolution", serde_json::json!([0, 10]), "reconstruction.resolution", "2..="),
+        (
+            "/generator/contours/probability",
+            serde_json::json!({ "fbm": { "frequency": -1, "contrast": 2 } }),
+            "generator.contours.probability",
+            "fBm",
+        ),
+        ("/domain", serde_json::json!({ "min": [5, 5], "max": [0, 10] }), "domain", "below max"),
+    ];
+    for (pointer, value, path, message) in cases {
+        let mut v = base();
+        let (parent, key) = pointer.rsplit_once('/').unwrap();
+        let target = if parent.is_empty() { &mut v } else { v.pointer_mut(parent).unwrap() };
+        target[key] = value;
+        assert_path(&v, path, message);
+    }
+    let mut v = base();
+    v["generator"]["contours"].as_object_mut().unwrap().remove("particles");
+    v["generator"]["contours"]["radius"] = (-1.0).into();
+    assert_path(&v, "generator.contours.radius", "> 0");
+}
+
+#[test]
+fn bad_edits_name_the_edit() {
+    let mut v = base();
+    v["edits"] = serde_json::json!([
+        { "smooth": {} },
+        { "warp": { "stroke": [[100, 100], [200, 100]], "radius": -3 } }
+    ]);
+    assert_path(&v, "edits[1].warp.radius", "radius");
+    v["edits"] = serde_json::json!([{ "warp": { "stroke": [[100, 100]], "radius": 50 } }]);
+    assert_path(&v, "edits[0].warp.stroke", "");
+    v["edits"] =
+        serde_json::json!([{ "slope": { "point": [1, 1], "curve": [[0, 0], [1, 1]], "radius": 50, "strength": 1 } }]);
+    assert_path(&v, "edits[0].slope", "exactly one");
+    v["edits"] = serde_json::json!([{ "slope": { "point": [1, 1], "radius": 50, "strength": 5 } }]);
+    assert_path(&v, "edits[0].slope.strength", "");
+    v["edits"] = serde_json::json!([{ "smooth": { "alpha": 2 } }]);
+    assert_path(&v, "edits[0].smooth.alpha", "(0, 1]");
+}
+
+#[test]
+fn missing_and_malformed_files_name_the_field_and_the_file() {
+    let mut v = base();
+    let contours = v["generator"]["contours"].as_object_mut().unwrap();
+    contours.remove("regions");
+    contours.insert(
+        "label_image".into(),
+        serde_json::json!({ "path": "no/such/mask.png", "extent": { "min": [0, 0], "max": [10, 10] } }),
+    );
+    let (path, message) = scene_error(&v);
+    assert_eq!(path, "generator.contours.label_image.path");
+    assert!(message.contains("mask.png"), "{message}");
+
+    let mut v = base();
+    v["generator"]["contours"]["histogram"] = serde_json::json!({ "dem": "nowhere.asc" });
+    let (path, message) = scene_error(&v);
+    assert_eq!(path, "generator.contours.histogram.dem");
+    assert!(message.contains("nowhere.asc"), "{message}");
+
+    // A continuous image is not a label map.
+    let mut v = base();
+    let contours = v["generator"]["contours"].as_object_mut().unwrap();
+    contours.remove("regions");
+    contours.insert(
+        "label_image".into(),
+        serde_json::json!({ "path": "fixtures/dem/jacksboro.asc", "extent": { "min": [0, 0], "max": [10, 10] } }),
+    );
+    assert_path(&v, "generator.contours.label_image.path", "label map");
+}
+
+#[test]
+fn unknown_output_formats_fail_before_any_work() {
+    let mut v = base();
+    v["outputs"] = serde_json::json!({ "heightfield": ["a.exr", "b.jpeg"] });
+    let scene = Scene::from_json(&v.to_string()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let err = run(&scene, &root(), dir.path(), &mut ()).unwrap_err();
+    assert!(matches!(&err, ReliefError::Scene { path, .. } if path == "outputs.heightfield[1]"), "{err}");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing is written");
+}
