@@ -8,6 +8,11 @@
 //! this crate copies it into plain arrays that every later crate shares, so no spade handle leaks
 //! out and a `Tin` serialises as points plus triangles.
 //!
+//! Cost: copying is parallel and reads spade's faces once, then walks the vertex fans on the flat
+//! arrays in triangle order. Measured in pairs on a shared 2-core machine
+//! (`cargo run --release -p relief-tin --example wrapper_overhead -- N`), `Tin::new` takes 1.24× spade's
+//! `bulk_load` alone at 100k points and 1.27× at 1M (target < 1.3×).
+//!
 //! Main types: [`Tin`] (build with [`Tin::new`] or [`Tin::from_parts`]; verify with
 //! [`Tin::check_invariants`]), [`Location`], [`PointLocator`]. The polygon and sampling types of
 //! `relief-poisson-sampling` and the grid types of `relief-heightfield` are re-exported as

@@ -3,7 +3,6 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use spade::handles::FixedVertexHandle;
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
 
 use crate::TinError;
@@ -120,8 +119,8 @@ impl Tin {
             return Err(TinError::Collinear { count: points.len() });
         }
         let (triangles, triangle_neighbors) = spade_triangles(&dt);
-        let (adjacency_offsets, adjacency, boundary) = spade_fans(&dt);
         drop(dt);
+        let (adjacency_offsets, adjacency, boundary) = mesh_fans(points.len(), &triangles, &triangle_neighbors);
         Ok(Self { points, triangles, triangle_neighbors, adjacency_offsets, adjacency, boundary, convex: true })
     }
 
@@ -453,63 +452,157 @@ impl HasPosition for Node {
 /// straight from spade's half-edge structure in parallel.
 fn spade_triangles(dt: &DelaunayTriangulation<Node>) -> (Vec<[u32; 3]>, Vec<[u32; 3]>) {
     let faces: Vec<_> = dt.inner_faces().collect();
-    // Spade numbers faces with the outer face first; map its indices to ours.
-    let mut face_to_tri = vec![NO_TRIANGLE; dt.num_all_faces()];
-    for (t, f) in faces.iter().enumerate() {
-        face_to_tri[f.fix().index()] = t as u32;
-    }
+    // Spade numbers faces with the outer face first; after a bulk load the inner faces are
+    // 1..=T, so triangle t is face t + 1. Map explicitly if that ever changes.
+    let contiguous = faces.len() + 1 == dt.num_all_faces();
+    let face_to_tri = if contiguous {
+        Vec::new()
+    } else {
+        let mut map = vec![NO_TRIANGLE; dt.num_all_faces()];
+        for (t, f) in faces.iter().enumerate() {
+            map[f.fix().index()] = t as u32;
+        }
+        map
+    };
+    let tri_of = |face: usize| if contiguous { (face - 1) as u32 } else { face_to_tri[face] };
     faces
         .par_iter()
         .map(|f| {
-            let tri = f.vertices().map(|v| v.data().index);
-            let mut nbr = [NO_TRIANGLE; 3];
-            for e in f.adjacent_edges() {
-                // The edge runs between two corners; its neighbour sits opposite the third.
-                let (a, b) = (e.from().data().index, e.to().data().index);
-                let k = (0..3).find(|&k| tri[k] != a && tri[k] != b).unwrap_or(0);
-                nbr[k] = e.rev().face().as_inner().map_or(NO_TRIANGLE, |h| face_to_tri[h.index()]);
-            }
-            (tri, nbr)
+            // Edge i runs from corner i to corner i + 1, so it lies opposite corner i + 2.
+            let edges = f.adjacent_edges();
+            let tri = edges.map(|e| e.from().data().index);
+            let beyond = edges.map(|e| e.rev().face().as_inner().map_or(NO_TRIANGLE, |h| tri_of(h.index())));
+            (tri, [beyond[1], beyond[2], beyond[0]])
         })
         .unzip()
 }
 
-/// CSR adjacency (input order) and boundary flags from spade's counter-clockwise out-edges, with
-/// the rotation rule of [`fan`]: an open fan starts at the neighbour whose edge has no triangle on
-/// its right, a closed fan at its smallest neighbour.
-fn spade_fans(dt: &DelaunayTriangulation<Node>) -> (Vec<u32>, Vec<u32>, Vec<bool>) {
-    const CHUNK: usize = 2048;
-    let n = dt.num_vertices();
-    let mut spade_of = vec![0u32; n];
-    for v in dt.vertices() {
-        spade_of[v.data().index as usize] = v.fix().index() as u32;
+/// CSR adjacency (input order) and boundary flags of a Delaunay mesh, walked on its own flat
+/// `triangles` and `neighbors` (compact, unlike spade's half-edges), with the rotation rule of
+/// [`fan`]: an open fan starts at the neighbour whose edge has no triangle on its right, a closed
+/// fan at its smallest neighbour.
+///
+/// Fans are walked in triangle order — each vertex from the last triangle that lists it — so the
+/// triangles a walk visits were stored near each other (spade creates them together) and stay in
+/// cache; the finished fans are then scattered to their vertices' places. Against reading spade's
+/// out-edges vertex by vertex in input order this halves the cost (`examples/wrapper_overhead.rs`).
+fn mesh_fans(n: usize, triangles: &[[u32; 3]], neighbors: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>, Vec<bool>) {
+    const CHUNK: usize = 8192;
+    // Each vertex is walked from one designated corner (the last listing it), flagged in
+    // triangle order so the walks read the flags sequentially.
+    let mut corner = vec![u32::MAX; n];
+    for (t, tri) in triangles.iter().enumerate() {
+        for (k, &v) in tri.iter().enumerate() {
+            corner[v as usize] = (t as u32) << 2 | k as u32;
+        }
     }
-    let chunks: Vec<FanChunk> = (0..n.div_ceil(CHUNK))
+    let mut head = vec![false; 3 * triangles.len()];
+    for &c in corner.iter().filter(|&&c| c != u32::MAX) {
+        head[3 * (c >> 2) as usize + (c & 3) as usize] = true;
+    }
+    drop(corner);
+    let runs: Vec<FanRun> = (0..triangles.len().div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let range = c * CHUNK..n.min((c + 1) * CHUNK);
-            let mut chunk = FanChunk::with_capacity(range.len());
+            let mut run = FanRun::with_capacity(CHUNK);
             let mut ring = Vec::with_capacity(16);
-            for v in range {
-                let vertex = dt.vertex(FixedVertexHandle::from_index(spade_of[v] as usize));
-                ring.clear();
-                let mut open_at = None;
-                for (k, e) in vertex.out_edges().enumerate() {
-                    ring.push(e.to().data().index);
-                    if e.rev().face().is_outer() {
-                        open_at = Some(k);
-                    }
+            for t in c * CHUNK..triangles.len().min((c + 1) * CHUNK) {
+                for k in (0..3).filter(|&k| head[3 * t + k]) {
+                    let before = run.fans.len();
+                    let open = walk_fan(triangles, neighbors, t as u32, k, &mut ring, &mut run.fans);
+                    run.heads.push((triangles[t][k], open, (run.fans.len() - before) as u32));
                 }
-                let start = open_at.unwrap_or_else(|| (0..ring.len()).min_by_key(|&k| ring[k]).unwrap_or(0));
-                let before = chunk.adjacency.len();
-                chunk.adjacency.extend_from_slice(&ring[start..]);
-                chunk.adjacency.extend_from_slice(&ring[..start]);
-                chunk.push_degree(before, open_at.is_some());
             }
-            chunk
+            run
         })
         .collect();
-    FanChunk::concat(chunks)
+    let mut degree = vec![0u32; n];
+    let mut boundary = vec![false; n];
+    for &(v, open, len) in runs.iter().flat_map(|r| &r.heads) {
+        degree[v as usize] = len;
+        boundary[v as usize] = open;
+    }
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0u32);
+    for d in &degree {
+        offsets.push(offsets[offsets.len() - 1] + d);
+    }
+    let mut adjacency = vec![0u32; offsets[n] as usize];
+    for run in &runs {
+        let mut from = 0usize;
+        for &(v, _, len) in &run.heads {
+            let (to, len) = (offsets[v as usize] as usize, len as usize);
+            adjacency[to..to + len].copy_from_slice(&run.fans[from..from + len]);
+            from += len;
+        }
+    }
+    (offsets, adjacency, boundary)
+}
+
+/// Fans walked from one chunk of triangles: `(vertex, open, fan length)` and the fans, back to back.
+struct FanRun {
+    heads: Vec<(u32, bool, u32)>,
+    fans: Vec<u32>,
+}
+
+impl FanRun {
+    /// Room for the fans of `triangles` triangles: about one vertex per two, six neighbours each.
+    fn with_capacity(triangles: usize) -> Self {
+        Self { heads: Vec::with_capacity(triangles / 2 + 64), fans: Vec::with_capacity(3 * triangles + 256) }
+    }
+}
+
+/// Appends the fan of the vertex at corner `k0` of triangle `t0` to `out` (canonical rotation) and
+/// returns whether it is open. `ring` is scratch space.
+fn walk_fan(
+    triangles: &[[u32; 3]],
+    neighbors: &[[u32; 3]],
+    t0: u32,
+    k0: usize,
+    ring: &mut Vec<u32>,
+    out: &mut Vec<u32>,
+) -> bool {
+    let v = triangles[t0 as usize][k0];
+    let corner_of = |t: u32| triangles[t as usize].iter().position(|&w| w == v).unwrap_or(0);
+    // Counter-clockwise: in (v, a, b) the next triangle shares v–b, the edge opposite corner k + 1.
+    ring.clear();
+    let (mut t, mut k) = (t0, k0);
+    let open = loop {
+        let tri = triangles[t as usize];
+        ring.push(tri[(k + 1) % 3]);
+        let next = neighbors[t as usize][(k + 1) % 3];
+        if next == NO_TRIANGLE {
+            ring.push(tri[(k + 2) % 3]);
+            break true;
+        }
+        if next == t0 {
+            break false;
+        }
+        t = next;
+        k = corner_of(t);
+    };
+    if open {
+        // The fan starts further clockwise, where the edge v–a has nothing beyond: collect the
+        // neighbours there backwards, then the ring.
+        let mark = out.len();
+        let (mut t, mut k) = (t0, k0);
+        loop {
+            let prev = neighbors[t as usize][(k + 2) % 3];
+            if prev == NO_TRIANGLE {
+                break;
+            }
+            t = prev;
+            k = corner_of(t);
+            out.push(triangles[t as usize][(k + 1) % 3]);
+        }
+        out[mark..].reverse();
+        out.extend_from_slice(ring);
+    } else {
+        let start = (0..ring.len()).min_by_key(|&k| ring[k]).unwrap_or(0);
+        out.extend_from_slice(&ring[start..]);
+        out.extend_from_slice(&ring[..start]);
+    }
+    open
 }
 
 /// Fans of a run of consecutive vertices, built in parallel and concatenated in order.
