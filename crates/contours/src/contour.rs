@@ -1,6 +1,6 @@
 use glam::DVec2;
 use rayon::prelude::*;
-use relief_tin::poisson_sampling::{Polygon, Rect};
+use relief_tin::poisson_sampling::{Rect, RingIndex};
 use serde::{Deserialize, Serialize};
 
 use crate::ContoursError;
@@ -218,10 +218,10 @@ impl ContourSet {
 /// Contours never cross, so one point decides containment.
 fn nesting(contours: &[Contour]) -> Vec<Option<u32>> {
     let closed: Vec<usize> = (0..contours.len()).filter(|&k| contours[k].closed).collect();
-    let polys: Vec<Option<Polygon>> = contours
-        .par_iter()
-        .map(|c| if c.closed { Polygon::from_exterior(c.points.clone()).ok() } else { None })
-        .collect();
+    // Extracted and smoothed contours are simple by construction: index them for point-in-ring
+    // queries without re-validating them as polygons.
+    let rings: Vec<Option<RingIndex>> =
+        contours.par_iter().map(|c| (c.closed && c.points.len() >= 3).then(|| RingIndex::new(&c.points))).collect();
     let area: Vec<f64> = contours.iter().map(|c| c.signed_area().abs()).collect();
     let bounds: Vec<Rect> = contours.iter().map(Contour::bounds).collect();
     (0..contours.len())
@@ -235,7 +235,7 @@ fn nesting(contours: &[Contour]) -> Vec<Option<u32>> {
                 .iter()
                 .copied()
                 .filter(|&j| j != k && area[j] > area[k] && bounds[j].contains(probe))
-                .filter(|&j| polys[j].as_ref().is_some_and(|p| p.contains(probe)))
+                .filter(|&j| rings[j].as_ref().is_some_and(|r| r.contains(probe)))
                 .min_by(|&a, &b| area[a].total_cmp(&area[b]).then(a.cmp(&b)))
                 .map(|j| j as u32)
         })

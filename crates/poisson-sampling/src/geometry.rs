@@ -162,6 +162,35 @@ impl EdgeBands {
     }
 }
 
+/// Fast even-odd point-in-ring queries on any closed ring (validated or not): the ring's edges in
+/// horizontal bands, so each query tests only the edges near its height — the same exact test
+/// [`Polygon::contains`] uses. For rings known to be simple by construction (e.g. extracted
+/// contours), where [`Polygon::new`]'s validation would be wasted work.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RingIndex {
+    bounds: Rect,
+    bands: EdgeBands,
+}
+
+impl RingIndex {
+    /// Indexes the closed ring `ring` (the closing edge from the last point to the first is implied).
+    pub fn new(ring: &[DVec2]) -> Self {
+        let bounds = Rect::bounding(ring);
+        Self { bounds, bands: EdgeBands::new(&[ring], bounds.min.y, bounds.max.y) }
+    }
+
+    /// The ring's bounding rectangle.
+    pub fn bounds(&self) -> Rect {
+        self.bounds
+    }
+
+    /// Whether `p` is inside the ring by the even-odd rule (points on the boundary may go either
+    /// way, consistently with [`Polygon::contains`]).
+    pub fn contains(&self, p: DVec2) -> bool {
+        !self.bands.edges.is_empty() && self.bands.contains(p)
+    }
+}
+
 /// A uniform grid binning segments by the cells they pass through (a conservative supercover), for
 /// distance and intersection queries that only look at nearby segments.
 #[derive(Debug, Clone)]

@@ -38,7 +38,7 @@ mod sampler;
 
 pub use domain::{Domain, ExtendedDomain, FnDomain};
 pub use error::{PolygonError, SamplingError};
-pub use geometry::{Polygon, PolygonSet, Rect, SegmentIndex, orient, segment_distance_sq, segments_touch};
+pub use geometry::{Polygon, PolygonSet, Rect, RingIndex, SegmentIndex, orient, segment_distance_sq, segments_touch};
 pub use sampler::{
     DEFAULT_ATTEMPTS, DEFAULT_MAX_POINTS, DENSITY, PoissonDisc, TaggedSamples, VariablePoissonDisc, VariableSamples,
     radius_for_count,

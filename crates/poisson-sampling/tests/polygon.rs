@@ -5,7 +5,7 @@ mod common;
 use common::polygon_with_holes;
 use glam::DVec2;
 use proptest::prelude::*;
-use relief_poisson_sampling::{Polygon, PolygonError, PolygonSet, Rect};
+use relief_poisson_sampling::{Polygon, PolygonError, PolygonSet, Rect, RingIndex};
 
 fn v(points: &[(f64, f64)]) -> Vec<DVec2> {
     points.iter().map(|&(x, y)| DVec2::new(x, y)).collect()
@@ -93,6 +93,14 @@ proptest! {
         for (x, y) in probes {
             let p = DVec2::new(x, y);
             prop_assert_eq!(poly.contains(p), poly.contains_brute_force(p), "at {}", p);
+        }
+        // A ring index over the exterior alone agrees with a polygon of that exterior alone.
+        let outer = Polygon::from_exterior(poly.exterior().to_vec()).unwrap();
+        let index = RingIndex::new(poly.exterior());
+        for &q in poly.exterior() {
+            for p in [q, q - DVec2::X * 0.5, q + DVec2::X * 1e-9, q * 0.5] {
+                prop_assert_eq!(index.contains(p), outer.contains_brute_force(p), "ring index at {}", p);
+            }
         }
         // Vertices themselves and their y-levels are the hard cases for a banded index.
         for ring in poly.rings() {
