@@ -3,11 +3,13 @@
 //! - `ci`: the same steps as `.ci/run` (it runs that script, the single source of truth).
 //! - `bench [--quick]`: runs every criterion bench and writes `docs/benchmarks.md`, our medians
 //!   beside the figures the papers and the issues report.
+//! - `gallery`: renders the demo and every fixture scene and writes `docs/gallery.md`.
 //!
 //! Dependency-light on purpose (`anyhow`, `serde_json`): it builds in seconds and never needs the
 //! crates it measures.
 
 mod bench;
+mod gallery;
 mod references;
 
 use std::path::{Path, PathBuf};
@@ -21,8 +23,9 @@ fn main() -> Result<()> {
     match args.first().map(String::as_str) {
         Some("ci") => run(Command::new("bash").arg(root.join(".ci/run")).current_dir(&root)),
         Some("bench") => bench::run(&root, args.iter().any(|a| a == "--quick")),
+        Some("gallery") => gallery::run(&root),
         Some("help" | "--help" | "-h") | None => {
-            println!("usage: cargo xtask <ci | bench [--quick]>");
+            println!("usage: cargo xtask <ci | bench [--quick] | gallery>");
             Ok(())
         }
         Some(other) => bail!("unknown command `{other}`; try `cargo xtask help`"),

@@ -1,10 +1,11 @@
 //! Shaded-relief previews: Lambertian hillshade under a sun at (azimuth, altitude), optionally
 //! tinted by elevation.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 use relief_heightfield::Heightfield;
 
-/// Colour of no-data pixels: a light steel blue, apart from every tint and shade.
+/// Colour of no-data pixels: a neutral mid gray, apart from every tint.
 pub const NO_DATA_RGB: [u8; 3] = [128, 128, 128];
 
 /// How to light and colour a shaded relief.
@@ -155,14 +156,33 @@ pub fn shaded_relief(hf: &Heightfield, options: &ShadeOptions) -> RgbImage {
     let sea = options.sea_level.filter(|&s| s.is_finite() && lo < s);
     let land_lo = sea.map_or(lo, |s| s.min(hi));
     let span = if hi > land_lo { hi - land_lo } else { 1.0 };
-    let mut pixels = Vec::with_capacity(3 * width * height);
-    for y in 0..height {
+    let samples = hf.samples();
+    let mut pixels = vec![0u8; 3 * width * height];
+    // Rows in parallel: every pixel depends on the field alone, so the image is the same for any
+    // thread count.
+    pixels.par_chunks_mut(3 * width).enumerate().for_each(|(y, row)| {
         let j = ny - 1 - y * stride;
-        for x in 0..width {
+        let step = hf.grid().cell_size_m(j);
+        let interior_row = j > 0 && j + 1 < ny && step.x > 0.0 && step.y > 0.0;
+        for (x, px) in row.chunks_exact_mut(3).enumerate() {
             let i = x * stride;
-            let (Some(h), Some(g)) = (hf.get(i, j), hf.gradient(i, j)) else {
-                pixels.extend_from_slice(&NO_DATA_RGB);
+            let k = j * nx + i;
+            let h = samples[k];
+            if h.is_nan() {
+                px.copy_from_slice(&NO_DATA_RGB);
                 continue;
+            }
+            // Central differences straight from the samples inside the grid; the general
+            // gradient (one-sided at edges and next to no-data) elsewhere.
+            let g = if interior_row && i > 0 && i + 1 < nx {
+                let (l, r, d, u) = (samples[k - 1], samples[k + 1], samples[k - nx], samples[k + nx]);
+                if (l + r + d + u).is_nan() {
+                    hf.gradient(i, j).unwrap_or(DVec2::ZERO)
+                } else {
+                    DVec2::new(f64::from(r - l) / (2.0 * step.x), f64::from(u - d) / (2.0 * step.y))
+                }
+            } else {
+                hf.gradient(i, j).unwrap_or(DVec2::ZERO)
             };
             let n = DVec3::new(-options.z_factor * g.x, -options.z_factor * g.y, 1.0).normalize();
             let lum = n.dot(light).max(0.0);
@@ -177,8 +197,10 @@ pub fn shaded_relief(hf: &Heightfield, options: &ShadeOptions) -> RgbImage {
             } else {
                 [255.0 * lum; 3]
             };
-            pixels.extend(rgb.iter().map(|v| v.round().clamp(0.0, 255.0) as u8));
+            for (p, v) in px.iter_mut().zip(rgb) {
+                *p = v.round().clamp(0.0, 255.0) as u8;
+            }
         }
-    }
+    });
     RgbImage { width, height, pixels }
 }

@@ -61,3 +61,8 @@ pub mod scene;
 pub use error::ReliefError;
 pub use pipeline::{Progress, Summary, Terrain};
 pub use scene::Scene;
+
+/// The README's examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeDoctests;

@@ -436,6 +436,9 @@ impl Inputs {
         };
         graph.map_err(|e| {
             let at = match (&e, self.sampling) {
+                (EdenError::RegionTooSmall { .. }, _) if matches!(self.source, Source::Labels(_)) => {
+                    format!("{GENERATOR}.label_image.path")
+                }
                 (EdenError::RegionTooSmall { region, .. }, _) => format!("{GENERATOR}.regions[{region}].polygon"),
                 (EdenError::TooManyParticles { .. }, Sampling::Radius(_)) => format!("{GENERATOR}.radius"),
                 (EdenError::TooManyParticles { .. }, Sampling::Particles(_)) => format!("{GENERATOR}.particles"),
@@ -456,10 +459,8 @@ fn eden_error(e: &EdenError) -> ReliefError {
         EdenError::DepressionNotNested { region: i, .. } | EdenError::DepressionWithChildren { region: i, .. } => {
             region(i, ".depression")
         }
-        EdenError::InvalidHeight { region: i, .. } | EdenError::RegionTooSmall { region: i, .. } => {
-            region(i, if matches!(e, EdenError::InvalidHeight { .. }) { ".height" } else { ".polygon" })
-        }
-        EdenError::ConflictingHeights { b, .. } => region(b, ".height"),
+        EdenError::InvalidHeight { region: i, .. } | EdenError::ConflictingHeights { b: i, .. } => region(i, ".height"),
+        EdenError::RegionTooSmall { region: i, .. } => region(i, ".polygon"),
         EdenError::InvalidProbability { .. }
         | EdenError::ZeroProbability
         | EdenError::InvalidProbabilityParameters { .. } => PROBABILITY.to_owned(),

@@ -81,21 +81,32 @@ fn pits(dem: &Heightfield, sea_level: f32, excluded: impl Fn(DVec2) -> bool) -> 
 proptest! {
     #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
 
-    /// The main invariants of a generated terrain, on random islands with a random range: contours
-    /// never cross and nest level by level, node heights follow the histogram exactly, and the
-    /// raster has no endorheic basin (none was asked for).
+    /// The main invariants of a generated terrain, on random islands with a random range and
+    /// random edits: contours never cross and nest level by level (warps and smoothing keep the
+    /// tree), node heights follow the histogram exactly, and the raster has no endorheic basin
+    /// (none was asked for).
     #[test]
     fn generated_terrains_nest_drain_and_follow_the_histogram(
         seed in any::<u64>(),
         coast in prop::collection::vec(0.0f64..1.0, 12..24),
         range in prop::collection::vec(0.0f64..1.0, 8..16),
         smooth in any::<bool>(),
+        warp in prop::option::of(((-1500.0f64..1500.0, -1500.0f64..1500.0), (0.0f64..std::f64::consts::TAU, 50.0f64..600.0), 100.0f64..600.0, 0.1f64..1.0)),
+        slope in prop::option::of(((-1500.0f64..1500.0, -1500.0f64..1500.0), 200.0f64..1000.0, -0.9f64..2.5)),
     ) {
         let regions = vec![
             region(star([0.0, 0.0], 3000.0, &coast), Some(0.0), false),
             region(star([300.0, -200.0], 900.0, &range), None, false),
         ];
-        let edits = if smooth { vec![Edit::Smooth { alpha: 0.5, k: 2, iterations: 3 }] } else { Vec::new() };
+        // Random edits: smoothing, a warp stroke anywhere, a slope modulation anywhere.
+        let mut edits = if smooth { vec![Edit::Smooth { alpha: 0.5, k: 2, iterations: 3 }] } else { Vec::new() };
+        if let Some(((x, y), (angle, length), radius, strength)) = warp {
+            let end = [x + length * angle.cos(), y + length * angle.sin()];
+            edits.push(Edit::Warp { stroke: vec![[x, y], end], radius, strength, exponent: 2 });
+        }
+        if let Some(((x, y), radius, strength)) = slope {
+            edits.push(Edit::Slope { point: Some([x, y]), curve: None, radius, strength });
+        }
         let terrain = generate(&scene(seed, regions, edits, ReconstructionMode::Interpolated, 96), &root(), &mut ()).unwrap();
         terrain.contours.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(terrain.contours.nests_by_level(), Ok(()));

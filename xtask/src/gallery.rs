@@ -1,0 +1,87 @@
+//! `cargo xtask gallery`: renders the demo and every fixture scene with the release `relief`
+//! binary, copies their previews into `docs/gallery/` and writes the index `docs/gallery.md`.
+
+use std::fmt::Write as _;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{Context, Result};
+
+/// One rendered scene.
+struct Entry {
+    name: String,
+    scene: String,
+    description: String,
+    summary: serde_json::Value,
+}
+
+pub(crate) fn run(root: &Path) -> Result<()> {
+    crate::run(Command::new(env!("CARGO")).current_dir(root).args(["build", "--release", "-p", "relief-cli"]))?;
+    let relief = root.join("target/release/relief");
+    let work = root.join("target/gallery");
+    let images = root.join("docs/gallery");
+    fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
+
+    let mut scenes: Vec<PathBuf> = fs::read_dir(root.join("fixtures/scenes"))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    scenes.sort();
+    scenes.insert(0, root.join("crates/relief/scenes/demo.json"));
+
+    let mut entries = Vec::new();
+    for scene in &scenes {
+        let name = scene.file_stem().context("scene without a name")?.to_string_lossy().into_owned();
+        let out = work.join(&name);
+        println!("rendering {name}");
+        crate::run(
+            Command::new(&relief).current_dir(root).arg("-q").arg("generate").arg(scene).arg("--out").arg(&out),
+        )?;
+        fs::copy(out.join("preview.png"), images.join(format!("{name}.png")))
+            .with_context(|| format!("copying the preview of {name}"))?;
+        let text = fs::read_to_string(scene)?;
+        let json: serde_json::Value = serde_json::from_str(&text)?;
+        let summary: serde_json::Value = serde_json::from_str(&fs::read_to_string(out.join("summary.json"))?)?;
+        entries.push(Entry {
+            scene: scene.strip_prefix(root).unwrap_or(scene).display().to_string(),
+            description: json["description"].as_str().unwrap_or("").to_owned(),
+            name,
+            summary,
+        });
+    }
+    let index = root.join("docs/gallery.md");
+    let tmp = index.with_extension("md.tmp");
+    fs::write(&tmp, render(&entries)).with_context(|| format!("writing {}", tmp.display()))?;
+    fs::rename(&tmp, &index)?;
+    println!("wrote {} ({} scenes)", index.display(), entries.len());
+    Ok(())
+}
+
+fn render(entries: &[Entry]) -> String {
+    let mut md = String::from(
+        "# Gallery\n\nEvery fixture scene and the demo, rendered by `cargo xtask gallery` (the previews are \
+         the `preview.png` each run writes: hillshade × hypsometric tint, sea below the coastline, the \
+         generated contours drawn on). Regenerate after changing a scene or the pipeline.\n",
+    );
+    for e in entries {
+        let s = &e.summary;
+        let total_ms: f64 = s["timings_ms"].as_array().map_or(0.0, |t| t.iter().filter_map(|x| x["ms"].as_f64()).sum());
+        let _ = write!(
+            md,
+            "\n## {name}\n\n{description}\n\n`relief generate {scene}`: {nodes} nodes, {contours} contours on {levels} \
+             levels, {nx} × {ny} heightfield, histogram match KS {ks:.4}, {total_ms:.0} ms.\n\n\
+             ![{name}](gallery/{name}.png)\n",
+            name = e.name,
+            description = e.description,
+            scene = e.scene,
+            nodes = s["graph"]["nodes"],
+            contours = s["contours"]["contours"],
+            levels = s["contours"]["levels"],
+            nx = s["heightfield"]["nx"],
+            ny = s["heightfield"]["ny"],
+            ks = s["histogram_match"]["raster"].as_f64().unwrap_or(f64::NAN),
+        );
+    }
+    md
+}
