@@ -19,13 +19,36 @@ pub(crate) fn run(root: &Path, quick: bool) -> Result<()> {
     }
     crate::run(&mut cmd)?;
     let medians = collect(&root.join("target/criterion"))?;
-    let report = render(&medians, quick);
+    let mut report = render(&medians, quick);
+    report.push_str(&paired_tin(root, quick)?);
     let out = root.join("docs/benchmarks.md");
     let tmp = out.with_extension("md.tmp");
     fs::write(&tmp, report).with_context(|| format!("writing {}", tmp.display()))?;
     fs::rename(&tmp, &out).with_context(|| format!("renaming into {}", out.display()))?;
     println!("wrote {} ({} benchmarks)", out.display(), medians.len());
     Ok(())
+}
+
+/// The TIN wrapper's cost over spade measured in pairs (`crates/tin/examples/wrapper_overhead.rs`):
+/// separate criterion runs drift apart on a shared machine, pairs on the same points do not.
+fn paired_tin(root: &Path, quick: bool) -> Result<String> {
+    let sizes: &[&str] = if quick { &["10000", "100000"] } else { &["10000", "100000", "1000000"] };
+    let mut md = String::from(
+        "## tin, paired\n\n`Tin::new` ÷ spade `bulk_load` alone, timed back to back on the same points each round \
+         (median of the per-round ratios; target < 1.3×). Run: \
+         `cargo run --release -p relief-tin --example wrapper_overhead -- <points>`.\n\n",
+    );
+    for n in sizes {
+        let out = Command::new(env!("CARGO"))
+            .current_dir(root)
+            .args(["run", "--quiet", "--release", "-p", "relief-tin", "--example", "wrapper_overhead", "--", n])
+            .output()
+            .context("could not start the paired TIN measurement")?;
+        anyhow::ensure!(out.status.success(), "wrapper_overhead {n} failed: {}", String::from_utf8_lossy(&out.stderr));
+        let _ = writeln!(md, "- {}", String::from_utf8_lossy(&out.stdout).trim());
+    }
+    md.push('\n');
+    Ok(md)
 }
 
 /// Median seconds per criterion id (`group/function/parameter`), from `*/new/estimates.json`.
