@@ -1,5 +1,6 @@
 //! Depression filling by Priority-Flood+ε (Barnes, Lehman & Mulla 2014): the minimal raise that
-//! makes every cell drain to an outlet along a strictly descending path.
+//! makes every cell drain to an outlet along a strictly descending path (or, without ε, a
+//! non-ascending one).
 
 use crate::Heightfield;
 
@@ -48,17 +49,43 @@ fn key(v: f32) -> u32 {
 
 const NEIGHBOURS: [(i64, i64); 8] = [(-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (1, 1), (-1, 1), (1, -1)];
 
+/// Where water leaves the grid and how flats are treated by [`fill_depressions_with`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FillRules {
+    /// Cells on the grid border are outlets (water leaves the map there).
+    pub border_drains: bool,
+    /// Cells next to no-data are outlets (no-data is sea); otherwise no-data is a wall.
+    pub no_data_drains: bool,
+    /// Priority-Flood+ε: raise filled cells and flats by one f32 step per cell so every cell gets
+    /// a *strictly* descending path (what flow routing needs). Without it a depression is raised
+    /// exactly to its spill height and flats are left flat (a non-ascending path suffices).
+    pub epsilon: bool,
+}
+
+impl Default for FillRules {
+    /// Border and no-data drain, ε on: what [`fill_depressions`] uses.
+    fn default() -> Self {
+        Self { border_drains: true, no_data_drains: true, epsilon: true }
+    }
+}
+
 /// Fills every depression of `hf` so each valid cell has a strictly descending 8-connected path to
 /// an outlet: the grid border, a cell next to no-data, or a cell where `outlet(i, j)` is true
 /// (sea, a lake meant to stay, a marked crater). A filled cell is raised to its spill height plus
 /// the smallest f32 step per cell along the way (the "+ε" of Priority-Flood+ε), so flats drain too.
-/// Returns the number of raised cells.
-///
-/// Cells that already have a strictly descending path to an outlet are never raised by
-/// Priority-Flood, so an O(N) breadth-first search uphill from the outlets finds them first; the
-/// priority queue (a radix heap: the flood pops keys in non-decreasing order) then only sees the
-/// cells of actual depressions. A nearly drained raster costs little more than one pass.
+/// Returns the number of raised cells. [`fill_depressions_with`] chooses other [`FillRules`].
 pub fn fill_depressions(hf: &mut Heightfield, outlet: impl Fn(usize, usize) -> bool) -> usize {
+    fill_depressions_with(hf, FillRules::default(), outlet)
+}
+
+/// [`fill_depressions`] under explicit [`FillRules`]. Cells that drain to no outlet at all (e.g.
+/// with `border_drains` off and no outlet marked) are left as they are.
+///
+/// Cells that already have a descending path to an outlet are never raised by Priority-Flood, so
+/// an O(N) breadth-first search uphill from the outlets finds them first; the priority queue (a
+/// radix heap: the flood pops keys in non-decreasing order) then only sees the cells of actual
+/// depressions. A nearly drained raster costs little more than one pass.
+pub fn fill_depressions_with(hf: &mut Heightfield, rules: FillRules, outlet: impl Fn(usize, usize) -> bool) -> usize {
     let (nx, ny) = (hf.nx(), hf.ny());
     let z = hf.samples_mut();
     let interior = |k: usize| {
@@ -93,69 +120,80 @@ pub fn fill_depressions(hf: &mut Heightfield, outlet: impl Fn(usize, usize) -> b
         .map(|k| {
             let (i, j) = (k % nx, k / nx);
             z[k].is_nan()
-                || !interior(k)
+                || (rules.border_drains && !interior(k))
                 || outlet(i, j)
-                || (has_nan && {
+                || (rules.no_data_drains && has_nan && {
                     let c = neighbours(k, &mut nb);
                     nb[..c].iter().any(|&w| z[w].is_nan())
                 })
         })
         .collect();
-    // Uphill breadth-first search from the outlets that border other ground: a cell above a
-    // drained neighbour drains through it.
-    // Reachability only: any visiting order will do, so a stack.
-    let mut queue = Vec::new();
+    // Zhou, Sun & Fu's (2016) refinement of Priority-Flood: a cell the flood reaches above the
+    // flood level keeps its height, and so does everything strictly uphill of it (water there
+    // runs down through it), so that whole slope is settled by a plain depth-first climb. Only a
+    // settled cell that still borders unsettled ground no higher than itself enters the heap.
+    // The outlets are settled first; on a drained raster that is one pass and the heap stays
+    // empty. The heap starts at key 0, below every key, so it needs no sorted seeding.
+    let mut heap = RadixHeap::new();
+    let mut climb = Vec::new();
+    let uphill = |zw: f32, zu: f32| zw > zu || (!rules.epsilon && zw == zu);
+    let mut climbed = Vec::new();
+    let mut settle = |z: &[f32], start: usize, drained: &mut [bool], heap: &mut RadixHeap, nb: &mut [usize; 8]| {
+        climb.push(start);
+        while let Some(u) = climb.pop() {
+            climbed.push(u);
+            let c = neighbours(u, nb);
+            for &v in &nb[..c] {
+                if !drained[v] && uphill(z[v], z[u]) {
+                    drained[v] = true;
+                    climb.push(v);
+                }
+            }
+        }
+        // Only once the climb is done: a lower neighbour may have been climbed to another way.
+        for u in climbed.drain(..) {
+            let c = neighbours(u, nb);
+            if nb[..c].iter().any(|&v| !drained[v]) {
+                heap.push(key(z[u]), u as u32);
+            }
+        }
+    };
     for k in 0..z.len() {
         if drained[k] && !z[k].is_nan() {
-            let c = neighbours(k, &mut nb);
-            if nb[..c].iter().any(|&w| !drained[w]) {
-                queue.push(k);
-            }
+            settle(z, k, &mut drained, &mut heap, &mut nb);
         }
     }
-    while let Some(k) = queue.pop() {
-        let c = neighbours(k, &mut nb);
-        for &w in &nb[..c] {
-            if !drained[w] && z[w] > z[k] {
-                drained[w] = true;
-                queue.push(w);
-            }
-        }
-    }
-    // Priority-Flood+ε over the depressions, seeded by the drained cells around them.
-    let mut seeds: Vec<(u32, u32)> = (0..z.len())
-        .filter(|&k| {
-            drained[k] && !z[k].is_nan() && {
-                let c = neighbours(k, &mut nb);
-                nb[..c].iter().any(|&w| !drained[w])
-            }
-        })
-        .map(|k| (key(z[k]), k as u32))
-        .collect();
-    if seeds.is_empty() {
-        return 0;
-    }
-    // The radix heap needs its first key at or below every later one.
-    seeds.sort_unstable();
-    let mut heap = RadixHeap::new();
-    heap.last = seeds[0].0;
-    for (k, v) in seeds {
-        heap.push(k, v);
-    }
+    // Barnes et al.'s pit queue: a cell raised (or levelled) by the flood cannot be lower than
+    // anything still in the heap, so it is expanded right away, first in first out, without
+    // going through the heap.
+    let mut pit = std::collections::VecDeque::new();
+    let mut around = [0usize; 8];
     let mut raised = 0;
-    while let Some((_, k)) = heap.pop() {
-        let h = z[k as usize];
-        let c = neighbours(k as usize, &mut nb);
-        for &w in &nb[..c] {
+    loop {
+        let k = match pit.pop_front() {
+            Some(k) => k,
+            None => match heap.pop() {
+                Some((_, k)) => k as usize,
+                None => break,
+            },
+        };
+        let h = z[k];
+        let c = neighbours(k, &mut around);
+        for &w in &around[..c] {
             if drained[w] {
                 continue;
             }
             drained[w] = true;
-            if z[w] <= h {
-                z[w] = h.next_up();
+            if z[w] < h || (z[w] == h && rules.epsilon) {
+                // Clamped so a field that tops out at f32::MAX stays finite.
+                z[w] = if rules.epsilon { h.next_up().min(f32::MAX) } else { h };
                 raised += 1;
+                pit.push_back(w);
+            } else if z[w] == h {
+                pit.push_back(w);
+            } else {
+                settle(z, w, &mut drained, &mut heap, &mut nb);
             }
-            heap.push(key(z[w]), w as u32);
         }
     }
     raised
@@ -216,5 +254,95 @@ mod tests {
         assert_eq!(fill_depressions(&mut filled, |_, _| false), 9);
         let v = filled.get(2, 2).unwrap();
         assert!(v > 3.0 && v < 3.0001, "{v}");
+    }
+
+    #[test]
+    fn without_epsilon_a_pit_fills_flat_and_flats_stay() {
+        let grid = GridSpec::new(5, 5, DVec2::ZERO, DVec2::ONE).unwrap();
+        let pit = Heightfield::from_fn_indexed(grid, |i, j| if (i, j) == (2, 2) { 0.0 } else { 3.0 }).unwrap();
+        let rules = FillRules { epsilon: false, ..FillRules::default() };
+        let mut filled = pit.clone();
+        assert_eq!(fill_depressions_with(&mut filled, rules, |_, _| false), 1);
+        assert_eq!(filled.get(2, 2), Some(3.0));
+        assert!(filled.samples().iter().all(|&v| v == 3.0));
+        // Walled in (no border outlet, nothing marked): nothing can drain, nothing is filled.
+        let mut walled = pit.clone();
+        let closed = FillRules { border_drains: false, ..rules };
+        assert_eq!(fill_depressions_with(&mut walled, closed, |_, _| false), 0);
+        assert_eq!(walled, pit);
+        // One outlet corner drains the whole walled plateau; the pit fills to 3.
+        assert_eq!(fill_depressions_with(&mut walled, closed, |i, j| (i, j) == (0, 0)), 1);
+        assert_eq!(walled.get(2, 2), Some(3.0));
+    }
+
+    /// Textbook Priority-Flood without ε (Barnes et al. 2014, Algorithm 1): a binary heap seeded
+    /// with every outlet, the unique minimal fill.
+    fn reference_fill(hf: &Heightfield, border: bool) -> Vec<f32> {
+        use std::cmp::Reverse;
+        let (nx, ny) = (hf.nx(), hf.ny());
+        let mut z = hf.samples().to_vec();
+        let mut closed = vec![false; z.len()];
+        let mut heap = std::collections::BinaryHeap::new();
+        let nan_next = |k: usize| {
+            let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+            NEIGHBOURS.iter().any(|&(a, b)| {
+                let (x, y) = (i + a, j + b);
+                x >= 0 && y >= 0 && x < nx as i64 && y < ny as i64 && z[y as usize * nx + x as usize].is_nan()
+            })
+        };
+        for k in 0..z.len() {
+            let (i, j) = (k % nx, k / nx);
+            let edge = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
+            if z[k].is_nan() {
+                closed[k] = true;
+            } else if (border && edge) || nan_next(k) {
+                closed[k] = true;
+                heap.push(Reverse((key(z[k]), k)));
+            }
+        }
+        while let Some(Reverse((_, k))) = heap.pop() {
+            let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+            for (a, b) in NEIGHBOURS {
+                let (x, y) = (i + a, j + b);
+                if x < 0 || y < 0 || x >= nx as i64 || y >= ny as i64 {
+                    continue;
+                }
+                let w = y as usize * nx + x as usize;
+                if !closed[w] {
+                    closed[w] = true;
+                    z[w] = z[w].max(z[k]);
+                    heap.push(Reverse((key(z[w]), w)));
+                }
+            }
+        }
+        z
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn plain_fill_matches_textbook_priority_flood(
+            nx in 1usize..12,
+            ny in 1usize..12,
+            cells in proptest::collection::vec(0u8..8, 144),
+            border in proptest::bool::ANY,
+        ) {
+            let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap();
+            let samples = (0..nx * ny).map(|k| if cells[k] == 7 { f32::NAN } else { f32::from(cells[k]) }).collect();
+            let hf = Heightfield::from_samples(grid, samples).unwrap();
+            let mut fast = hf.clone();
+            let rules = FillRules { border_drains: border, epsilon: false, ..FillRules::default() };
+            fill_depressions_with(&mut fast, rules, |_, _| false);
+            let expected = reference_fill(&hf, border);
+            for (k, (a, b)) in fast.samples().iter().zip(&expected).enumerate() {
+                proptest::prop_assert!(a.to_bits() == b.to_bits(), "cell {}: {} vs {}", k, a, b);
+            }
+            // With ε the fill is never below the plain one and never raises a cell by more than
+            // one f32 step per cell of the grid.
+            let mut eps = hf.clone();
+            fill_depressions_with(&mut eps, FillRules { epsilon: true, ..rules }, |_, _| false);
+            for (a, b) in eps.samples().iter().zip(&expected) {
+                proptest::prop_assert!(a.is_nan() && b.is_nan() || (a >= b && *a <= b + 1e-4));
+            }
+        }
     }
 }

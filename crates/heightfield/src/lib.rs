@@ -44,6 +44,6 @@ pub mod noise;
 
 pub use distance::{DistanceScratch, distance_transform, distance_transform_seeded, distance_transform_seeded_with};
 pub use error::HeightfieldError;
-pub use fill::fill_depressions;
+pub use fill::{FillRules, fill_depressions, fill_depressions_with};
 pub use grid::{Extent, GridSpec, MAX_SAMPLES, Units, metres_per_degree};
 pub use heightfield::{Heightfield, Statistics};
