@@ -48,10 +48,11 @@ impl fmt::Display for IoError {
 
 impl std::error::Error for IoError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        // The kind's own text is already part of our Display; expose only the wrapped cause.
+        // The kind's text, and with it the wrapped error's, is already part of our Display; expose
+        // only what lies beneath, so `{:#}` chains do not print the same message twice.
         match &self.kind {
-            IoErrorKind::Io(e) => Some(e),
-            IoErrorKind::InvalidData(e) => Some(e),
+            IoErrorKind::Io(e) => e.source(),
+            IoErrorKind::InvalidData(e) => e.source(),
             _ => None,
         }
     }

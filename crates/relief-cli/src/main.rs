@@ -92,6 +92,29 @@ enum Command {
         #[arg(long)]
         max_size: Option<usize>,
     },
+    /// Hydrology of a heightfield: closed basins, stream order and the terrain descriptors of the
+    /// contours paper §6.5, optionally compared with a second heightfield.
+    Analyze {
+        /// The heightfield.
+        dem: PathBuf,
+        /// A second heightfield (a real DEM, say) to compare descriptors with.
+        #[arg(long)]
+        compare: Option<PathBuf>,
+        /// Ground at or below this elevation is sea and drains.
+        #[arg(long)]
+        sea_level: Option<f32>,
+        /// Also write the depression-filled heightfield here (format by extension).
+        #[arg(long)]
+        filled: Option<PathBuf>,
+        /// Read DEM (not the compared file) as geographic (longitude/latitude degrees), e.g. an
+        /// ASCII grid without a `.prj`; distances, slopes and areas are then in metres at each
+        /// row's latitude.
+        #[arg(long)]
+        degrees: bool,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print the JSON Schema of scene files.
     Schema,
 }
@@ -167,6 +190,11 @@ fn run(cli: &Cli) -> Result<()> {
             let dem = relief::io::read(path)?;
             println!("{}", if *json { info_json(path, &dem) } else { info_text(path, &dem) });
             Ok(())
+        }
+        Command::Analyze { dem: path, compare, sea_level, filled, degrees, json } => {
+            let read = relief::io::ReadOptions::default();
+            let read = if *degrees { read.with_units(Units::Degrees) } else { read };
+            analyze(&mut ui, &read, path, compare.as_deref(), *sea_level, filled.as_deref(), *json)
         }
         Command::Preview { dem: path, output, contours, sea_level, max_size } => {
             let dem = ui.step("read", || relief::io::read(path))?;
@@ -291,6 +319,82 @@ fn info_text(path: &Path, dem: &Heightfield) -> String {
         c.y,
         dem.no_data_count()
     )
+}
+
+/// `relief analyze`: closed basins, descriptors, an optional comparison and filled output.
+fn analyze(
+    ui: &mut Ui,
+    read: &relief::io::ReadOptions,
+    path: &Path,
+    compare: Option<&Path>,
+    sea_level: Option<f32>,
+    filled: Option<&Path>,
+    json: bool,
+) -> anyhow::Result<()> {
+    use relief::hydrology::{DescriptorOptions, Descriptors, Outlets, depressions};
+    let dem = ui.step("read", || relief::io::read_with(path, read))?;
+    let outlets = sea_level.map_or_else(Outlets::new, |s| Outlets::new().with_sea_level(s));
+    let options = DescriptorOptions { outlets, ..DescriptorOptions::default() };
+    let closed = ui.step("depressions", || depressions(&dem, outlets))?;
+    let descriptors = ui.step("descriptors", || Descriptors::of(&dem, &options))?;
+    let other = match compare {
+        Some(p) => {
+            let dem = ui.step("read", || relief::io::read(p))?;
+            Some(ui.step("descriptors", || Descriptors::of(&dem, &options))?)
+        }
+        None => None,
+    };
+    if let Some(out) = filled {
+        let dem = ui.step("fill", || relief::hydrology::fill(&dem, outlets))?;
+        ui.step("write", || relief::io::write(out, &dem))?;
+    }
+    let deepest = closed.basins.iter().max_by(|a, b| a.depth().total_cmp(&b.depth()));
+    let volume: f64 = closed.basins.iter().map(|b| b.volume_m3).sum();
+    let distance = other.as_ref().map(|o| descriptors.distance(o));
+    if json {
+        let value = serde_json::json!({
+            "path": path,
+            "closed_basins": closed.basins.len(),
+            "closed_volume_m3": volume,
+            "basins": closed.basins,
+            "descriptors": descriptors,
+            "compared_with": compare,
+            "distance": distance,
+        });
+        println!("{}", serde_json::to_string_pretty(&value)?);
+        return Ok(());
+    }
+    let median = |h: &relief::hydrology::Histogram| {
+        let (mut lo, mut hi) = (h.lo, h.hi);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if h.cdf(mid) < 0.5 { lo = mid } else { hi = mid }
+        }
+        0.5 * (lo + hi)
+    };
+    println!("{}", path.display());
+    println!(
+        "  closed basins   {}{}",
+        closed.basins.len(),
+        deepest.map_or_else(String::new, |b| format!(
+            " (holding {volume:.4e} m³; deepest {:.3} at ({}, {}), spills at {:.3})",
+            b.depth(),
+            b.pit.0,
+            b.pit.1,
+            b.fill_level
+        ))
+    );
+    println!("  max Strahler    {} (streams from {:.4e} m²)", descriptors.max_strahler, descriptors.stream_area_m2);
+    println!("  median slope    {:.2}°", median(&descriptors.slope_deg));
+    println!("  median log10 A  {:.3} (drainage area in m², Freeman MFD)", median(&descriptors.log10_drainage_area));
+    if let (Some(d), Some(p)) = (distance, compare) {
+        println!("compared with {} (earth mover's distances)", p.display());
+        println!("  elevation       {:.3}", d.elevation);
+        println!("  slope           {:.3}°", d.slope_deg);
+        println!("  log10 area      {:.3}", d.log10_drainage_area);
+        println!("  Strahler        {:+}", d.strahler);
+    }
+    Ok(())
 }
 
 fn info_json(path: &Path, dem: &Heightfield) -> String {

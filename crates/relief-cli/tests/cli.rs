@@ -228,6 +228,28 @@ fn convert_info_and_preview_work_on_a_real_dem() {
 }
 
 #[test]
+fn analyze_reports_basins_and_compares_descriptors() {
+    let tmp = tempfile::tempdir().unwrap();
+    let filled = tmp.path().join("filled.tif");
+    let dem = "fixtures/dem/jacksboro.asc";
+    let report: serde_json::Value =
+        serde_json::from_str(&ok(&["analyze", dem, "--json", "--filled", filled.to_str().unwrap()])).unwrap();
+    // Raw SRTM has closed pits; the filled file written alongside has none and never lies lower.
+    let basins = report["closed_basins"].as_u64().unwrap();
+    assert!(basins > 0 && report["basins"].as_array().unwrap().len() as u64 == basins);
+    let (raw, fixed) = (relief::io::read(root().join(dem)).unwrap(), relief::io::read(&filled).unwrap());
+    assert!(!relief::hydrology::has_endorheic_basins(&fixed, relief::hydrology::NoData::Outlet));
+    assert!(fixed.samples().iter().zip(raw.samples()).all(|(f, r)| f >= r));
+    assert!(report["descriptors"]["max_strahler"].as_u64().unwrap() >= 2);
+    // Against itself every distance is zero; the text report names the comparison.
+    let same: serde_json::Value = serde_json::from_str(&ok(&["analyze", dem, "--compare", dem, "--json"])).unwrap();
+    assert_eq!(same["distance"]["slope_deg"].as_f64(), Some(0.0));
+    assert_eq!(same["distance"]["strahler"].as_i64(), Some(0));
+    let text = ok(&["analyze", dem, "--compare", filled.to_str().unwrap()]);
+    assert!(text.contains("closed basins") && text.contains("compared with"), "{text}");
+}
+
+#[test]
 fn schema_subcommand_prints_the_checked_in_schema() {
     let printed = ok(&["schema"]);
     assert_eq!(printed, std::fs::read_to_string(root().join("docs/scene.schema.json")).unwrap());
@@ -245,6 +267,8 @@ fn failures_are_one_line_errors_with_exit_code_one() {
     let stderr = fails(&["generate", bad.to_str().unwrap()], 1);
     assert!(stderr.contains("generator.contours.particles"), "{stderr}");
 
+    let stderr = fails(&["analyze", "no/such/dem.asc"], 1);
+    assert_eq!(stderr.matches("No such file").count(), 1, "the cause is told once: {stderr}");
     let stderr = fails(&["info", "fixtures/scenes/README.md"], 1);
     assert!(stderr.contains("README.md"), "{stderr}");
     let stderr = fails(&["convert", "fixtures/dem/jacksboro.asc", "out.jpeg"], 1);

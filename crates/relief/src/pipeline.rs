@@ -22,11 +22,12 @@ use crate::eden_growth::{
 };
 use crate::heightfield::noise::Fbm;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
+use crate::hydrology::{self, D8, Field, HydrologyError, Outlets, StreamPower, Thermal};
 use crate::io::{Format, ReadOptions};
 use crate::poisson_sampling::{Polygon, Rect};
 use crate::scene::{
-    ContoursGenerator, Edit, Generator, HistogramSource, Levels, Outputs, Probability, ReconstructionMode, Rectangle,
-    Scene,
+    ContoursGenerator, Edit, Generator, HistogramSource, Levels, Outputs, PostProcess, Probability, ReconstructionMode,
+    Rectangle, Scene,
 };
 use crate::tin::PointLocator;
 use crate::warp::{PathOptions, PathWarp, Profile, SlopeModulation, Warp, WarpError, warp_polyline, warp_raster};
@@ -129,6 +130,17 @@ pub struct RasterSummary {
     pub sea_level: f64,
 }
 
+/// Drainage of the final heightfield (`relief-hydrology`; the sea and the map border drain).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DrainageSummary {
+    /// Closed basins (water cannot leave them): craters the scene asked for, or none.
+    pub closed_basins: usize,
+    /// Water they hold up to their spill levels, m³ (in world units cubed).
+    pub closed_volume: f64,
+    /// Largest Strahler order of the D8 stream network (streams from 0.5 % of the land area).
+    pub max_strahler: u8,
+}
+
 /// How well the elevations match the scene's histogram: Kolmogorov–Smirnov distances (the largest
 /// gap between the cumulative distributions; 0 is a perfect match).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -154,6 +166,8 @@ pub struct Summary {
     pub heightfield: RasterSummary,
     /// Histogram match errors.
     pub histogram_match: HistogramMatch,
+    /// Closed basins and stream order of the final heightfield.
+    pub drainage: DrainageSummary,
     /// Time per step, in order (they vary from run to run, unlike everything else).
     pub timings_ms: Vec<Timing>,
 }
@@ -234,6 +248,12 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
         };
         hf.map_err(|e| ReliefError::pipeline("reconstruction", e))
     })?;
+    let heightfield = if scene.post.is_empty() {
+        heightfield
+    } else {
+        timer.step("post-process", || post_process(heightfield, &scene.post, sea_level))?
+    };
+    let drainage = timer.step("drainage", || drainage_summary(&heightfield, sea_level))?;
     let land: Vec<f64> =
         heightfield.samples().iter().filter(|v| f64::from(**v) >= sea_level).map(|&v| f64::from(v)).collect();
     let inside: Vec<f64> = growth.order().iter().map(|&v| heights.heights[v as usize]).collect();
@@ -266,6 +286,7 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
             nodes: inputs.histogram.ks_distance(&inside),
             raster: if land.is_empty() { 1.0 } else { inputs.histogram.ks_distance(&land) },
         },
+        drainage,
         timings_ms: timer.timings,
     };
     Ok(Terrain { heightfield, contours, histogram: inputs.histogram, sea_level, summary })
@@ -765,6 +786,53 @@ fn tin_raster(
         });
     }
     Ok(hf)
+}
+
+/// Runs the scene's post-processes in order; the sea and the border are the base level.
+fn post_process(mut hf: Heightfield, post: &[PostProcess], sea_level: f64) -> Result<Heightfield, ReliefError> {
+    let outlets = Outlets::new().with_sea_level(sea_level as f32);
+    for (k, step) in post.iter().enumerate() {
+        let named = |kind: &str, e: HydrologyError| match e {
+            HydrologyError::InvalidParameter { name, .. } => ReliefError::scene(format!("post[{k}].{kind}.{name}"), e),
+            e => ReliefError::pipeline("post-process", e),
+        };
+        match *step {
+            PostProcess::StreamPower { iterations, erodibility, uplift, m, n, dt } => {
+                let sp = StreamPower {
+                    erodibility: Field::Uniform(erodibility),
+                    uplift: Field::Uniform(uplift),
+                    m,
+                    n,
+                    dt,
+                    outlets,
+                };
+                sp.run(&mut hf, iterations, |_| {}).map_err(|e| named("stream_power", e))?;
+            }
+            PostProcess::Thermal { talus_deg, rate, iterations } => {
+                Thermal { talus_deg, rate, iterations }.run(&mut hf, |_| {}).map_err(|e| named("thermal", e))?;
+            }
+            PostProcess::Fill {} => hf = hydrology::fill(&hf, outlets).map_err(|e| named("fill", e))?,
+        }
+    }
+    Ok(hf)
+}
+
+/// Closed basins and stream order of `hf` with the sea and the border as outlets.
+fn drainage_summary(hf: &Heightfield, sea_level: f64) -> Result<DrainageSummary, ReliefError> {
+    let fail = |e: HydrologyError| ReliefError::pipeline("drainage", e);
+    let outlets = Outlets::new().with_sea_level(sea_level as f32);
+    let closed = hydrology::depressions(hf, outlets).map_err(fail)?;
+    let routed = D8::new(&closed.filled).map_err(fail)?;
+    let sea = sea_level as f32;
+    let land_area: f64 =
+        (0..hf.ny()).map(|j| hf.row(j).iter().filter(|&&v| v > sea).count() as f64 * hf.grid().cell_area_m2(j)).sum();
+    let streams = routed.streams(0.005 * land_area).map_err(fail)?;
+    let max_strahler = routed.strahler(&streams).map_err(fail)?.into_iter().max().unwrap_or(0);
+    Ok(DrainageSummary {
+        closed_basins: closed.basins.len(),
+        closed_volume: closed.basins.iter().map(|b| b.volume_m3).sum(),
+        max_strahler,
+    })
 }
 
 /// The samples inside a closed clockwise contour (around a pit).

@@ -36,6 +36,9 @@ pub struct Scene {
     /// How the contours become a heightfield.
     #[serde(default)]
     pub reconstruction: Reconstruction,
+    /// Post-processes run, in order, on the reconstructed heightfield (erosion, filling).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub post: Vec<PostProcess>,
     /// What to write.
     #[serde(default)]
     pub outputs: Outputs,
@@ -272,6 +275,74 @@ fn default_strength() -> f64 {
 }
 fn default_exponent_k() -> u32 {
     2
+}
+
+/// A post-process of the heightfield (`relief-hydrology`). The sea (cells below the coastline
+/// height) and the map border are the base level water drains to.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum PostProcess {
+    /// Fluvial erosion: the implicit stream-power law ∂h/∂t = U − K·A^m·S^n (Braun & Willett 2013).
+    StreamPower {
+        /// Time steps (default 20).
+        #[serde(default = "default_erosion_steps")]
+        iterations: usize,
+        /// Erodibility K (default 2·10⁻⁵, with A in m² and years).
+        #[serde(default = "default_erodibility")]
+        erodibility: f64,
+        /// Uplift rate, metres per year (default 0).
+        #[serde(default)]
+        uplift: f64,
+        /// Drainage-area exponent m (default 0.4).
+        #[serde(default = "default_m")]
+        m: f64,
+        /// Slope exponent n (default 1).
+        #[serde(default = "default_n")]
+        n: f64,
+        /// Time step, years (default 1000).
+        #[serde(default = "default_dt")]
+        dt: f64,
+    },
+    /// Thermal erosion: slopes steeper than the talus angle shed material downhill.
+    Thermal {
+        /// Angle of repose, degrees (default 33).
+        #[serde(default = "default_talus")]
+        talus_deg: f64,
+        /// Share of the excess moved per iteration, in (0, 0.5] (default 0.25).
+        #[serde(default = "default_rate")]
+        rate: f64,
+        /// Iterations (default 50).
+        #[serde(default = "default_thermal_iterations")]
+        iterations: usize,
+    },
+    /// Priority-Flood+ε filling: every land cell drains to the sea or the border again (keeps
+    /// nothing closed, not even craters).
+    Fill {},
+}
+
+fn default_erosion_steps() -> usize {
+    20
+}
+fn default_erodibility() -> f64 {
+    2e-5
+}
+fn default_m() -> f64 {
+    0.4
+}
+fn default_n() -> f64 {
+    1.0
+}
+fn default_dt() -> f64 {
+    1000.0
+}
+fn default_talus() -> f64 {
+    33.0
+}
+fn default_rate() -> f64 {
+    0.25
+}
+fn default_thermal_iterations() -> usize {
+    50
 }
 
 /// How the heightfield is rebuilt.

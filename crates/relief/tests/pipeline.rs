@@ -8,10 +8,11 @@ use glam::DVec2;
 use proptest::prelude::*;
 use relief::contours::{Contour, ContourSet};
 use relief::heightfield::Heightfield;
+use relief::hydrology::{Outlets, depressions};
 use relief::pipeline::{Progress, generate, run};
 use relief::scene::{
-    ContoursGenerator, Edit, Generator, HistogramSource, Levels, Outputs, PolygonSpec, Probability, Reconstruction,
-    ReconstructionMode, RegionSpec, Scene,
+    ContoursGenerator, Edit, Generator, HistogramSource, Levels, Outputs, PolygonSpec, PostProcess, Probability,
+    Reconstruction, ReconstructionMode, RegionSpec, Scene,
 };
 
 fn root() -> PathBuf {
@@ -51,31 +52,16 @@ fn scene(seed: u64, regions: Vec<RegionSpec>, edits: Vec<Edit>, mode: Reconstruc
         }),
         edits,
         reconstruction: Reconstruction { mode, resolution: [size, size], drain: true },
+        post: Vec::new(),
         outputs: Outputs::default(),
     }
 }
 
-/// Cells (not on the border, on land, not `excluded`) whose eight neighbours are all strictly
-/// higher: sinks with no outlet.
-fn pits(dem: &Heightfield, sea_level: f32, excluded: impl Fn(DVec2) -> bool) -> usize {
-    let (nx, ny) = (dem.nx(), dem.ny());
-    let z = dem.samples();
-    let mut count = 0;
-    for j in 1..ny - 1 {
-        for i in 1..nx - 1 {
-            let h = z[j * nx + i];
-            if h < sea_level || excluded(dem.grid().position(i, j)) {
-                continue;
-            }
-            let lower_or_equal = (-1isize..=1).any(|dj| {
-                (-1isize..=1).any(|di| {
-                    (di, dj) != (0, 0) && z[(j as isize + dj) as usize * nx + (i as isize + di) as usize] <= h
-                })
-            });
-            count += usize::from(!lower_or_equal);
-        }
-    }
-    count
+/// Closed basins of `dem` (water cannot reach the sea below `sea_level` or the border) whose
+/// pit is not `excluded`: the endorheic check of `relief-hydrology`, not just one-cell pits.
+fn closed_basins(dem: &Heightfield, sea_level: f32, excluded: impl Fn(DVec2) -> bool) -> usize {
+    let found = depressions(dem, Outlets::new().with_sea_level(sea_level)).unwrap();
+    found.basins.iter().filter(|b| !excluded(dem.grid().position(b.pit.0, b.pit.1))).count()
 }
 
 proptest! {
@@ -113,7 +99,8 @@ proptest! {
         prop_assert!(terrain.contours.contours().iter().all(|c| c.closed));
         prop_assert!(terrain.summary.histogram_match.nodes <= 0.5 / terrain.summary.graph.inside as f64 + 1e-9);
         prop_assert!(terrain.summary.histogram_match.raster < 0.1, "raster KS {}", terrain.summary.histogram_match.raster);
-        prop_assert_eq!(pits(&terrain.heightfield, terrain.sea_level as f32, |_| false), 0);
+        prop_assert_eq!(closed_basins(&terrain.heightfield, terrain.sea_level as f32, |_| false), 0);
+        prop_assert_eq!(terrain.summary.drainage.closed_basins, 0);
     }
 }
 
@@ -156,7 +143,8 @@ fn every_reconstruction_mode_keeps_the_crater_and_drains_elsewhere() {
         if mode != ReconstructionMode::Stairs {
             // Away from the crater, every land cell drains.
             let crater = |p: DVec2| p.distance(DVec2::new(-1500.0, 0.0)) < 500.0;
-            assert_eq!(pits(dem, terrain.sea_level as f32, crater), 0, "{mode:?}");
+            assert_eq!(closed_basins(dem, terrain.sea_level as f32, crater), 0, "{mode:?}");
+            assert!(terrain.summary.drainage.closed_basins >= 1, "{mode:?}: the crater is a closed basin");
         }
     }
 }
@@ -210,7 +198,7 @@ fn run_writes_every_output_atomically_and_reports_progress() {
     let mut steps = Steps::default();
     let (terrain, written) = run(&scene, &root(), dir.path(), &mut steps).unwrap();
     // Every step starts, then finishes, in order.
-    let names = ["inputs", "graph", "growth", "heights", "contours", "edits", "reconstruction", "write"];
+    let names = ["inputs", "graph", "growth", "heights", "contours", "edits", "reconstruction", "drainage", "write"];
     let expected: Vec<(&str, bool)> = names.iter().flat_map(|&s| [(s, false), (s, true)]).collect();
     assert_eq!(steps.0, expected);
     let mut files: Vec<String> =
@@ -255,9 +243,39 @@ fn run_writes_every_output_atomically_and_reports_progress() {
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["contours"]["contours"].as_u64(), Some(terrain.contours.len() as u64));
     assert_eq!(summary["scene"]["seed"].as_u64(), Some(9));
-    assert_eq!(summary["timings_ms"].as_array().unwrap().len(), 8);
+    assert_eq!(summary["timings_ms"].as_array().unwrap().len(), names.len());
+    // The crater is the one closed basin, reported with the water it holds.
+    assert_eq!(summary["drainage"]["closed_basins"].as_u64(), Some(terrain.summary.drainage.closed_basins as u64));
+    assert!(terrain.summary.drainage.closed_basins >= 1 && terrain.summary.drainage.closed_volume > 0.0);
+    assert!(terrain.summary.drainage.max_strahler >= 2);
     // The SVG is a document with one path per contour.
     let svg = std::fs::read_to_string(dir.path().join("contours.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     assert_eq!(svg.matches("<path ").count(), terrain.contours.len());
+}
+
+#[test]
+fn erosion_post_processes_carve_the_terrain_and_fill_closes_nothing() {
+    let mut scene = full_scene(ReconstructionMode::Interpolated);
+    let plain = generate(&scene, &root(), &mut ()).unwrap();
+    scene.post = vec![
+        PostProcess::StreamPower { iterations: 10, erodibility: 1e-4, uplift: 0.0, m: 0.4, n: 1.0, dt: 1000.0 },
+        PostProcess::Thermal { talus_deg: 33.0, rate: 0.25, iterations: 10 },
+    ];
+    let eroded = generate(&scene, &root(), &mut ()).unwrap();
+    let (a, b) = (plain.heightfield.samples(), eroded.heightfield.samples());
+    assert!(b.iter().all(|v| v.is_finite()));
+    let lowered = a.iter().zip(b).filter(|(x, y)| y < x).count();
+    assert!(lowered > a.len() / 10, "erosion lowered only {lowered} cells");
+    assert!(eroded.summary.timings_ms.iter().any(|t| t.step == "post-process"));
+    // A final fill leaves nothing closed, the crater included.
+    scene.post.push(PostProcess::Fill {});
+    let filled = generate(&scene, &root(), &mut ()).unwrap();
+    assert_eq!(filled.summary.drainage.closed_basins, 0);
+    assert_eq!(closed_basins(&filled.heightfield, filled.sea_level as f32, |_| false), 0);
+    // Bad parameters are scene errors at their JSON path.
+    scene.post =
+        vec![PostProcess::StreamPower { iterations: 1, erodibility: 1e-4, uplift: 0.0, m: 0.4, n: -1.0, dt: 1.0 }];
+    let err = generate(&scene, &root(), &mut ()).unwrap_err();
+    assert!(matches!(&err, relief::ReliefError::Scene { path, .. } if path == "post[0].stream_power.n"), "{err}");
 }
