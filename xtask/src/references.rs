@@ -138,6 +138,31 @@ pub(crate) const REFERENCES: &[(&str, Reference)] = &[
     ),
     ("relief_preview/shade_4096", Reference::Fixed { label: "target (issue #5)", seconds: 1.0 }),
     (
+        "hydrology/flood_and_accumulation/4096",
+        Reference::Fixed { label: "target (issue #6): fill + D8 accumulation", seconds: 3.0 },
+    ),
+    (
+        "hydrology/priority_flood/1024",
+        Reference::SideBySide {
+            label: "textbook Priority-Flood+ε (Barnes 2014, Alg. 3), same run",
+            bench: "hydrology/textbook_priority_flood/1024",
+        },
+    ),
+    (
+        "hydrology/priority_flood/2048",
+        Reference::SideBySide {
+            label: "textbook Priority-Flood+ε (Barnes 2014, Alg. 3), same run",
+            bench: "hydrology/textbook_priority_flood/2048",
+        },
+    ),
+    (
+        "hydrology/priority_flood/4096",
+        Reference::SideBySide {
+            label: "textbook Priority-Flood+ε (Barnes 2014, Alg. 3), same run",
+            bench: "hydrology/textbook_priority_flood/4096",
+        },
+    ),
+    (
         "warp/points_100k_50_segments",
         Reference::Fixed { label: "interactive budget: one frame at 30 fps", seconds: 0.033 },
     ),

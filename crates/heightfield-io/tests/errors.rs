@@ -70,7 +70,10 @@ fn nonexistent_file_is_an_io_error_naming_it() {
     let err = read("/definitely/not/here/dem.tif").unwrap_err();
     assert!(matches!(err.kind(), IoErrorKind::Io(e) if e.kind() == std::io::ErrorKind::NotFound), "{err}");
     assert!(err.to_string().starts_with("/definitely/not/here/dem.tif: "), "{err}");
-    assert!(std::error::Error::source(&err).is_some());
+    // The OS's words are in the message, so they are not repeated as a source (an anyhow `{:#}`
+    // chain would print them twice).
+    assert!(std::error::Error::source(&err).is_none());
+    assert_eq!(format!("{:#}", anyhow_like(&err)).matches(": ").count(), 1, "{err}");
 }
 
 #[test]
@@ -562,4 +565,16 @@ fn crc_ihdr(data: &[u8]) -> u32 {
         }
     }
     !crc
+}
+
+/// The error and its sources joined by ": ", as `anyhow`'s `{:#}` prints them.
+fn anyhow_like(err: &(dyn std::error::Error + 'static)) -> String {
+    let mut out = err.to_string();
+    let mut cause = err.source();
+    while let Some(c) = cause {
+        out.push_str(": ");
+        out.push_str(&c.to_string());
+        cause = c.source();
+    }
+    out
 }
