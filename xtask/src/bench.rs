@@ -10,10 +10,19 @@ use anyhow::{Context, Result};
 
 use crate::references::{REFERENCES, Reference};
 
-/// Runs the benches (shorter warm-up and measurement with `quick`) and writes the report.
-pub(crate) fn run(root: &Path, quick: bool) -> Result<()> {
+/// Runs the benches (shorter warm-up and measurement with `quick`; only `packages` when given) and
+/// writes the report from every median under `target/criterion`, so a partial run refreshes its
+/// rows and keeps the others from earlier runs.
+pub(crate) fn run(root: &Path, quick: bool, packages: &[String]) -> Result<()> {
     let mut cmd = Command::new(env!("CARGO"));
-    cmd.current_dir(root).args(["bench", "--workspace", "--benches", "--"]);
+    cmd.current_dir(root).arg("bench");
+    if packages.is_empty() {
+        cmd.arg("--workspace");
+    }
+    for p in packages {
+        cmd.args(["-p", p]);
+    }
+    cmd.args(["--benches", "--"]);
     if quick {
         cmd.args(["--warm-up-time", "1", "--measurement-time", "2"]);
     }

@@ -1,8 +1,9 @@
 //! Project automation, run as `cargo xtask <command>` (alias in `.cargo/config.toml`).
 //!
 //! - `ci`: the same steps as `.ci/run` (it runs that script, the single source of truth).
-//! - `bench [--quick]`: runs every criterion bench and writes `docs/benchmarks.md`, our medians
-//!   beside the figures the papers and the issues report.
+//! - `bench [--quick] [-p PACKAGE]...`: runs the criterion benches (all, or those of the named
+//!   packages) and writes `docs/benchmarks.md`, our medians beside the figures the papers and the
+//!   issues report.
 //! - `gallery`: renders the demo and every fixture scene and writes `docs/gallery.md`.
 //!
 //! Dependency-light on purpose (`anyhow`, `serde_json`): it builds in seconds and never needs the
@@ -22,10 +23,14 @@ fn main() -> Result<()> {
     let root = workspace_root();
     match args.first().map(String::as_str) {
         Some("ci") => run(Command::new("bash").arg(root.join(".ci/run")).current_dir(&root)),
-        Some("bench") => bench::run(&root, args.iter().any(|a| a == "--quick")),
+        Some("bench") => {
+            let packages: Vec<String> =
+                args.windows(2).filter(|w| w[0] == "-p" || w[0] == "--package").map(|w| w[1].clone()).collect();
+            bench::run(&root, args.iter().any(|a| a == "--quick"), &packages)
+        }
         Some("gallery") => gallery::run(&root),
         Some("help" | "--help" | "-h") | None => {
-            println!("usage: cargo xtask <ci | bench [--quick] | gallery>");
+            println!("usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... | gallery>");
             Ok(())
         }
         Some(other) => bail!("unknown command `{other}`; try `cargo xtask help`"),

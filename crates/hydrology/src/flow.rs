@@ -20,7 +20,7 @@ pub struct D8 {
     nx: usize,
     receivers: Vec<u32>,
     distance: Vec<f32>,
-    /// Every cell after its receiver (sinks first): the order of Braun & Willett's stack.
+    /// Every cell after its receiver, like Braun & Willett's stack.
     order: Vec<u32>,
     area: Vec<f64>,
 }
@@ -58,14 +58,8 @@ impl D8 {
                 (best, best_d as f32)
             })
             .unzip();
-        let order = downstream_order(&receivers);
         let mut area: Vec<f64> = (0..n).map(|k| if z[k].is_nan() { 0.0 } else { g.area(k) }).collect();
-        for &k in order.iter().rev() {
-            let r = receivers[k as usize];
-            if r != NO_RECEIVER {
-                area[r as usize] += area[k as usize];
-            }
-        }
+        let order = accumulate(&receivers, &mut area);
         Ok(Self { nx: g.nx, receivers, distance, order, area })
     }
 
@@ -132,35 +126,43 @@ impl D8 {
     }
 }
 
-/// Cells in an order where each comes after its receiver: sinks, then a breadth-first walk up the
-/// donor lists (donors stored CSR by counting sort). O(N), deterministic.
-fn downstream_order(receivers: &[u32]) -> Vec<u32> {
+/// Adds every cell's `area` into its receiver's, upstream first, and returns the cells in
+/// downstream-first order (each after its receiver). O(N) and cache-friendly: a scan finds the
+/// sources (no donors), and from each the walk follows receivers downstream until it meets a cell
+/// that still waits for another donor (Kahn's algorithm walked as chains). Deterministic.
+fn accumulate(receivers: &[u32], area: &mut [f64]) -> Vec<u32> {
     let n = receivers.len();
-    let mut offsets = vec![0u32; n + 1];
+    // Donor counts: at most 8 on a grid, but any network may use this, so u32.
+    let mut waiting = vec![0u32; n];
     for &r in receivers {
         if r != NO_RECEIVER {
-            offsets[r as usize + 1] += 1;
+            waiting[r as usize] += 1;
         }
     }
-    for k in 0..n {
-        offsets[k + 1] += offsets[k];
-    }
-    let mut fill = offsets.clone();
-    let mut donors = vec![0u32; offsets[n] as usize];
-    for (k, &r) in receivers.iter().enumerate() {
-        if r != NO_RECEIVER {
-            donors[fill[r as usize] as usize] = k as u32;
-            fill[r as usize] += 1;
+    let mut order = Vec::with_capacity(n);
+    for start in 0..n {
+        if waiting[start] != 0 {
+            continue;
+        }
+        let mut c = start;
+        loop {
+            order.push(c as u32);
+            // Done: the scan must not start here again.
+            waiting[c] = u32::MAX;
+            let r = receivers[c];
+            if r == NO_RECEIVER {
+                break;
+            }
+            let r = r as usize;
+            area[r] += area[c];
+            waiting[r] -= 1;
+            if waiting[r] != 0 {
+                break;
+            }
+            c = r;
         }
     }
-    drop(fill);
-    let mut order: Vec<u32> = (0..n as u32).filter(|&k| receivers[k as usize] == NO_RECEIVER).collect();
-    let mut head = 0;
-    while head < order.len() {
-        let k = order[head] as usize;
-        head += 1;
-        order.extend_from_slice(&donors[offsets[k] as usize..offsets[k + 1] as usize]);
-    }
+    order.reverse();
     order
 }
 
