@@ -1,0 +1,54 @@
+//! Residual against time for both solvers on a ridge scene.
+//!
+//! `cargo run --release -p relief-diffusion-multigrid --example convergence -- [size] [gradient]`
+
+use std::time::Instant;
+
+use glam::DVec2;
+use relief_diffusion_multigrid::{ConstraintMaps, DiffusionProblem, SolveOptions, Solver, presets};
+use relief_heightfield::GridSpec;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let n: usize = std::env::args().nth(1).map_or(Ok(513), |s| s.parse())?;
+    let slopes = std::env::args().nth(2).is_none_or(|s| s != "0");
+    let cell = 4000.0 / (n - 1) as f64;
+    let grid = GridSpec::new(n, n, DVec2::ZERO, DVec2::splat(cell))?;
+    let extent = if slopes { 600.0 } else { 0.0 };
+    let mut curves = presets::multiple_ridges(
+        DVec2::splat(2000.0),
+        1200.0,
+        &[DVec2::new(500.0, 800.0), DVec2::new(3500.0, 1200.0), DVec2::new(2000.0, 3600.0)],
+        200.0,
+        &[30.0, 20.0, 35.0],
+        extent,
+    );
+    curves.push(presets::riverbed(&[DVec2::new(0.0, 200.0), DVec2::new(4000.0, 400.0)], 50.0, 0.0, 60.0, 5.0, 100.0));
+    let t = Instant::now();
+    let maps = ConstraintMaps::rasterize(&curves, &grid)?;
+    let problem = DiffusionProblem::elevation(&maps)?;
+    println!(
+        "{n}²: rasterize + setup {:.0} ms, {} levels, kinds {:?}",
+        t.elapsed().as_secs_f64() * 1e3,
+        problem.depth(),
+        maps.counts()
+    );
+    for solver in [Solver::Multigrid, Solver::JacobiPyramid] {
+        let t = Instant::now();
+        let opts = SolveOptions {
+            solver,
+            max_iterations: Some(if solver == Solver::Multigrid { 60 } else { 2000 }),
+            ..SolveOptions::default()
+        };
+        let (_, report) = problem.solve(&opts)?;
+        let h: Vec<String> = report.history.iter().take(12).map(|r| format!("{r:.1e}")).collect();
+        println!(
+            "{solver:?}: {:.0} ms, {} iterations, residual {:.2e} (converged {}), history {}",
+            t.elapsed().as_secs_f64() * 1e3,
+            report.iterations,
+            report.relative_residual,
+            report.converged,
+            h.join(" ")
+        );
+    }
+    Ok(())
+}

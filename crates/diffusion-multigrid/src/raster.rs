@@ -1,0 +1,341 @@
+//! Rasterization of feature curves into constraint maps (§4.1): strict elevation, gradient norm
+//! and direction, noise amplitude and roughness, and what kind of equation each sample obeys.
+
+use glam::DVec2;
+use relief_heightfield::GridSpec;
+use serde::{Deserialize, Serialize};
+
+use crate::DiffusionError;
+use crate::curve::{FeatureCurve, Station};
+use crate::solver::{DiffusionProblem, SolveOptions};
+
+/// Which equation a sample obeys.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CellKind {
+    /// No constraint: Laplace (α = 1, β = 0).
+    Free,
+    /// Strict elevation: identification (α = β = 0).
+    Elevation,
+    /// Slope constraint: half Laplace, half gradient (α = β = ½).
+    Gradient,
+    /// Where slope constraints of different curve sides overlap: left empty, the gradient filled
+    /// in by diffusion, then treated as [`CellKind::Gradient`].
+    Hole,
+}
+
+/// The constraints of a set of curves on one grid. Per-sample arrays are row-major.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConstraintMaps {
+    /// The grid.
+    pub grid: GridSpec,
+    /// Equation per sample.
+    pub kind: Vec<CellKind>,
+    /// Strict elevation (averaged where curves overlap); NaN where none.
+    pub elevation: Vec<f32>,
+    /// Gradient step G of the gradient equation `F = F_N + G` (elevation change per grid step along
+    /// `normal`); 0 where none.
+    pub gradient: Vec<f32>,
+    /// Unit direction n of the gradient equation (the way the elevation is propagated).
+    pub normal: Vec<[f32; 2]>,
+    /// Noise amplitude (averaged); NaN where none.
+    pub amplitude: Vec<f32>,
+    /// Noise roughness (averaged); NaN where none.
+    pub roughness: Vec<f32>,
+}
+
+/// Accumulators while painting.
+struct Canvas {
+    grid: GridSpec,
+    elev: Vec<(f64, u32)>,
+    amp: Vec<(f64, u32)>,
+    rough: Vec<(f64, u32)>,
+    grad: Vec<(f32, [f32; 2])>,
+    writer: Vec<u32>,
+    hole: Vec<bool>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl ConstraintMaps {
+    /// Rasterizes `curves` on `grid`. Curves are validated first.
+    ///
+    /// Elevation bands are quads of half-width r (at least ¾ of a cell so the centre line is always
+    /// caught) painted with h; slope bands run from r to r + a on the left and r to r + b on the
+    /// right, the prescribed slope fading linearly to 0 at their far end. Overlapping strict values
+    /// average; overlapping slope bands of different curve sides leave a [`CellKind::Hole`].
+    ///
+    /// # Errors
+    /// The validation errors of [`FeatureCurve::validate`]; [`DiffusionError::GridTooSmall`].
+    pub fn rasterize(curves: &[FeatureCurve], grid: &GridSpec) -> Result<Self, DiffusionError> {
+        if grid.nx() < 2 || grid.ny() < 2 {
+            return Err(DiffusionError::GridTooSmall { nx: grid.nx(), ny: grid.ny() });
+        }
+        for (k, c) in curves.iter().enumerate() {
+            c.validate(k)?;
+        }
+        let n = grid.len();
+        let mut canvas = Canvas {
+            grid: *grid,
+            elev: vec![(0.0, 0); n],
+            amp: vec![(0.0, 0); n],
+            rough: vec![(0.0, 0); n],
+            grad: vec![(0.0, [0.0, 0.0]); n],
+            writer: vec![NONE; n],
+            hole: vec![false; n],
+        };
+        let cell = grid.cell_size();
+        let step = 0.5 * cell.x.min(cell.y);
+        let min_r = 0.75 * cell.x.max(cell.y);
+        for (id, curve) in curves.iter().enumerate() {
+            let stations = curve.stations(step);
+            let anchored = curve.has_elevation();
+            for w in stations.windows(2) {
+                canvas.segment(id as u32, anchored, w[0], w[1], min_r);
+            }
+            if stations.len() == 1 {
+                canvas.segment(id as u32, anchored, stations[0], stations[0], min_r);
+            }
+        }
+        Ok(canvas.finish())
+    }
+
+    /// Number of samples of each kind `(free, elevation, gradient, hole)`.
+    pub fn counts(&self) -> (usize, usize, usize, usize) {
+        let mut c = (0, 0, 0, 0);
+        for k in &self.kind {
+            match k {
+                CellKind::Free => c.0 += 1,
+                CellKind::Elevation => c.1 += 1,
+                CellKind::Gradient => c.2 += 1,
+                CellKind::Hole => c.3 += 1,
+            }
+        }
+        c
+    }
+}
+
+impl Canvas {
+    /// Paints one segment of a curve: the elevation band, the two slope bands, the noise.
+    fn segment(&mut self, id: u32, anchored: bool, s0: Station, s1: Station, min_r: f64) {
+        let r = |s: &Station| s.elevation.map_or(0.0, |e| e.r).max(min_r);
+        let (r0, r1) = (r(&s0), r(&s1));
+        for side in [1.0, -1.0] {
+            let (o0, o1) = (s0.left * side, s1.left * side);
+            let band = [s0.p, s1.p, s1.p + o1 * r1, s0.p + o0 * r0];
+            if let (Some(e0), Some(e1)) = (s0.elevation, s1.elevation) {
+                self.quad(band, |w| {
+                    let h = w[0] * e0.h + w[1] * e1.h + w[2] * e1.h + w[3] * e0.h;
+                    Paint::Elevation(h)
+                });
+            }
+            if let (Some(n0), Some(n1)) = (s0.noise, s1.noise) {
+                self.quad(band, |w| {
+                    let a = (w[0] + w[3]) * n0.amplitude + (w[1] + w[2]) * n1.amplitude;
+                    let rr = (w[0] + w[3]) * n0.roughness + (w[1] + w[2]) * n1.roughness;
+                    Paint::Noise(a, rr)
+                });
+            }
+            if let (Some(g0), Some(g1)) = (s0.slope, s1.slope) {
+                let (ext0, ext1, ang0, ang1) =
+                    if side > 0.0 { (g0.a, g1.a, g0.theta, g1.theta) } else { (g0.b, g1.b, g0.phi, g1.phi) };
+                if ext0 <= 0.0 && ext1 <= 0.0 {
+                    continue;
+                }
+                let outer = [s0.p + o0 * r0, s1.p + o1 * r1, s1.p + o1 * (r1 + ext1), s0.p + o0 * (r0 + ext0)];
+                let (t0, t1) = (ang0.to_radians().tan(), ang1.to_radians().tan());
+                let writer = 2 * id + u32::from(side < 0.0);
+                let cell = self.grid.cell_size();
+                self.quad(outer, |w| {
+                    // Slope (descending away from the curve) fading to 0 at the far edge.
+                    let s = w[0] * t0 + w[1] * t1;
+                    let out = ((w[0] + w[3]) * o0 + (w[1] + w[2]) * o1).normalize_or_zero();
+                    // Anchored curves propagate their elevation outwards (n outward, F falls by
+                    // s per unit length); free-standing ones inwards (the paper's inversion).
+                    let n = if anchored { out } else { -out };
+                    let sign = if anchored { -1.0 } else { 1.0 };
+                    // The upwind neighbours sit one step along x and y, weighted n²: one grid
+                    // step covers |nx|³·dx + |ny|³·dy of distance along n.
+                    let reach = n.x.abs().powi(3) * cell.x + n.y.abs().powi(3) * cell.y;
+                    Paint::Gradient(writer, (sign * s * reach) as f32, [n.x as f32, n.y as f32])
+                });
+            }
+        }
+    }
+
+    /// Paints the samples inside quad `q` (corners in order), with bilinear-like weights of the
+    /// four corners from its two triangles' barycentric coordinates.
+    fn quad(&mut self, q: [DVec2; 4], paint: impl Fn([f64; 4]) -> Paint) {
+        for t in [[0, 1, 2], [0, 2, 3]] {
+            let (a, b, c) = (q[t[0]], q[t[1]], q[t[2]]);
+            let area = (b - a).perp_dot(c - a);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            // Scanlines: per sample row, the span of i the triangle covers (area-proportional
+            // work, unlike a bounding box around a long slanted band).
+            let g = [self.grid.grid_coords(a), self.grid.grid_coords(b), self.grid.grid_coords(c)];
+            let (ylo, yhi) = (g[0].y.min(g[1].y).min(g[2].y), g[0].y.max(g[1].y).max(g[2].y));
+            let (j0, j1) = (ylo.ceil().max(0.0), yhi.floor().min(self.grid.ny() as f64 - 1.0));
+            if j1 < j0 {
+                continue;
+            }
+            for j in j0 as usize..=j1 as usize {
+                let y = j as f64;
+                let (mut xlo, mut xhi) = (f64::INFINITY, f64::NEG_INFINITY);
+                for (p, q) in [(g[0], g[1]), (g[1], g[2]), (g[2], g[0])] {
+                    if (p.y <= y && y <= q.y) || (q.y <= y && y <= p.y) {
+                        let x = if (q.y - p.y).abs() < 1e-12 {
+                            p.x.min(q.x)
+                        } else {
+                            p.x + (y - p.y) / (q.y - p.y) * (q.x - p.x)
+                        };
+                        let x2 = if (q.y - p.y).abs() < 1e-12 { p.x.max(q.x) } else { x };
+                        xlo = xlo.min(x);
+                        xhi = xhi.max(x2);
+                    }
+                }
+                let (i0, i1) = ((xlo - 1e-9).ceil().max(0.0), (xhi + 1e-9).floor().min(self.grid.nx() as f64 - 1.0));
+                if i1 < i0 {
+                    continue;
+                }
+                for i in i0 as usize..=i1 as usize {
+                    let p = self.grid.position(i, j);
+                    let l0 = ((b - p).perp_dot(c - p) / area).clamp(0.0, 1.0);
+                    let l1 = ((c - p).perp_dot(a - p) / area).clamp(0.0, 1.0);
+                    let l2 = (1.0 - l0 - l1).max(0.0);
+                    // A sample on the shared diagonal is painted twice with the same values.
+                    let k = self.grid.index(i, j);
+                    let mut w = [0.0; 4];
+                    w[t[0]] += l0;
+                    w[t[1]] += l1;
+                    w[t[2]] += l2;
+                    self.apply(k, paint(w));
+                }
+            }
+        }
+    }
+
+    fn apply(&mut self, k: usize, paint: Paint) {
+        match paint {
+            Paint::Elevation(h) => {
+                self.elev[k].0 += h;
+                self.elev[k].1 += 1;
+            }
+            Paint::Noise(a, r) => {
+                self.amp[k].0 += a;
+                self.amp[k].1 += 1;
+                self.rough[k].0 += r;
+                self.rough[k].1 += 1;
+            }
+            Paint::Gradient(writer, g, n) => {
+                if self.writer[k] == NONE || self.writer[k] == writer {
+                    self.writer[k] = writer;
+                    self.grad[k] = (g, n);
+                } else {
+                    self.hole[k] = true;
+                }
+            }
+        }
+    }
+
+    fn finish(self) -> ConstraintMaps {
+        let mean = |(s, c): (f64, u32)| if c == 0 { f32::NAN } else { (s / f64::from(c)) as f32 };
+        let elevation: Vec<f32> = self.elev.iter().map(|&e| mean(e)).collect();
+        let kind: Vec<CellKind> = (0..elevation.len())
+            .map(|k| {
+                if !elevation[k].is_nan() {
+                    CellKind::Elevation
+                } else if self.hole[k] {
+                    CellKind::Hole
+                } else if self.writer[k] != NONE {
+                    CellKind::Gradient
+                } else {
+                    CellKind::Free
+                }
+            })
+            .collect();
+        let mut maps = ConstraintMaps {
+            grid: self.grid,
+            gradient: self.grad.iter().map(|g| g.0).collect(),
+            normal: self.grad.iter().map(|g| g.1).collect(),
+            elevation,
+            kind,
+            amplitude: self.amp.iter().map(|&a| mean(a)).collect(),
+            roughness: self.rough.iter().map(|&r| mean(r)).collect(),
+        };
+        fill_holes(&mut maps);
+        maps
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Paint {
+    Elevation(f64),
+    Noise(f64, f64),
+    Gradient(u32, f32, [f32; 2]),
+}
+
+/// Fills the gradient and normal of hole samples by Laplace diffusion (the paper's rule for
+/// crossing slope bands), then renormalises the normals. Each 4-connected group of holes is
+/// solved on its own bounding box grown by a margin, with the slope samples there as fixed
+/// values and everything else free, by the same multigrid solver as the elevation.
+fn fill_holes(maps: &mut ConstraintMaps) {
+    let (nx, ny) = (maps.grid.nx(), maps.grid.ny());
+    let mut seen = vec![false; nx * ny];
+    let mut stack = Vec::new();
+    for start in 0..nx * ny {
+        if seen[start] || maps.kind[start] != CellKind::Hole {
+            continue;
+        }
+        // The group's bounding box.
+        let (mut i0, mut j0, mut i1, mut j1) = (nx, ny, 0, 0);
+        seen[start] = true;
+        stack.push(start);
+        while let Some(k) = stack.pop() {
+            let (i, j) = (k % nx, k / nx);
+            (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
+            for (di, dj) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)] {
+                let (a, b) = (i as i64 + di, j as i64 + dj);
+                if a >= 0 && b >= 0 && a < nx as i64 && b < ny as i64 {
+                    let w = b as usize * nx + a as usize;
+                    if !seen[w] && maps.kind[w] == CellKind::Hole {
+                        seen[w] = true;
+                        stack.push(w);
+                    }
+                }
+            }
+        }
+        let margin = 2 + (i1 - i0).max(j1 - j0) / 4;
+        let (i0, j0) = (i0.saturating_sub(margin), j0.saturating_sub(margin));
+        let (i1, j1) = ((i1 + margin).min(nx - 1), (j1 + margin).min(ny - 1));
+        let (w, h) = (i1 - i0 + 1, j1 - j0 + 1);
+        if w < 2 || h < 2 {
+            continue;
+        }
+        let crop = |f: &dyn Fn(usize) -> f32| -> Vec<f32> {
+            (0..w * h)
+                .map(|c| {
+                    let k = (j0 + c / w) * nx + i0 + c % w;
+                    if maps.kind[k] == CellKind::Gradient { f(k) } else { f32::NAN }
+                })
+                .collect()
+        };
+        let solve = |values: Vec<f32>| -> Option<Vec<f32>> {
+            let options = SolveOptions { tolerance: 1e-3, ..SolveOptions::default() };
+            DiffusionProblem::laplace(w, h, &values)?.solve(&options).ok().map(|(x, _)| x)
+        };
+        let g = solve(crop(&|k| maps.gradient[k]));
+        let x = solve(crop(&|k| maps.normal[k][0]));
+        let y = solve(crop(&|k| maps.normal[k][1]));
+        for c in 0..w * h {
+            let k = (j0 + c / w) * nx + i0 + c % w;
+            if maps.kind[k] != CellKind::Hole {
+                continue;
+            }
+            maps.gradient[k] = g.as_ref().map_or(0.0, |g| g[c]);
+            let (a, b) = (x.as_ref().map_or(0.0, |x| x[c]), y.as_ref().map_or(0.0, |y| y[c]));
+            let len = a.hypot(b);
+            maps.normal[k] = if len > 1e-6 { [a / len, b / len] } else { [0.0, 0.0] };
+        }
+    }
+}

@@ -1,0 +1,125 @@
+//! From feature curves to a terrain (§4): rasterize, diffuse the elevation (guided by the slope
+//! constraints) and the noise parameters, synthesise the multi-fractal detail, add.
+
+use glam::DVec2;
+use rayon::prelude::*;
+use relief_heightfield::noise::gradient_noise;
+use relief_heightfield::{GridSpec, Heightfield};
+use serde::{Deserialize, Serialize};
+
+use crate::DiffusionError;
+use crate::curve::FeatureCurve;
+use crate::raster::ConstraintMaps;
+use crate::solver::{DiffusionProblem, SolveOptions, SolveReport};
+
+/// Options of [`generate`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TerrainOptions {
+    /// How the elevation (and the noise parameters) are solved.
+    pub solve: SolveOptions,
+    /// Wavelength of the first noise octave, world units (default 0: 1/16 of the larger side).
+    pub noise_wavelength: f64,
+    /// Octaves of the multi-fractal noise (the paper's n + 1 = 4).
+    pub noise_octaves: u32,
+    /// Seed of the noise.
+    pub seed: u64,
+}
+
+impl Default for TerrainOptions {
+    fn default() -> Self {
+        Self { solve: SolveOptions::default(), noise_wavelength: 0.0, noise_octaves: 4, seed: 0 }
+    }
+}
+
+/// What [`generate`] produces.
+#[derive(Debug, Clone)]
+pub struct FeatureTerrain {
+    /// Smooth elevation plus detail.
+    pub heightfield: Heightfield,
+    /// The smooth elevation alone (the diffusion's solution).
+    pub smooth: Heightfield,
+    /// How the elevation solve went.
+    pub report: SolveReport,
+    /// The rasterized constraints.
+    pub maps: ConstraintMaps,
+}
+
+/// Generates the terrain of `curves` on `grid`.
+///
+/// # Errors
+/// The validation errors of the curves, [`DiffusionError::NoElevation`],
+/// [`DiffusionError::GridTooSmall`], [`DiffusionError::InvalidOption`].
+pub fn generate(
+    curves: &[FeatureCurve],
+    grid: &GridSpec,
+    options: &TerrainOptions,
+) -> Result<FeatureTerrain, DiffusionError> {
+    if !(options.noise_wavelength.is_finite() && options.noise_wavelength >= 0.0) {
+        return Err(DiffusionError::InvalidOption {
+            name: "noise_wavelength",
+            value: options.noise_wavelength,
+            reason: "must be finite and ≥ 0 (0: automatic)",
+        });
+    }
+    if options.noise_octaves > 16 {
+        return Err(DiffusionError::InvalidOption {
+            name: "noise_octaves",
+            value: f64::from(options.noise_octaves),
+            reason: "at most 16",
+        });
+    }
+    let maps = ConstraintMaps::rasterize(curves, grid)?;
+    let (values, report) = DiffusionProblem::elevation(&maps)?.solve(&options.solve)?;
+    let smooth = Heightfield::from_samples(*grid, values).map_err(|_| DiffusionError::InvalidOption {
+        name: "constraints",
+        value: f64::NAN,
+        reason: "produced a non-finite elevation",
+    })?;
+    let (nx, ny) = (grid.nx(), grid.ny());
+    let diffuse = |v: &[f32]| -> Result<Option<Vec<f32>>, DiffusionError> {
+        DiffusionProblem::laplace(nx, ny, v).map(|p| p.solve(&options.solve).map(|(x, _)| x)).transpose()
+    };
+    let amplitude = diffuse(&maps.amplitude)?;
+    let mut heightfield = smooth.clone();
+    if let Some(amplitude) = amplitude {
+        let roughness = diffuse(&maps.roughness)?.unwrap_or_else(|| vec![0.5; grid.len()]);
+        let size = grid.extent().size();
+        let wavelength =
+            if options.noise_wavelength > 0.0 { options.noise_wavelength } else { size.x.max(size.y) / 16.0 };
+        let detail = Detail { wavelength, octaves: options.noise_octaves, seed: options.seed };
+        let samples = heightfield.samples_mut();
+        samples.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            for (i, h) in row.iter_mut().enumerate() {
+                let k = j * nx + i;
+                let a = f64::from(amplitude[k].max(0.0));
+                if a > 0.0 {
+                    let r = f64::from(roughness[k].clamp(0.0, 1.0));
+                    *h += (a * detail.sample(grid.position(i, j), r)) as f32;
+                }
+            }
+        });
+    }
+    Ok(FeatureTerrain { heightfield, smooth, report, maps })
+}
+
+/// The multi-fractal noise of §4.3: N = A·Σₖ 2^(−k(1−R))·S(2ᵏ·p), S gradient (Perlin) noise.
+#[derive(Debug, Clone, Copy)]
+struct Detail {
+    wavelength: f64,
+    octaves: u32,
+    seed: u64,
+}
+
+impl Detail {
+    /// Σₖ 2^(−k(1−R))·S(2ᵏ p / wavelength), without the amplitude.
+    fn sample(&self, p: DVec2, roughness: f64) -> f64 {
+        let q = p / self.wavelength;
+        (0..self.octaves)
+            .map(|k| {
+                let f = f64::from(1u32 << k.min(30));
+                f.powf(-(1.0 - roughness)) * gradient_noise(q * f, self.seed.wrapping_add(u64::from(k)))
+            })
+            .sum()
+    }
+}

@@ -1,0 +1,243 @@
+//! Issue #7's invariants: strict elevations are met exactly; with elevations only the solution is
+//! discrete-harmonic (maximum principle, linear ramps); slope constraints give their gradient;
+//! resolutions agree; both solvers agree; the output is deterministic for any thread count.
+
+use glam::DVec2;
+use proptest::prelude::*;
+use relief_diffusion_multigrid::{
+    CellKind, Constraint, ConstraintMaps, DiffusionError, DiffusionProblem, Elevation, FeatureCurve, SolveOptions,
+    Solver, TerrainOptions, generate, presets,
+};
+use relief_heightfield::GridSpec;
+
+fn grid(n: usize, size: f64) -> GridSpec {
+    GridSpec::new(n, n, DVec2::ZERO, DVec2::splat(size / (n - 1) as f64)).unwrap()
+}
+
+fn line(a: [f64; 2], b: [f64; 2], h: f64) -> FeatureCurve {
+    FeatureCurve::polyline(
+        &[DVec2::from(a), DVec2::from(b)],
+        vec![Constraint { u: 0.0, elevation: Some(Elevation { h, r: 0.0 }), ..Constraint::default() }],
+    )
+}
+
+fn plain() -> TerrainOptions {
+    TerrainOptions::default()
+}
+
+#[test]
+fn two_straight_curves_give_a_linear_ramp() {
+    // Elevation 0 along y = 0 and 100 along y = 1000, Neumann sides: F = y / 10 exactly.
+    let g = grid(129, 1000.0);
+    let curves = [line([-10.0, 0.0], [1010.0, 0.0], 0.0), line([-10.0, 1000.0], [1010.0, 1000.0], 100.0)];
+    let t = generate(&curves, &g, &plain()).unwrap();
+    assert!(t.report.converged, "{:?}", t.report);
+    for j in 0..129 {
+        for i in (0..129).step_by(16) {
+            let expected = 100.0 * j as f32 / 128.0;
+            let v = t.heightfield.get(i, j).unwrap();
+            assert!((v - expected).abs() < 0.05, "({i}, {j}): {v} vs {expected}");
+        }
+    }
+}
+
+#[test]
+fn elevations_only_give_a_discrete_harmonic_surface() {
+    let g = grid(97, 960.0);
+    let curves = [
+        line([100.0, 100.0], [800.0, 300.0], 50.0),
+        line([200.0, 800.0], [700.0, 600.0], 400.0),
+        line([900.0, 100.0], [900.0, 900.0], -30.0),
+    ];
+    let t = generate(&curves, &g, &plain()).unwrap();
+    assert!(t.report.converged);
+    let maps = &t.maps;
+    let f = t.smooth.samples();
+    let (mut worst, mut scale) = (0.0f32, 0.0f32);
+    for j in 1..96 {
+        for i in 1..96 {
+            let k = j * 97 + i;
+            scale = scale.max(f[k].abs());
+            if maps.kind[k] == CellKind::Elevation {
+                // Strict constraints hold exactly.
+                assert_eq!(f[k], maps.elevation[k]);
+                continue;
+            }
+            let avg = 0.25 * (f[k - 1] + f[k + 1] + f[k - 97] + f[k + 97]);
+            worst = worst.max((f[k] - avg).abs());
+        }
+    }
+    assert!(worst < 1e-3 * scale, "largest Laplacian defect {worst} on a {scale} m terrain");
+    // Maximum principle: nothing above the highest or below the lowest constraint.
+    let (lo, hi) = t.smooth.min_max().unwrap();
+    assert!(lo >= -30.0 - 1e-3 && hi <= 400.0 + 1e-3, "{lo} .. {hi}");
+}
+
+#[test]
+fn slope_constraints_give_their_gradient_next_to_the_curve() {
+    // A level ridge at 500 m along y = 1000 with 30° flanks over 300 m; the map's south and north
+    // edges held at 0 far away.
+    let n = 201;
+    let g = grid(n, 2000.0);
+    let mut ridge =
+        presets::ridge(&[DVec2::new(-10.0, 1000.0), DVec2::new(2010.0, 1000.0)], 500.0, 500.0, 500.0, 30.0, 300.0);
+    ridge.constraints.truncate(1);
+    let curves = [ridge, line([-10.0, 0.0], [2010.0, 0.0], 0.0), line([-10.0, 2000.0], [2010.0, 2000.0], 0.0)];
+    let t = generate(&curves, &g, &plain()).unwrap();
+    assert!(t.report.converged);
+    let tan = 30f64.to_radians().tan();
+    let cell = 10.0;
+    let col = 100;
+    // Just outside the elevation band (¾ cell) on both sides, over the first 5 cells.
+    for (from, to) in [(101usize, 106usize), (99, 94)] {
+        let a = f64::from(t.smooth.get(col, from).unwrap());
+        let b = f64::from(t.smooth.get(col, to).unwrap());
+        let slope = (a - b) / (cell * (to as f64 - from as f64).abs());
+        assert!((slope - tan).abs() < 0.15 * tan, "slope {slope:.3} vs tan 30° = {tan:.3} ({from}..{to})");
+    }
+}
+
+#[test]
+fn resolutions_agree_after_resampling() {
+    let curves = vec![
+        presets::ridge(&[DVec2::new(200.0, 500.0), DVec2::new(1800.0, 900.0)], 300.0, 900.0, 200.0, 25.0, 300.0),
+        presets::riverbed(&[DVec2::new(0.0, 1500.0), DVec2::new(2000.0, 1700.0)], 60.0, 20.0, 40.0, 5.0, 80.0),
+    ];
+    let coarse = generate(&curves, &grid(257, 2000.0), &plain()).unwrap().smooth;
+    let fine = generate(&curves, &grid(513, 2000.0), &plain()).unwrap().smooth;
+    let down = fine.resample(257, 257).unwrap();
+    let (lo, hi) = coarse.min_max().unwrap();
+    let worst = coarse.samples().iter().zip(down.samples()).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+    let mean = coarse.samples().iter().zip(down.samples()).map(|(a, b)| f64::from((a - b).abs())).sum::<f64>()
+        / coarse.samples().len() as f64;
+    assert!(worst < 0.06 * (hi - lo), "max difference {worst} on a {} m range", hi - lo);
+    assert!(mean < 0.01 * f64::from(hi - lo), "mean difference {mean}");
+}
+
+#[test]
+fn both_solvers_reach_the_same_solution() {
+    let curves = presets::multiple_ridges(
+        DVec2::splat(500.0),
+        800.0,
+        &[DVec2::new(100.0, 100.0), DVec2::new(900.0, 200.0), DVec2::new(500.0, 950.0)],
+        100.0,
+        &[30.0, 20.0],
+        150.0,
+    );
+    let maps = ConstraintMaps::rasterize(&curves, &grid(65, 1000.0)).unwrap();
+    let problem = DiffusionProblem::elevation(&maps).unwrap();
+    let tight = |solver| SolveOptions { solver, tolerance: 1e-6, max_iterations: Some(200_000) };
+    let (mg, a) = problem.solve(&tight(Solver::Multigrid)).unwrap();
+    let (jp, b) = problem.solve(&tight(Solver::JacobiPyramid)).unwrap();
+    assert!(a.converged && b.converged, "{a:?} {b:?}");
+    let worst = mg.iter().zip(&jp).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+    assert!(worst < 0.5, "solvers differ by {worst} m");
+    assert!(a.iterations < 20 && b.iterations > 100);
+}
+
+#[test]
+fn same_seed_same_bytes_for_any_thread_count() {
+    let curves = vec![
+        presets::with_noise(
+            presets::ridge(&[DVec2::new(100.0, 500.0), DVec2::new(900.0, 500.0)], 200.0, 600.0, 200.0, 30.0, 200.0),
+            40.0,
+            0.7,
+        ),
+        presets::crack(&[DVec2::new(500.0, 100.0), DVec2::new(500.0, 900.0)], 20.0, 60.0),
+        presets::hill(&[DVec2::new(0.0, 0.0), DVec2::new(1000.0, 0.0)], 0.0, 0.0),
+    ];
+    let g = grid(129, 1000.0);
+    let options = TerrainOptions { seed: 5, ..TerrainOptions::default() };
+    let run = || generate(&curves, &g, &options).unwrap().heightfield;
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(run);
+    let two = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap().install(run);
+    assert_eq!(one, two);
+    let other = generate(&curves, &g, &TerrainOptions { seed: 6, ..options }).unwrap().heightfield;
+    assert_ne!(one, other, "the seed drives the noise");
+    // The noise is there: the terrain differs from its smooth part by up to about the amplitude.
+    let t = generate(&curves, &g, &options).unwrap();
+    let detail =
+        t.heightfield.samples().iter().zip(t.smooth.samples()).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+    assert!(detail > 5.0 && detail < 200.0, "detail {detail}");
+}
+
+#[test]
+fn presets_shape_their_landforms() {
+    let g = grid(129, 1280.0);
+    let floor = line([-10.0, 0.0], [1290.0, 0.0], 0.0);
+    let at = |curves: &[FeatureCurve], p: [f64; 2]| {
+        let t = generate(curves, &g, &plain()).unwrap();
+        assert!(t.report.converged);
+        t.smooth.sample_bilinear(DVec2::from(p)).unwrap()
+    };
+    // A riverbed lies below its banks.
+    let river = [
+        presets::riverbed(&[DVec2::new(0.0, 640.0), DVec2::new(1280.0, 640.0)], 100.0, 100.0, 40.0, 20.0, 100.0),
+        floor.clone(),
+    ];
+    assert!(at(&river, [640.0, 640.0]) < at(&river, [640.0, 740.0]));
+    // A crack is lower than the ground beside it.
+    let crack = [
+        presets::crack(&[DVec2::new(300.0, 800.0), DVec2::new(1000.0, 800.0)], 30.0, 80.0),
+        line([-10.0, 1280.0], [1290.0, 1280.0], 200.0),
+        floor.clone(),
+    ];
+    assert!(at(&crack, [640.0, 800.0]) < at(&crack, [640.0, 870.0]) - 5.0);
+    // A cliff: its left (north, travelling east) side drops away, its right stays high.
+    let cliff = [presets::cliff(&[DVec2::new(-10.0, 640.0), DVec2::new(1290.0, 640.0)], 300.0, 60.0, 150.0), floor];
+    assert!(at(&cliff, [640.0, 720.0]) < at(&cliff, [640.0, 560.0]));
+}
+
+#[test]
+fn bad_input_is_a_typed_error() {
+    let g = grid(33, 100.0);
+    let crack = presets::crack(&[DVec2::ZERO, DVec2::splat(100.0)], 20.0, 10.0);
+    assert_eq!(generate(&[crack], &g, &plain()).unwrap_err(), DiffusionError::NoElevation);
+    let tiny = GridSpec::new(1, 5, DVec2::ZERO, DVec2::ONE).unwrap();
+    assert!(matches!(
+        generate(&[line([0.0, 0.0], [1.0, 1.0], 1.0)], &tiny, &plain()),
+        Err(DiffusionError::GridTooSmall { .. })
+    ));
+    let bad = TerrainOptions { solve: SolveOptions { tolerance: 0.0, ..SolveOptions::default() }, ..plain() };
+    assert!(matches!(
+        generate(&[line([0.0, 0.0], [1.0, 1.0], 1.0)], &g, &bad),
+        Err(DiffusionError::InvalidOption { name: "tolerance", .. })
+    ));
+    let bent = FeatureCurve { points: vec![DVec2::ZERO; 3], constraints: vec![Constraint::default()] };
+    assert!(matches!(generate(&[bent], &g, &plain()), Err(DiffusionError::ControlPoints { curve: 0, count: 3 })));
+    // Conflicting strict elevations average.
+    let maps = ConstraintMaps::rasterize(
+        &[line([0.0, 50.0], [100.0, 50.0], 10.0), line([0.0, 50.0], [100.0, 50.0], 30.0)],
+        &g,
+    )
+    .unwrap();
+    assert_eq!(maps.elevation[16 * 33 + 16], 20.0);
+    // Curves and options round-trip through JSON.
+    let c = presets::with_noise(presets::hill(&[DVec2::ZERO, DVec2::X], 3.0, 2.0), 1.0, 0.5);
+    let json = serde_json::to_string(&c).unwrap();
+    assert_eq!(serde_json::from_str::<FeatureCurve>(&json).unwrap(), c);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(16))]
+
+    /// Random straight elevation curves: constraints held exactly, the maximum principle holds.
+    #[test]
+    fn random_elevation_curves_obey_the_maximum_principle(
+        lines in prop::collection::vec(((0.0f64..500.0, 0.0f64..500.0), (0.0f64..500.0, 0.0f64..500.0), -100.0f64..300.0), 1..5)
+    ) {
+        let g = grid(49, 500.0);
+        let curves: Vec<FeatureCurve> = lines.iter().map(|&((ax, ay), (bx, by), h)| line([ax, ay], [bx, by], h)).collect();
+        let t = generate(&curves, &g, &plain()).unwrap();
+        prop_assert!(t.report.converged, "{:?}", t.report);
+        let (lo, hi) = lines.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), l| (lo.min(l.2), hi.max(l.2)));
+        // The solve stops at a relative residual of 1e-4: allow a few times that of the magnitude.
+        let tol = 2e-3 * lo.abs().max(hi.abs()).max(1.0);
+        for (k, &v) in t.smooth.samples().iter().enumerate() {
+            prop_assert!(f64::from(v) >= lo - tol && f64::from(v) <= hi + tol, "{v} outside {lo}..{hi}");
+            if t.maps.kind[k] == CellKind::Elevation {
+                prop_assert_eq!(v, t.maps.elevation[k]);
+            }
+        }
+    }
+}
