@@ -32,7 +32,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         problem.depth(),
         maps.counts()
     );
-    for solver in [Solver::Multigrid, Solver::JacobiPyramid] {
+    let solvers = if std::env::var("MG_ONLY").is_ok() {
+        vec![Solver::Multigrid]
+    } else {
+        vec![Solver::Multigrid, Solver::JacobiPyramid]
+    };
+    for solver in solvers {
         let t = Instant::now();
         let opts = SolveOptions {
             solver,

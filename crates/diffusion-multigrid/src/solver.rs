@@ -384,39 +384,48 @@ impl Level {
         (0..self.b.len()).map(|k| if self.fixed[k] { self.b[k] } else { 0.0 }).collect()
     }
 
-    /// The coarse version: 2 × 2 samples become one. A coarse sample is fixed when any of its
-    /// children is (so the Dirichlet data, even a single point, survives every coarsening, and
-    /// no coarse problem is a singular pure-Neumann one), at the mean of the fixed children. The
-    /// others average their children's equation weights (upwind directions by their signed
-    /// weights; what cancels goes to the Laplacian, so every row still sums to 1) and double the
-    /// gradient steps of the right-hand side (one coarse step spans two fine ones).
+    /// The coarse version, vertex-centred: coarse sample (I, J) sits on fine sample (2I, 2J) and
+    /// stands for its 3 × 3 neighbourhood under full weighting (¼, ½, ¼ per axis). It is fixed when
+    /// the fine sample or one of its four neighbours is (so Dirichlet data, even a one-sample-wide
+    /// curve, survives every coarsening and no coarse problem is a singular pure-Neumann one), at
+    /// the weighted mean of those fixed values. Otherwise it averages its neighbourhood's equation
+    /// weights (upwind directions by their signed weights; what cancels goes to the Laplacian, so
+    /// the row still sums to 1) and doubles the gradient steps of the right-hand side (one coarse
+    /// step spans two fine ones).
     fn coarsen(&self) -> Self {
         let (cx, cy) = (self.nx.div_ceil(2), self.ny.div_ceil(2));
         let mut c = Self::empty(cx, cy);
         for jc in 0..cy {
             for ic in 0..cx {
-                let (mut m, mut fixed, mut h, mut dx, mut dy, mut b) = (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
-                for j in 2 * jc..(2 * jc + 2).min(self.ny) {
-                    for i in 2 * ic..(2 * ic + 2).min(self.nx) {
-                        let k = j * self.nx + i;
-                        if self.fixed[k] {
-                            fixed += 1.0;
-                            h += self.b[k];
-                        } else {
-                            m += 1.0;
-                            dx += self.wx[k] * f32::from(self.ox[k]);
-                            dy += self.wy[k] * f32::from(self.oy[k]);
-                            b += 2.0 * self.b[k];
+                let k = jc * cx + ic;
+                let (fi, fj) = (2 * ic, 2 * jc);
+                let (mut fixed_w, mut h) = (0.0f32, 0.0f32);
+                for (di, dj) in [(0i64, 0i64), (-1, 0), (1, 0), (0, -1), (0, 1)] {
+                    let (i, j) = (fi as i64 + di, fj as i64 + dj);
+                    if i >= 0 && j >= 0 && (i as usize) < self.nx && (j as usize) < self.ny {
+                        let f = j as usize * self.nx + i as usize;
+                        if self.fixed[f] {
+                            let w = if di == 0 && dj == 0 { 4.0 } else { 1.0 };
+                            fixed_w += w;
+                            h += w * self.b[f];
                         }
                     }
                 }
-                let k = jc * cx + ic;
-                if fixed > 0.0 {
+                if fixed_w > 0.0 {
                     c.fixed[k] = true;
                     c.wl[k] = 0.0;
-                    c.b[k] = h / fixed;
+                    c.b[k] = h / fixed_w;
                     continue;
                 }
+                let (mut m, mut dx, mut dy, mut b) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+                self.full_weighting(fi, fj, |f, w| {
+                    if !self.fixed[f] {
+                        m += w;
+                        dx += w * self.wx[f] * f32::from(self.ox[f]);
+                        dy += w * self.wy[f] * f32::from(self.oy[f]);
+                        b += w * 2.0 * self.b[f];
+                    }
+                });
                 let (dx, dy) = (dx / m, dy / m);
                 c.b[k] = b / m;
                 c.wx[k] = dx.abs();
@@ -430,6 +439,27 @@ impl Level {
             }
         }
         c
+    }
+
+    /// Calls `f(fine index, weight)` over the 3 × 3 full-weighting neighbourhood of fine sample
+    /// `(fi, fj)` (weights ¼, ½, ¼ per axis; samples off the grid skipped).
+    #[inline]
+    fn full_weighting(&self, fi: usize, fj: usize, mut f: impl FnMut(usize, f32)) {
+        for dj in -1i64..=1 {
+            let j = fj as i64 + dj;
+            if j < 0 || j as usize >= self.ny {
+                continue;
+            }
+            let wj = if dj == 0 { 0.5 } else { 0.25 };
+            for di in -1i64..=1 {
+                let i = fi as i64 + di;
+                if i < 0 || i as usize >= self.nx {
+                    continue;
+                }
+                let wi = if di == 0 { 0.5 } else { 0.25 };
+                f(j as usize * self.nx + i as usize, wi * wj);
+            }
+        }
     }
 
     #[inline]
@@ -482,48 +512,91 @@ impl Level {
 
     /// One red-black Gauss–Seidel sweep for `rhs` (fixed samples untouched).
     fn smooth(&self, x: &mut Field, rhs: &[f32]) {
+        let nx = self.nx;
         for colour in 0..2 {
             let w = x.w;
             let (first, second) = x.c.split_at_mut(1);
             let (mine, other) = if colour == 0 { (&mut first[0], &second[0]) } else { (&mut second[0], &first[0]) };
             mine.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
                 let get = |i: usize, jj: usize| other[jj * w + (i >> 1)];
-                for i in ((j + colour) & 1..self.nx).step_by(2) {
-                    let k = j * self.nx + i;
-                    if !self.fixed[k] {
-                        row[i >> 1] = self.update(i, j, rhs[k], get);
+                let start = (j + colour) & 1;
+                if j == 0 || j + 1 == self.ny || nx < 3 {
+                    for i in (start..nx).step_by(2) {
+                        let k = j * nx + i;
+                        if !self.fixed[k] {
+                            row[i >> 1] = self.update(i, j, rhs[k], get);
+                        }
                     }
+                    return;
+                }
+                // Interior rows: no reflection, the vertical upwind neighbour picked from the
+                // rows below, here and above by its offset (any finite value when its weight is 0).
+                let rows = [&other[(j - 1) * w..j * w], &other[j * w..(j + 1) * w], &other[(j + 1) * w..(j + 2) * w]];
+                let base = j * nx;
+                for i in (start..nx).step_by(2) {
+                    let k = base + i;
+                    if self.fixed[k] {
+                        continue;
+                    }
+                    if i == 0 || i + 1 == nx {
+                        row[i >> 1] = self.update(i, j, rhs[k], get);
+                        continue;
+                    }
+                    let h = i >> 1;
+                    let mid = rows[1];
+                    let lap = mid[(i - 1) >> 1] + mid[(i + 1) >> 1] + rows[0][h] + rows[2][h];
+                    let bx = mid[i.wrapping_add_signed(isize::from(self.ox[k])) >> 1];
+                    let by = rows[(1 + self.oy[k]) as usize][h];
+                    row[h] = self.wl[k] * lap + self.wx[k] * bx + self.wy[k] * by + rhs[k];
                 }
             });
         }
     }
 
-    /// A·v on a full row-major array (v on fixed samples passes through).
-    fn apply(&self, v: &[f32]) -> Vec<f32> {
-        let mut out = vec![0.0f32; v.len()];
-        out.par_chunks_mut(self.nx).enumerate().for_each(|(j, row)| {
-            let get = |i: usize, jj: usize| v[jj * self.nx + i];
+    /// Per sample of a full row-major `x`: `f(k, x_k, U_k)` where `U_k` is the update value (the
+    /// stencil applied to x plus `rhs`, or plus 0), for non-fixed samples; `fixed(k, x_k)` for
+    /// fixed ones. Interior samples take a fast path without reflection.
+    fn map_stencil(
+        &self,
+        x: &[f32],
+        rhs: Option<&[f32]>,
+        fixed: impl Fn(f32) -> f32 + Sync,
+        f: impl Fn(f32, f32) -> f32 + Sync,
+    ) -> Vec<f32> {
+        let nx = self.nx;
+        let mut out = vec![0.0f32; x.len()];
+        out.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            let get = |i: usize, jj: usize| x[jj * nx + i];
+            let edge_row = j == 0 || j + 1 == self.ny;
             for (i, o) in row.iter_mut().enumerate() {
-                let k = j * self.nx + i;
-                *o = if self.fixed[k] { v[k] } else { v[k] - self.update(i, j, 0.0, get) };
+                let k = j * nx + i;
+                if self.fixed[k] {
+                    *o = fixed(x[k]);
+                    continue;
+                }
+                let b = rhs.map_or(0.0, |r| r[k]);
+                let u = if edge_row || i == 0 || i + 1 == nx {
+                    self.update(i, j, b, get)
+                } else {
+                    let lap = x[k - 1] + x[k + 1] + x[k - nx] + x[k + nx];
+                    let bx = x[k.wrapping_add_signed(isize::from(self.ox[k]))];
+                    let by = x[k.wrapping_add_signed(isize::from(self.oy[k]) * nx as isize)];
+                    self.wl[k] * lap + self.wx[k] * bx + self.wy[k] * by + b
+                };
+                *o = f(x[k], u);
             }
         });
         out
     }
 
+    /// A·v on a full row-major array (v on fixed samples passes through).
+    fn apply(&self, v: &[f32]) -> Vec<f32> {
+        self.map_stencil(v, None, |x| x, |x, u| x - u)
+    }
+
     /// b − A·x on a full row-major array (0 on fixed samples).
     fn residual_full(&self, x: &[f32]) -> Vec<f32> {
-        let mut out = vec![0.0f32; x.len()];
-        out.par_chunks_mut(self.nx).enumerate().for_each(|(j, row)| {
-            let get = |i: usize, jj: usize| x[jj * self.nx + i];
-            for (i, o) in row.iter_mut().enumerate() {
-                let k = j * self.nx + i;
-                if !self.fixed[k] {
-                    *o = self.update(i, j, self.b[k], get) - x[k];
-                }
-            }
-        });
-        out
+        self.map_stencil(x, Some(&self.b), |_| 0.0, |x, u| u - x)
     }
 
     /// One Jacobi sweep on a full row-major array.
@@ -541,17 +614,7 @@ impl Level {
 
     /// The residual for `rhs`, row-major (0 on fixed samples).
     fn residual(&self, x: &Field, rhs: &[f32]) -> Vec<f32> {
-        let mut r = vec![0.0f32; self.nx * self.ny];
-        r.par_chunks_mut(self.nx).enumerate().for_each(|(j, row)| {
-            let get = |i: usize, jj: usize| x.get(i, jj);
-            for (i, v) in row.iter_mut().enumerate() {
-                let k = j * self.nx + i;
-                if !self.fixed[k] {
-                    *v = self.update(i, j, rhs[k], get) - x.get(i, j);
-                }
-            }
-        });
-        r
+        self.map_stencil(&x.to_full(), Some(rhs), |_| 0.0, |x, u| u - x)
     }
 
     /// ‖residual‖₂, summed per row then in row order (deterministic).
@@ -562,7 +625,7 @@ impl Level {
         rows.iter().sum::<f64>().sqrt()
     }
 
-    /// The fine residual `r` restricted onto this (coarse) level, scaled per row.
+    /// The fine residual `r` restricted onto this (coarse) level by full weighting, scaled per row.
     fn restrict(&self, fine: &Level, r: &[f32]) -> Vec<f32> {
         let mut out = vec![0.0f32; self.nx * self.ny];
         out.par_chunks_mut(self.nx).enumerate().for_each(|(jc, row)| {
@@ -572,12 +635,10 @@ impl Level {
                     continue;
                 }
                 let (mut s, mut m) = (0.0f32, 0.0f32);
-                for j in 2 * jc..(2 * jc + 2).min(fine.ny) {
-                    for i in 2 * ic..(2 * ic + 2).min(fine.nx) {
-                        s += r[j * fine.nx + i];
-                        m += 1.0;
-                    }
-                }
+                fine.full_weighting(2 * ic, 2 * jc, |f, w| {
+                    s += w * r[f];
+                    m += w;
+                });
                 *v = self.scale[k] * s / m;
             }
         });
@@ -664,19 +725,19 @@ impl Field {
     }
 
     /// Adds (or, with `add` false, writes) the bilinear interpolation of the coarse field `e`
-    /// (half the resolution, samples at the centres of 2 × 2 blocks) on every non-fixed sample.
+    /// (half the resolution, coarse sample I on fine sample 2I) on every non-fixed sample.
     fn add_interpolated(&mut self, e: &Field, fixed: &[bool], add: bool) {
         let (nx, w) = (self.nx, self.w);
         for colour in 0..2 {
             self.c[colour].par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-                let y = ((j as f64 - 0.5) * 0.5).clamp(0.0, (e.ny - 1) as f64);
+                let y = (j as f64 * 0.5).min((e.ny - 1) as f64);
                 let (j0, fy) = (y.floor() as usize, (y - y.floor()) as f32);
                 let j1 = (j0 + 1).min(e.ny - 1);
                 for i in ((j + colour) & 1..nx).step_by(2) {
                     if fixed[j * nx + i] {
                         continue;
                     }
-                    let x = ((i as f64 - 0.5) * 0.5).clamp(0.0, (e.nx - 1) as f64);
+                    let x = (i as f64 * 0.5).min((e.nx - 1) as f64);
                     let (i0, fx) = (x.floor() as usize, (x - x.floor()) as f32);
                     let i1 = (i0 + 1).min(e.nx - 1);
                     let v = (1.0 - fy) * ((1.0 - fx) * e.get(i0, j0) + fx * e.get(i1, j0))
