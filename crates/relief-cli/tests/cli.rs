@@ -67,10 +67,10 @@ fn read_geojson(path: &Path) -> ContourSet {
     ContourSet::new(levels, contours).unwrap()
 }
 
-fn scene_histogram(scene_path: &Path) -> Histogram {
+fn scene_histogram(scene_path: &Path) -> Option<Histogram> {
     let scene = relief::pipeline::load_scene(scene_path).unwrap();
-    let Generator::Contours(g) = &scene.generator;
-    match &g.histogram {
+    let Generator::Contours(g) = &scene.generator else { return None };
+    Some(match &g.histogram {
         HistogramSource::Bins { edges, weights } => Histogram::from_bins(edges.clone(), weights.clone()).unwrap(),
         HistogramSource::Uniform { min, max } => Histogram::uniform(*min, *max).unwrap(),
         HistogramSource::Samples(s) => Histogram::from_samples(s.clone()).unwrap(),
@@ -78,11 +78,12 @@ fn scene_histogram(scene_path: &Path) -> Histogram {
             let dem = relief::io::read(scene_path.parent().unwrap().join(p)).unwrap();
             Histogram::from_samples(dem.samples().iter().map(|&v| f64::from(v)).collect()).unwrap()
         }
-    }
+    })
 }
 
-/// The checks every generated output directory passes.
-fn check_outputs(dir: &Path, histogram: &Histogram, depressions: bool) {
+/// The checks every generated output directory passes (the histogram check for scenes that
+/// prescribe one).
+fn check_outputs(dir: &Path, histogram: Option<&Histogram>, depressions: bool) {
     for file in ["terrain.exr", "terrain.png", "contours.geojson", "contours.svg", "preview.png", "summary.json"] {
         assert!(dir.join(file).is_file(), "{} missing", dir.join(file).display());
     }
@@ -92,8 +93,13 @@ fn check_outputs(dir: &Path, histogram: &Histogram, depressions: bool) {
     // The heightfield follows the histogram on land.
     let dem = relief::io::read(dir.join("terrain.exr")).unwrap();
     let land: Vec<f64> = dem.samples().iter().map(|&v| f64::from(v)).filter(|&v| v >= sea_level).collect();
-    let ks = histogram.ks_distance(&land);
-    assert!(ks < 0.08, "{}: raster KS {ks}", dir.display());
+    if let Some(histogram) = histogram {
+        let ks = histogram.ks_distance(&land);
+        assert!(ks < 0.08, "{}: raster KS {ks}", dir.display());
+    } else {
+        let report = &summary["diffusion"];
+        assert_eq!(report["converged"], true, "{}: {report}", dir.display());
+    }
     // The 16-bit PNG holds the same terrain, quantized.
     let png = relief::io::read(dir.join("terrain.png")).unwrap();
     let (lo, hi) = dem.min_max().unwrap();
@@ -123,15 +129,19 @@ fn every_fixture_scene_generates_checked_outputs() {
             continue;
         }
         let out = tmp.path().join(path.file_stem().unwrap());
-        let stdout = ok(&["generate", path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
-        assert!(stdout.contains("contours on"), "{stdout}");
         let scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        let Generator::Contours(g) = &scene.generator;
-        let depressions = g.regions.iter().any(|r| r.depression);
-        check_outputs(&out, &scene_histogram(&path), depressions);
+        // Contour scenes nest unless they have a depression; contours drawn from a diffused
+        // terrain may enclose local minima, so only crossing is checked there.
+        let (command, depressions) = match &scene.generator {
+            Generator::Contours(g) => ("generate", g.regions.iter().any(|r| r.depression)),
+            Generator::Diffusion(_) => ("diffuse", true),
+        };
+        let stdout = ok(&[command, path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        assert!(stdout.contains("contours on"), "{stdout}");
+        check_outputs(&out, scene_histogram(&path).as_ref(), depressions);
         count += 1;
     }
-    assert!(count >= 5);
+    assert!(count >= 8);
 }
 
 #[test]
@@ -141,9 +151,9 @@ fn demo_writes_its_outputs_and_says_where() {
     let stdout = ok(&["demo", "--out", out.to_str().unwrap()]);
     assert!(stdout.contains(&out.join("preview.png").display().to_string()), "{stdout}");
     let scene = Scene::demo();
-    let Generator::Contours(g) = &scene.generator;
+    let Generator::Contours(g) = &scene.generator else { panic!("the demo is a contour scene") };
     let HistogramSource::Bins { edges, weights } = &g.histogram else { panic!("the demo uses bins") };
-    check_outputs(&out, &Histogram::from_bins(edges.clone(), weights.clone()).unwrap(), true);
+    check_outputs(&out, Some(&Histogram::from_bins(edges.clone(), weights.clone()).unwrap()), true);
 }
 
 #[test]
@@ -247,6 +257,23 @@ fn analyze_reports_basins_and_compares_descriptors() {
     assert_eq!(same["distance"]["strahler"].as_i64(), Some(0));
     let text = ok(&["analyze", dem, "--compare", filled.to_str().unwrap()]);
     assert!(text.contains("closed basins") && text.contains("compared with"), "{text}");
+}
+
+#[test]
+fn diffuse_refuses_contour_scenes_and_names_bad_curve_values() {
+    let stderr = fails(&["diffuse", "fixtures/scenes/mesa.json"], 1);
+    assert!(stderr.contains("relief generate"), "{stderr}");
+    let tmp = tempfile::tempdir().unwrap();
+    let bad = tmp.path().join("bad.json");
+    std::fs::write(
+        &bad,
+        r#"{ "version": 1, "generator": { "diffusion": { "curves": [
+            { "points": [[0, 0], [100, 0]], "constraints": [{ "u": 0, "elevation": { "h": 1 }, "slope": { "a": 5, "b": 5, "theta": 95, "phi": 0 } }] }
+        ] } } }"#,
+    )
+    .unwrap();
+    let stderr = fails(&["diffuse", bad.to_str().unwrap()], 1);
+    assert!(stderr.contains("generator.diffusion.curves[0].constraints[0].slope.theta"), "{stderr}");
 }
 
 #[test]

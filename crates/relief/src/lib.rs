@@ -38,14 +38,16 @@
 //! assert_eq!((terrain.heightfield.nx(), terrain.heightfield.ny()), (128, 96));
 //! assert_eq!(terrain.contours.nests_by_level(), Ok(()));
 //! // Elevations follow the histogram: the node heights exactly, the raster closely.
-//! assert!(terrain.summary.histogram_match.nodes < 1e-3);
-//! assert!(terrain.summary.histogram_match.raster < 0.1);
+//! let fit = terrain.summary.histogram_match.as_ref().unwrap();
+//! assert!(fit.nodes < 1e-3);
+//! assert!(fit.raster < 0.1);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
 pub use relief_contours as contours;
+pub use relief_diffusion_multigrid as diffusion;
 pub use relief_eden_growth as eden_growth;
 pub use relief_heightfield as heightfield;
 pub use relief_heightfield_io as io;

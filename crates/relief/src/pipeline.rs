@@ -14,7 +14,10 @@ use serde::Serialize;
 use crate::ReliefError;
 use crate::contours::{
     Contour, ContourSet, ContoursError, Histogram, Interpolation, Ranking, Smoothing, Summit, assign_heights,
-    evenly_spaced_levels, extract_tin, interval_levels, reconstruct_interpolated, reconstruct_stairs,
+    evenly_spaced_levels, extract_dem, extract_tin, interval_levels, reconstruct_interpolated, reconstruct_stairs,
+};
+use crate::diffusion::{
+    self, Constraint, DiffusionError, FeatureCurve, SolveOptions, SolveReport, Solver, TerrainOptions,
 };
 use crate::eden_growth::{
     EdenError, FbmProbability, Graph, GraphOptions, LabelMap, ProbabilityMap, RasterProbability, Region, RegionTree,
@@ -26,8 +29,8 @@ use crate::hydrology::{self, D8, Field, HydrologyError, Outlets, StreamPower, Th
 use crate::io::{Format, ReadOptions};
 use crate::poisson_sampling::{Polygon, Rect};
 use crate::scene::{
-    ContoursGenerator, Edit, Generator, HistogramSource, Levels, Outputs, PostProcess, Probability, ReconstructionMode,
-    Rectangle, Scene,
+    ContoursGenerator, DiffusionGenerator, Edit, Generator, HistogramSource, Levels, Outputs, PostProcess, Probability,
+    ReconstructionMode, Rectangle, Scene, SolverSpec,
 };
 use crate::tin::PointLocator;
 use crate::warp::{PathOptions, PathWarp, Profile, SlopeModulation, Warp, WarpError, warp_polyline, warp_raster};
@@ -158,14 +161,19 @@ pub struct Summary {
     pub relief_version: &'static str,
     /// The scene as read (defaults filled in).
     pub scene: Scene,
-    /// Graph statistics.
-    pub graph: GraphSummary,
+    /// Graph statistics (contour generator only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub graph: Option<GraphSummary>,
     /// Contour statistics.
     pub contours: ContourSummary,
     /// Raster statistics.
     pub heightfield: RasterSummary,
-    /// Histogram match errors.
-    pub histogram_match: HistogramMatch,
+    /// Histogram match errors (contour generator only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub histogram_match: Option<HistogramMatch>,
+    /// How the diffusion solve went (diffusion generator only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub diffusion: Option<SolveReport>,
     /// Closed basins and stream order of the final heightfield.
     pub drainage: DrainageSummary,
     /// Time per step, in order (they vary from run to run, unlike everything else).
@@ -205,7 +213,19 @@ pub fn load_scene(path: impl AsRef<Path>) -> Result<Scene, ReliefError> {
 /// input file cannot be read.
 pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> Result<Terrain, ReliefError> {
     let mut timer = Timer { progress, timings: Vec::new() };
-    let Generator::Contours(generator) = &scene.generator;
+    match &scene.generator {
+        Generator::Contours(generator) => generate_contours(scene, generator, base_dir, &mut timer),
+        Generator::Diffusion(generator) => generate_diffusion(scene, generator, &mut timer),
+    }
+}
+
+/// The contours paper's pipeline.
+fn generate_contours(
+    scene: &Scene,
+    generator: &ContoursGenerator,
+    base_dir: &Path,
+    timer: &mut Timer<'_>,
+) -> Result<Terrain, ReliefError> {
     let inputs = timer.step("inputs", || Inputs::prepare(scene, generator, base_dir))?;
     let graph = timer.step("graph", || inputs.graph(scene.seed))?;
     let growth = timer.step("growth", || {
@@ -248,12 +268,7 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
         };
         hf.map_err(|e| ReliefError::pipeline("reconstruction", e))
     })?;
-    let heightfield = if scene.post.is_empty() {
-        heightfield
-    } else {
-        timer.step("post-process", || post_process(heightfield, &scene.post, sea_level))?
-    };
-    let drainage = timer.step("drainage", || drainage_summary(&heightfield, sea_level))?;
+    let (heightfield, drainage) = finish(scene, heightfield, sea_level, timer)?;
     let land: Vec<f64> =
         heightfield.samples().iter().filter(|v| f64::from(**v) >= sea_level).map(|&v| f64::from(v)).collect();
     let inside: Vec<f64> = growth.order().iter().map(|&v| heights.heights[v as usize]).collect();
@@ -262,13 +277,13 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
     let summary = Summary {
         relief_version: env!("CARGO_PKG_VERSION"),
         scene: scene.clone(),
-        graph: GraphSummary {
+        graph: Some(GraphSummary {
             nodes: graph.tin().num_points(),
             inside: graph.inside_count(),
             radius: graph.radius(),
             filled_nodes: graph.filled_nodes(),
             levels: graph.max_level(),
-        },
+        }),
         contours: ContourSummary {
             levels: contours.levels().len(),
             contours: contours.len(),
@@ -282,14 +297,157 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
             max,
             sea_level,
         },
-        histogram_match: HistogramMatch {
+        histogram_match: Some(HistogramMatch {
             nodes: inputs.histogram.ks_distance(&inside),
             raster: if land.is_empty() { 1.0 } else { inputs.histogram.ks_distance(&land) },
-        },
+        }),
+        diffusion: None,
         drainage,
-        timings_ms: timer.timings,
+        timings_ms: std::mem::take(&mut timer.timings),
     };
     Ok(Terrain { heightfield, contours, histogram: inputs.histogram, sea_level, summary })
+}
+
+/// Post-processes and the drainage summary, shared by every generator.
+fn finish(
+    scene: &Scene,
+    heightfield: Heightfield,
+    sea_level: f64,
+    timer: &mut Timer<'_>,
+) -> Result<(Heightfield, DrainageSummary), ReliefError> {
+    let heightfield = if scene.post.is_empty() {
+        heightfield
+    } else {
+        timer.step("post-process", || post_process(heightfield, &scene.post, sea_level))?
+    };
+    let drainage = timer.step("drainage", || drainage_summary(&heightfield, sea_level))?;
+    Ok((heightfield, drainage))
+}
+
+const DIFFUSION: &str = "generator.diffusion";
+
+/// Feature curves diffused into a terrain (Hnaidi et al. 2010), then contours drawn from it.
+fn generate_diffusion(
+    scene: &Scene,
+    generator: &DiffusionGenerator,
+    timer: &mut Timer<'_>,
+) -> Result<Terrain, ReliefError> {
+    let (curves, grid, options) = timer.step("inputs", || diffusion_inputs(scene, generator))?;
+    let terrain =
+        timer.step("diffusion", || diffusion::generate(&curves, &grid, &options).map_err(|e| diffusion_error(&e)))?;
+    let report = terrain.report;
+    let (lo, _) = terrain.heightfield.min_max().unwrap_or((0.0, 0.0));
+    let sea_level = generator.sea_level.unwrap_or(f64::from(lo) - 1.0);
+    let (heightfield, drainage) = finish(scene, terrain.heightfield, sea_level, timer)?;
+    let samples: Vec<f64> = heightfield.samples().iter().map(|&v| f64::from(v)).collect();
+    let histogram = Histogram::from_samples(samples).map_err(|e| ReliefError::pipeline("diffusion", e))?;
+    let contours = timer.step("contours", || {
+        let levels = levels(&generator.levels, &histogram, "generator.diffusion.levels")?;
+        extract_dem(&heightfield, &levels).map_err(|e| ReliefError::pipeline("contours", e))
+    })?;
+    let (min, max) = heightfield.min_max().unwrap_or((f32::NAN, f32::NAN));
+    let extent = grid.extent();
+    let summary = Summary {
+        relief_version: env!("CARGO_PKG_VERSION"),
+        scene: scene.clone(),
+        graph: None,
+        contours: ContourSummary {
+            levels: contours.levels().len(),
+            contours: contours.len(),
+            vertices: contours.vertex_count(),
+        },
+        heightfield: RasterSummary {
+            nx: grid.nx(),
+            ny: grid.ny(),
+            domain: Rectangle { min: extent.min.to_array(), max: extent.max.to_array() },
+            min,
+            max,
+            sea_level,
+        },
+        histogram_match: None,
+        diffusion: Some(report),
+        drainage,
+        timings_ms: std::mem::take(&mut timer.timings),
+    };
+    Ok(Terrain { heightfield, contours, histogram, sea_level, summary })
+}
+
+/// Curves, grid and options of a diffusion scene, checked.
+fn diffusion_inputs(
+    scene: &Scene,
+    g: &DiffusionGenerator,
+) -> Result<(Vec<FeatureCurve>, GridSpec, TerrainOptions), ReliefError> {
+    if g.curves.is_empty() {
+        return Err(ReliefError::scene(format!("{DIFFUSION}.curves"), "give at least one curve"));
+    }
+    let curves: Vec<FeatureCurve> = g
+        .curves
+        .iter()
+        .map(|c| FeatureCurve {
+            points: c.points.iter().map(|&p| DVec2::from(p)).collect(),
+            constraints: c
+                .constraints
+                .iter()
+                .map(|k| Constraint {
+                    u: k.u,
+                    elevation: k.elevation.map(|e| diffusion::Elevation { h: e.h, r: e.r }),
+                    slope: k.slope.map(|s| diffusion::Slope { a: s.a, b: s.b, theta: s.theta, phi: s.phi }),
+                    noise: k.noise.map(|n| diffusion::Noise { amplitude: n.amplitude, roughness: n.roughness }),
+                })
+                .collect(),
+        })
+        .collect();
+    for (k, c) in curves.iter().enumerate() {
+        c.validate(k).map_err(|e| diffusion_error(&e))?;
+    }
+    let extent = if let Some(d) = &scene.domain {
+        rectangle(d, "domain")?
+    } else {
+        let points = curves.iter().flat_map(|c| c.points.iter().copied());
+        let (lo, hi) = points.fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        let hi = hi.max(lo + DVec2::ONE);
+        default_domain(Rect::new(lo, hi), scene.reconstruction.resolution)
+    };
+    let grid = raster_grid(scene, extent)?;
+    let solve = SolveOptions {
+        solver: match g.solver {
+            SolverSpec::Multigrid => Solver::Multigrid,
+            SolverSpec::JacobiPyramid => Solver::JacobiPyramid,
+        },
+        tolerance: g.tolerance,
+        max_iterations: None,
+    };
+    let options = TerrainOptions {
+        solve,
+        noise_wavelength: g.noise_wavelength.unwrap_or(0.0),
+        noise_octaves: g.noise_octaves,
+        seed: scene.seed,
+    };
+    Ok((curves, grid, options))
+}
+
+/// A diffusion error as a scene error at the JSON path it comes from.
+fn diffusion_error(e: &DiffusionError) -> ReliefError {
+    let curve = |c: usize| format!("{DIFFUSION}.curves[{c}]");
+    match e {
+        DiffusionError::ControlPoints { curve: c, .. } | DiffusionError::NonFinitePoint { curve: c, .. } => {
+            ReliefError::scene(format!("{}.points", curve(*c)), e)
+        }
+        DiffusionError::NoConstraints { curve: c } => ReliefError::scene(format!("{}.constraints", curve(*c)), e),
+        DiffusionError::InvalidConstraint { curve: c, constraint, field, .. } => {
+            let group = match *field {
+                "u" => String::new(),
+                "h" | "r" => ".elevation".into(),
+                "amplitude" | "roughness" => ".noise".into(),
+                _ => ".slope".into(),
+            };
+            ReliefError::scene(format!("{}.constraints[{constraint}]{group}.{field}", curve(*c)), e)
+        }
+        DiffusionError::NoElevation => ReliefError::scene(format!("{DIFFUSION}.curves"), e),
+        DiffusionError::InvalidOption { name, .. } => ReliefError::scene(format!("{DIFFUSION}.{name}"), e),
+        DiffusionError::GridTooSmall { .. } => ReliefError::scene("reconstruction.resolution", e),
+        other => ReliefError::pipeline("diffusion", other),
+    }
 }
 
 /// Writes the outputs of `terrain` under `out_dir` (created if needed) and returns the files
@@ -430,20 +588,13 @@ impl Inputs {
             }
         };
         let histogram = histogram(&g.histogram, base_dir)?;
-        let levels = levels(&g.levels, &histogram)?;
+        let levels = levels(&g.levels, &histogram, "generator.contours.levels")?;
         let extent = match (&scene.domain, &source) {
             (Some(d), _) => rectangle(d, "domain")?,
             (None, Source::Labels(l)) => l.grid().extent(),
             (None, Source::Regions(t)) => default_domain(t.omega().bounds(), scene.reconstruction.resolution),
         };
-        let [nx, ny] = scene.reconstruction.resolution;
-        if !(2..=MAX_RESOLUTION).contains(&nx) || !(2..=MAX_RESOLUTION).contains(&ny) {
-            return Err(ReliefError::scene(
-                "reconstruction.resolution",
-                format!("{nx} x {ny}: each side must be in 2..={MAX_RESOLUTION}"),
-            ));
-        }
-        let grid = GridSpec::from_extent(nx, ny, extent).map_err(|e| ReliefError::scene("domain", e))?;
+        let grid = raster_grid(scene, extent)?;
         let probability = probability(&g.probability, base_dir, &extent, scene.seed)?;
         let (edits, warps) = edits(&scene.edits)?;
         Ok(Self { source, sampling, histogram, probability, levels, edits, warps, grid })
@@ -524,6 +675,18 @@ fn place(nx: usize, ny: usize, r: &Rectangle, at: &str) -> Result<GridSpec, Reli
 
 /// Ω's bounds grown by 5 % of their larger side, then widened to the resolution's aspect ratio so
 /// cells are square.
+/// The raster of `extent` at the scene's resolution, checked.
+fn raster_grid(scene: &Scene, extent: Extent) -> Result<GridSpec, ReliefError> {
+    let [nx, ny] = scene.reconstruction.resolution;
+    if !(2..=MAX_RESOLUTION).contains(&nx) || !(2..=MAX_RESOLUTION).contains(&ny) {
+        return Err(ReliefError::scene(
+            "reconstruction.resolution",
+            format!("{nx} x {ny}: each side must be in 2..={MAX_RESOLUTION}"),
+        ));
+    }
+    GridSpec::from_extent(nx, ny, extent).map_err(|e| ReliefError::scene("domain", e))
+}
+
 fn default_domain(bounds: Rect, [nx, ny]: [usize; 2]) -> Extent {
     let size = bounds.size();
     let grown = bounds.grow(0.05 * size.max_element());
@@ -552,8 +715,7 @@ fn histogram(source: &HistogramSource, base_dir: &Path) -> Result<Histogram, Rel
     }
 }
 
-fn levels(levels: &Levels, histogram: &Histogram) -> Result<Vec<f64>, ReliefError> {
-    let at = "generator.contours.levels";
+fn levels(levels: &Levels, histogram: &Histogram, at: &str) -> Result<Vec<f64>, ReliefError> {
     let (lo, hi) = (histogram.min(), histogram.max());
     match levels {
         Levels::Count(n) if *n > MAX_LEVELS => {

@@ -60,6 +60,118 @@ pub struct Rectangle {
 pub enum Generator {
     /// Iso-contour generation by inward Open Eden Growth (Huftier et al. 2025).
     Contours(ContoursGenerator),
+    /// Feature curves with elevation, slope and noise constraints, diffused into a terrain
+    /// (Hnaidi et al. 2010).
+    Diffusion(DiffusionGenerator),
+}
+
+/// Parameters of feature-curve diffusion.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DiffusionGenerator {
+    /// The feature curves (at least one must carry an elevation).
+    pub curves: Vec<CurveSpec>,
+    /// Solver of the diffusion equations (default multigrid).
+    #[serde(default)]
+    pub solver: SolverSpec,
+    /// Relative residual at which the solve stops (default 1e-4).
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    /// Wavelength of the first detail-noise octave, world units (default: 1/16 of the domain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_wavelength: Option<f64>,
+    /// Octaves of the detail noise (default 4, as the paper).
+    #[serde(default = "default_noise_octaves")]
+    pub noise_octaves: u32,
+    /// Ground below this is drawn as sea and drains (default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sea_level: Option<f64>,
+    /// Contours drawn from the result (default 20 evenly spaced levels).
+    #[serde(default = "default_diffusion_levels")]
+    pub levels: Levels,
+}
+
+fn default_tolerance() -> f64 {
+    1e-4
+}
+fn default_noise_octaves() -> u32 {
+    4
+}
+fn default_diffusion_levels() -> Levels {
+    Levels::Count(20)
+}
+
+/// Which diffusion solver runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverSpec {
+    /// Multigrid-preconditioned `BiCGStab` with a full-multigrid start.
+    #[default]
+    Multigrid,
+    /// The paper's coarse-to-fine Jacobi pyramid, then Jacobi to the tolerance.
+    JacobiPyramid,
+}
+
+/// A feature curve: a piecewise cubic Bézier spline with constraint points.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurveSpec {
+    /// Control points `[x, y]`: 2 (a segment) or 3k + 1 (p₀, c₀, c₁, p₁, …).
+    pub points: Vec<[f64; 2]>,
+    /// Constraint points along the curve.
+    pub constraints: Vec<ConstraintSpec>,
+}
+
+/// A constraint point at curve parameter `u` (0 at the start, 1 at the end, by arc length).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConstraintSpec {
+    /// Position along the curve, in [0, 1].
+    pub u: f64,
+    /// Strict elevation `h` over a band of half-width `r`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elevation: Option<ElevationSpec>,
+    /// Slopes: `theta` degrees over `a` on the left, `phi` over `b` on the right (positive falls away).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slope: Option<SlopeSpec>,
+    /// Detail noise amplitude and roughness (in [0, 1]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<NoiseSpec>,
+}
+
+/// Elevation constraint.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ElevationSpec {
+    /// Elevation.
+    pub h: f64,
+    /// Half-width of the band (default 0: the curve itself).
+    #[serde(default)]
+    pub r: f64,
+}
+
+/// Slope constraint.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SlopeSpec {
+    /// Extent on the left.
+    pub a: f64,
+    /// Extent on the right.
+    pub b: f64,
+    /// Angle on the left, degrees in (−90, 90).
+    pub theta: f64,
+    /// Angle on the right, degrees in (−90, 90).
+    pub phi: f64,
+}
+
+/// Noise constraint.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NoiseSpec {
+    /// Amplitude, elevation units.
+    pub amplitude: f64,
+    /// Roughness in [0, 1].
+    pub roughness: f64,
 }
 
 /// Parameters of iso-contour generation.

@@ -97,8 +97,9 @@ proptest! {
         terrain.contours.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(terrain.contours.nests_by_level(), Ok(()));
         prop_assert!(terrain.contours.contours().iter().all(|c| c.closed));
-        prop_assert!(terrain.summary.histogram_match.nodes <= 0.5 / terrain.summary.graph.inside as f64 + 1e-9);
-        prop_assert!(terrain.summary.histogram_match.raster < 0.1, "raster KS {}", terrain.summary.histogram_match.raster);
+        let (fit, graph) = (terrain.summary.histogram_match.as_ref().unwrap(), terrain.summary.graph.as_ref().unwrap());
+        prop_assert!(fit.nodes <= 0.5 / graph.inside as f64 + 1e-9);
+        prop_assert!(fit.raster < 0.1, "raster KS {}", fit.raster);
         prop_assert_eq!(closed_basins(&terrain.heightfield, terrain.sea_level as f32, |_| false), 0);
         prop_assert_eq!(terrain.summary.drainage.closed_basins, 0);
     }
@@ -278,4 +279,31 @@ fn erosion_post_processes_carve_the_terrain_and_fill_closes_nothing() {
         vec![PostProcess::StreamPower { iterations: 1, erodibility: 1e-4, uplift: 0.0, m: 0.4, n: -1.0, dt: 1.0 }];
     let err = generate(&scene, &root(), &mut ()).unwrap_err();
     assert!(matches!(&err, relief::ReliefError::Scene { path, .. } if path == "post[0].stream_power.n"), "{err}");
+}
+
+#[test]
+fn diffusion_scenes_run_through_the_same_pipeline() {
+    let text = std::fs::read_to_string(root().join("fixtures/scenes/volcanic-island.json")).unwrap();
+    let mut scene = Scene::from_json(&text).unwrap();
+    scene.reconstruction.resolution = [128, 128];
+    let one = with_threads(1, || generate(&scene, &root(), &mut ()).unwrap());
+    let two = with_threads(2, || generate(&scene, &root(), &mut ()).unwrap());
+    assert_eq!(one.heightfield, two.heightfield, "thread count changed the terrain");
+    let report = one.summary.diffusion.as_ref().unwrap();
+    assert!(report.converged, "{report:?}");
+    assert!(one.summary.graph.is_none() && one.summary.histogram_match.is_none());
+    // The crater rim stands high above the sea floor, which lies below sea level.
+    let rim = one.heightfield.sample_bilinear(DVec2::new(1250.0, 200.0)).unwrap();
+    let sea = one.heightfield.sample_bilinear(DVec2::new(-4700.0, 0.0)).unwrap();
+    assert!(rim > 900.0 && sea < 0.0, "rim {rim}, sea {sea}");
+    one.contours.check_invariants().unwrap();
+    assert!(!one.contours.is_empty());
+    // A bad value is a scene error at its JSON path.
+    let Generator::Diffusion(g) = &mut scene.generator else { panic!("a diffusion scene") };
+    g.curves[2].constraints[0].noise.as_mut().unwrap().roughness = 2.0;
+    let err = generate(&scene, &root(), &mut ()).unwrap_err();
+    assert!(
+        matches!(&err, relief::ReliefError::Scene { path, .. } if path == "generator.diffusion.curves[2].constraints[0].noise.roughness"),
+        "{err}"
+    );
 }
