@@ -67,20 +67,32 @@ fn render(entries: &[Entry]) -> String {
     for e in entries {
         let s = &e.summary;
         let total_ms: f64 = s["timings_ms"].as_array().map_or(0.0, |t| t.iter().filter_map(|x| x["ms"].as_f64()).sum());
+        let source = if s["diffusion"].is_object() {
+            format!(
+                "`relief diffuse {scene}`: {solver} solve in {it} iterations (relative residual {res:.1e}), ",
+                scene = e.scene,
+                solver = s["diffusion"]["solver"].as_str().unwrap_or("?"),
+                it = s["diffusion"]["iterations"],
+                res = s["diffusion"]["relative_residual"].as_f64().unwrap_or(f64::NAN),
+            )
+        } else {
+            format!(
+                "`relief generate {scene}`: {nodes} nodes, histogram match KS {ks:.4}, ",
+                scene = e.scene,
+                nodes = s["graph"]["nodes"],
+                ks = s["histogram_match"]["raster"].as_f64().unwrap_or(f64::NAN),
+            )
+        };
         let _ = write!(
             md,
-            "\n## {name}\n\n{description}\n\n`relief generate {scene}`: {nodes} nodes, {contours} contours on {levels} \
-             levels, {nx} × {ny} heightfield, histogram match KS {ks:.4}, {total_ms:.0} ms.\n\n\
-             ![{name}](gallery/{name}.png)\n",
+            "\n## {name}\n\n{description}\n\n{source}{contours} contours on {levels} levels, {nx} × {ny} \
+             heightfield, {total_ms:.0} ms.\n\n![{name}](gallery/{name}.png)\n",
             name = e.name,
             description = e.description,
-            scene = e.scene,
-            nodes = s["graph"]["nodes"],
             contours = s["contours"]["contours"],
             levels = s["contours"]["levels"],
             nx = s["heightfield"]["nx"],
             ny = s["heightfield"]["ny"],
-            ks = s["histogram_match"]["raster"].as_f64().unwrap_or(f64::NAN),
         );
     }
     md

@@ -138,6 +138,40 @@ pub(crate) const REFERENCES: &[(&str, Reference)] = &[
     ),
     ("relief_preview/shade_4096", Reference::Fixed { label: "target (issue #5)", seconds: 1.0 }),
     (
+        "diffusion/multigrid/512",
+        Reference::Fixed { label: "paper, GPU (8800 GTS), fastest of Table 2", seconds: 0.168 },
+    ),
+    (
+        "diffusion/multigrid/512",
+        Reference::SideBySide {
+            label: "paper's Jacobi pyramid (ours), same run",
+            bench: "diffusion/jacobi_pyramid/512",
+        },
+    ),
+    (
+        "diffusion/multigrid/1024",
+        Reference::Fixed { label: "paper, GPU (8800 GTS), fastest of Table 2", seconds: 0.253 },
+    ),
+    (
+        "diffusion/multigrid/1024",
+        Reference::SideBySide {
+            label: "paper's Jacobi pyramid (ours), same run",
+            bench: "diffusion/jacobi_pyramid/1024",
+        },
+    ),
+    (
+        "diffusion/multigrid/2048",
+        Reference::Fixed { label: "paper, GPU (8800 GTS), fastest of Table 2", seconds: 0.611 },
+    ),
+    (
+        "diffusion/multigrid/2048",
+        Reference::SideBySide {
+            label: "paper's Jacobi pyramid (ours), same run",
+            bench: "diffusion/jacobi_pyramid/2048",
+        },
+    ),
+    ("diffusion/multigrid/2048", Reference::Fixed { label: "target (issue #7)", seconds: 0.5 }),
+    (
         "hydrology/flood_and_accumulation/4096",
         Reference::Fixed { label: "target (issue #6): fill + D8 accumulation", seconds: 3.0 },
     ),

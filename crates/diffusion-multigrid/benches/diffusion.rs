@@ -1,7 +1,7 @@
 //! Time to a 1e-4 relative residual for the elevation solve of a mountain scene (three ridges
 //! sharing a peak, a riverbed) at 512², 1024², 2048² and 4096²: our multigrid against the paper's
 //! Jacobi pyramid (the pyramid only up to 2048², where it already needs ~1 650 finest sweeps).
-//! Paper (GPU, 8800 GTS): 0.17–0.22 s at 512², 0.25–0.34 s at 1024², 0.61–0.81 s at 2048².
+//! Paper (GPU, 8800 GTS, Table 2): 0.168–0.216 s at 512², 0.253–0.339 s at 1024², 0.611–0.811 s at 2048².
 //! Rasterization is benched apart.
 
 use std::hint::black_box;
