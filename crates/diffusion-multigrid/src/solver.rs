@@ -303,16 +303,18 @@ impl DiffusionProblem {
             }
             return;
         }
-        level.smooth(x, rhs);
-        level.smooth(x, rhs);
+        for _ in 0..sweeps() {
+            level.smooth(x, rhs);
+        }
         let r = level.residual(x, rhs);
         let coarse = &self.levels[l + 1];
         let rc = coarse.restrict(level, &r);
         let mut e = Field::zeros(coarse.nx, coarse.ny);
         self.vcycle(l + 1, &mut e, &rc);
         x.add_interpolated(&e, &level.fixed, true);
-        level.smooth(x, rhs);
-        level.smooth(x, rhs);
+        for _ in 0..sweeps() {
+            level.smooth(x, rhs);
+        }
     }
 
     fn jacobi_pyramid(&self, options: &SolveOptions) -> (Vec<f32>, SolveReport) {
@@ -646,6 +648,11 @@ impl Level {
     }
 }
 
+/// Red-black sweeps before and after each coarse-grid correction.
+const fn sweeps() -> usize {
+    2
+}
+
 /// Chunk length of the deterministic reductions.
 const CHUNK: usize = 1 << 14;
 
@@ -728,20 +735,25 @@ impl Field {
     /// (half the resolution, coarse sample I on fine sample 2I) on every non-fixed sample.
     fn add_interpolated(&mut self, e: &Field, fixed: &[bool], add: bool) {
         let (nx, w) = (self.nx, self.w);
+        let coarse = e.to_full();
+        let (cnx, cny) = (e.nx, e.ny);
         for colour in 0..2 {
             self.c[colour].par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-                let y = (j as f64 * 0.5).min((e.ny - 1) as f64);
-                let (j0, fy) = (y.floor() as usize, (y - y.floor()) as f32);
-                let j1 = (j0 + 1).min(e.ny - 1);
+                // Vertex-centred: even fine indices sit on coarse samples, odd ones halfway.
+                let j0 = (j / 2).min(cny - 1);
+                let j1 = if j % 2 == 1 { (j0 + 1).min(cny - 1) } else { j0 };
+                let (r0, r1) = (&coarse[j0 * cnx..(j0 + 1) * cnx], &coarse[j1 * cnx..(j1 + 1) * cnx]);
                 for i in ((j + colour) & 1..nx).step_by(2) {
                     if fixed[j * nx + i] {
                         continue;
                     }
-                    let x = (i as f64 * 0.5).min((e.nx - 1) as f64);
-                    let (i0, fx) = (x.floor() as usize, (x - x.floor()) as f32);
-                    let i1 = (i0 + 1).min(e.nx - 1);
-                    let v = (1.0 - fy) * ((1.0 - fx) * e.get(i0, j0) + fx * e.get(i1, j0))
-                        + fy * ((1.0 - fx) * e.get(i0, j1) + fx * e.get(i1, j1));
+                    let i0 = (i / 2).min(cnx - 1);
+                    let v = if i % 2 == 1 {
+                        let i1 = (i0 + 1).min(cnx - 1);
+                        0.25 * (r0[i0] + r0[i1] + r1[i0] + r1[i1])
+                    } else {
+                        0.5 * (r0[i0] + r1[i0])
+                    };
                     if add {
                         row[i >> 1] += v;
                     } else {
