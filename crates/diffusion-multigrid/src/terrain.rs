@@ -69,6 +69,14 @@ pub fn generate(
             reason: "at most 16",
         });
     }
+    let span = grid.extent().size().max_element();
+    if options.noise_wavelength > 0.0 && options.noise_wavelength < 1e-6 * span {
+        return Err(DiffusionError::InvalidOption {
+            name: "noise_wavelength",
+            value: options.noise_wavelength,
+            reason: "is below a millionth of the domain: the noise would alias to nothing",
+        });
+    }
     let maps = ConstraintMaps::rasterize(curves, grid)?;
     let (values, report) = DiffusionProblem::elevation(&maps)?.solve(&options.solve)?;
     let smooth = Heightfield::from_samples(*grid, values).map_err(|_| DiffusionError::InvalidOption {

@@ -203,6 +203,11 @@ fn bad_input_is_a_typed_error() {
         generate(&[line([0.0, 0.0], [1.0, 1.0], 1.0)], &g, &bad),
         Err(DiffusionError::InvalidOption { name: "tolerance", .. })
     ));
+    let aliased = TerrainOptions { noise_wavelength: 1e-12, ..plain() };
+    assert!(matches!(
+        generate(&[line([0.0, 0.0], [1.0, 1.0], 1.0)], &g, &aliased),
+        Err(DiffusionError::InvalidOption { name: "noise_wavelength", .. })
+    ));
     let bent = FeatureCurve { points: vec![DVec2::ZERO; 3], constraints: vec![Constraint::default()] };
     assert!(matches!(generate(&[bent], &g, &plain()), Err(DiffusionError::ControlPoints { curve: 0, count: 3 })));
     // Conflicting strict elevations average.

@@ -21,10 +21,10 @@ pub struct Histogram {
 }
 
 impl Histogram {
-    /// Bins `values` (finite ones only) into `bins` equal bins spanning their range. A single
-    /// distinct value gets a unit-wide range around it.
+    /// Bins `values` (finite ones only) into `bins` equal bins (clamped to 1..=[`MAX_BINS`])
+    /// spanning their range. A single distinct value gets a unit-wide range around it.
     pub fn of(values: impl Iterator<Item = f64> + Clone, bins: usize) -> Self {
-        let bins = bins.max(1);
+        let bins = bins.clamp(1, MAX_BINS);
         let (mut lo, mut hi) = values
             .clone()
             .filter(|v| v.is_finite())
@@ -92,11 +92,14 @@ impl Histogram {
     }
 }
 
+/// The most bins a descriptor histogram may have.
+pub const MAX_BINS: usize = 65_536;
+
 /// Options for [`Descriptors::of`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct DescriptorOptions {
-    /// Bins per histogram (default 64).
+    /// Bins per histogram (default 64, at most [`MAX_BINS`]).
     pub bins: usize,
     /// How drainage area is routed for its histogram (default Freeman MFD, as the contours
     /// paper's comparison).
@@ -153,7 +156,7 @@ impl Descriptors {
     /// [`HydrologyError::AllNoData`], or [`HydrologyError::InvalidParameter`] for zero bins or a
     /// negative stream threshold.
     pub fn of(hf: &Heightfield, options: &DescriptorOptions) -> Result<Self, HydrologyError> {
-        check_param("bins", options.bins as f64, |b| b >= 1.0, "need at least one bin")?;
+        check_param("bins", options.bins as f64, |b| (1.0..=MAX_BINS as f64).contains(&b), "must lie in 1..=65536")?;
         let filled = fill(hf, options.outlets)?;
         let z = hf.samples();
         let cells = z.iter().filter(|v| !v.is_nan()).count();

@@ -52,7 +52,7 @@ mod flow;
 mod grid8;
 
 pub use depressions::{Basin, Depressions, NoData, Outlets, depressions, endorheic_nodes, fill, has_endorheic_basins};
-pub use descriptors::{DescriptorDistance, DescriptorOptions, Descriptors, Histogram};
+pub use descriptors::{DescriptorDistance, DescriptorOptions, Descriptors, Histogram, MAX_BINS};
 pub use erosion::{Field, StreamPower, Thermal};
 pub use error::HydrologyError;
 pub use flow::{D8, Mfd, NO_RECEIVER, mfd_drainage_area, strahler};

@@ -287,6 +287,10 @@ fn bad_input_gets_defined_results_or_typed_errors() {
         Err(HydrologyError::InvalidParameter { name: "bins", .. })
     ));
     assert!(matches!(
+        Descriptors::of(&holed, &DescriptorOptions { bins: usize::MAX, ..DescriptorOptions::default() }),
+        Err(HydrologyError::InvalidParameter { name: "bins", .. })
+    ));
+    assert!(matches!(
         mfd_drainage_area(&holed, Mfd::Freeman { p: -1.0 }),
         Err(HydrologyError::InvalidParameter { name: "p", .. })
     ));

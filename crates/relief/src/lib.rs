@@ -13,6 +13,8 @@
 //! | [`eden_growth`] | `relief-eden-growth` | inward Open Eden Growth: region trees, label maps, probability maps |
 //! | [`contours`] | `relief-contours` | histogram heights, contour extraction, nesting, smoothing, reconstruction |
 //! | [`warp`] | `relief-warp` | bijective coherent warps and slope modulation |
+//! | [`hydrology`] | `relief-hydrology` | closed basins, the endorheic check, drainage, Strahler order, erosion, descriptors |
+//! | [`diffusion`] | `relief-diffusion-multigrid` | feature curves diffused into terrain (Hnaidi et al. 2010) |
 //!
 //! A scene is a few nested contours plus a histogram; [`pipeline::generate`] turns it into a
 //! heightfield and its contours:

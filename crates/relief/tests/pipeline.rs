@@ -307,3 +307,47 @@ fn diffusion_scenes_run_through_the_same_pipeline() {
         "{err}"
     );
 }
+
+/// The endorheic check on the generation graph itself (the TIN's node heights and CSR adjacency):
+/// Open Eden Growth leaves no node without a non-ascending path to Ω's outside, unless a region is
+/// a depression.
+#[test]
+fn grown_node_heights_have_no_endorheic_node_unless_a_depression_asks() {
+    use relief::contours::{Histogram, Ranking, assign_heights};
+    use relief::eden_growth::{Graph, GraphOptions, Region, RegionTree, Uniform, grow};
+    use relief::hydrology::endorheic_nodes;
+    use relief::poisson_sampling::Polygon;
+
+    let ring = |c: [f64; 2], r: f64| {
+        let wobble: Vec<f64> = (0..16).map(|k| (f64::from(k) * 2.3).sin().abs()).collect();
+        Polygon::from_exterior(star(c, r, &wobble).into_iter().map(DVec2::from).collect()).unwrap()
+    };
+    for crater in [false, true] {
+        let mut regions =
+            vec![Region::new(ring([0.0, 0.0], 3000.0)).with_height(0.0), Region::new(ring([200.0, 0.0], 1200.0))];
+        if crater {
+            regions.push(Region::new(ring([200.0, 0.0], 400.0)).as_depression());
+        }
+        let tree = RegionTree::new(regions).unwrap();
+        let graph = Graph::from_regions(&tree, &GraphOptions::particles(4000).with_seed(5)).unwrap();
+        let growth = grow(&graph, &Uniform, 5).unwrap();
+        let level_ends: Vec<usize> = (1..=growth.levels()).map(|l| growth.level_range(l).end).collect();
+        let ranking =
+            Ranking { order: growth.order(), level_ends: &level_ends, level_heights: &graph.level_heights()[1..] };
+        let histogram = Histogram::uniform(0.0, 1000.0).unwrap();
+        let heights = assign_heights(graph.tin().num_points(), &ranking, &histogram).unwrap();
+        let tin = graph.tin();
+        // Water leaves at the nodes outside Ω (the sea around the island).
+        let outlet: Vec<bool> = (0..tin.num_points() as u32).map(|v| !graph.is_inside(v)).collect();
+        let closed = endorheic_nodes(&heights.heights, tin.adjacency_offsets(), tin.adjacency(), &outlet).unwrap();
+        if crater {
+            assert!(!closed.is_empty(), "the crater's floor is a closed basin");
+            // Every closed node lies in or near the crater.
+            let far =
+                closed.iter().filter(|&&v| tin.points()[v as usize].distance(DVec2::new(200.0, 0.0)) > 900.0).count();
+            assert_eq!(far, 0, "closed nodes away from the crater");
+        } else {
+            assert!(closed.is_empty(), "{} closed nodes without a depression", closed.len());
+        }
+    }
+}
