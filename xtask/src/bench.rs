@@ -13,7 +13,23 @@ use crate::references::{REFERENCES, Reference};
 /// Runs the benches (shorter warm-up and measurement with `quick`; only `packages` when given) and
 /// writes the report from every median under `target/criterion`, so a partial run refreshes its
 /// rows and keeps the others from earlier runs.
-pub(crate) fn run(root: &Path, quick: bool, packages: &[String]) -> Result<()> {
+pub(crate) fn run(root: &Path, quick: bool, packages: &[String], report_only: bool) -> Result<()> {
+    if !report_only {
+        run_benches(root, quick, packages)?;
+    }
+    let medians = collect(&root.join("target/criterion"))?;
+    let mut report = render(&medians, quick);
+    report.push_str(&paired_tin(root, quick)?);
+    let out = root.join("docs/benchmarks.md");
+    let tmp = out.with_extension("md.tmp");
+    fs::write(&tmp, report).with_context(|| format!("writing {}", tmp.display()))?;
+    fs::rename(&tmp, &out).with_context(|| format!("renaming into {}", out.display()))?;
+    println!("wrote {} ({} benchmarks)", out.display(), medians.len());
+    Ok(())
+}
+
+/// `cargo bench` over the workspace or the named packages.
+fn run_benches(root: &Path, quick: bool, packages: &[String]) -> Result<()> {
     let mut cmd = Command::new(env!("CARGO"));
     cmd.current_dir(root).arg("bench");
     if packages.is_empty() {
@@ -26,16 +42,7 @@ pub(crate) fn run(root: &Path, quick: bool, packages: &[String]) -> Result<()> {
     if quick {
         cmd.args(["--warm-up-time", "1", "--measurement-time", "2"]);
     }
-    crate::run(&mut cmd)?;
-    let medians = collect(&root.join("target/criterion"))?;
-    let mut report = render(&medians, quick);
-    report.push_str(&paired_tin(root, quick)?);
-    let out = root.join("docs/benchmarks.md");
-    let tmp = out.with_extension("md.tmp");
-    fs::write(&tmp, report).with_context(|| format!("writing {}", tmp.display()))?;
-    fs::rename(&tmp, &out).with_context(|| format!("renaming into {}", out.display()))?;
-    println!("wrote {} ({} benchmarks)", out.display(), medians.len());
-    Ok(())
+    crate::run(&mut cmd)
 }
 
 /// The TIN wrapper's cost over spade measured in pairs (`crates/tin/examples/wrapper_overhead.rs`):

@@ -3,7 +3,9 @@
 //! - `ci`: the same steps as `.ci/run` (it runs that script, the single source of truth).
 //! - `bench [--quick] [-p PACKAGE]...`: runs the criterion benches (all, or those of the named
 //!   packages) and writes `docs/benchmarks.md`, our medians beside the figures the papers and the
-//!   issues report.
+//!   issues report. `--report-only` rewrites the report from the medians already under
+//!   `target/criterion` (after a filtered `cargo bench`, say) without running anything but the
+//!   paired TIN measurement.
 //! - `gallery`: renders the demo and every fixture scene and writes `docs/gallery.md`.
 //!
 //! Dependency-light on purpose (`anyhow`, `serde_json`): it builds in seconds and never needs the
@@ -26,11 +28,12 @@ fn main() -> Result<()> {
         Some("bench") => {
             let packages: Vec<String> =
                 args.windows(2).filter(|w| w[0] == "-p" || w[0] == "--package").map(|w| w[1].clone()).collect();
-            bench::run(&root, args.iter().any(|a| a == "--quick"), &packages)
+            let flag = |f: &str| args.iter().any(|a| a == f);
+            bench::run(&root, flag("--quick"), &packages, flag("--report-only"))
         }
         Some("gallery") => gallery::run(&root),
         Some("help" | "--help" | "-h") | None => {
-            println!("usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... | gallery>");
+            println!("usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gallery>");
             Ok(())
         }
         Some(other) => bail!("unknown command `{other}`; try `cargo xtask help`"),

@@ -19,7 +19,9 @@ use crate::raster::{CellKind, ConstraintMaps};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Solver {
-    /// Full multigrid then V-cycles with red-black Gauss–Seidel smoothing (2 + 2 sweeps).
+    /// Full multigrid then V-cycles with red-black Gauss–Seidel smoothing (2 + 2 sweeps, damped
+    /// coarse-grid correction); `BiCGStab` preconditioned by the V-cycle takes over if a cycle cuts
+    /// the residual by less than 30 %.
     #[default]
     Multigrid,
     /// The paper's pyramid: 5·(l − i) Jacobi iterations on level i from the coarsest (0) to the
@@ -217,7 +219,31 @@ impl DiffusionProblem {
         }
         let finest = &self.levels[0];
         let max = options.max_iterations.unwrap_or(60);
-        let (x, history, iterations) = self.bicgstab(x.to_full(), r0, options.tolerance, max);
+        // Plain V-cycles while each cuts the residual by at least 30 %; BiCGStab, preconditioned by
+        // the same V-cycle, takes over from the first that does not (slope-dominated constraint
+        // sets can make the cycles stall), restarting from the last good iterate.
+        let mut history = vec![finest.residual_norm(&x, &finest.b) / r0];
+        let mut cycles = 0;
+        while history[history.len() - 1] >= options.tolerance && cycles < max {
+            let before = x.clone();
+            self.vcycle(0, &mut x, &finest.b);
+            cycles += 1;
+            let rel = finest.residual_norm(&x, &finest.b) / r0;
+            if rel > 0.7 * history[history.len() - 1] {
+                x = before;
+                cycles -= 1;
+                break;
+            }
+            history.push(rel);
+        }
+        let mut iterations = cycles;
+        let mut solution = x.to_full();
+        if history[history.len() - 1] >= options.tolerance && cycles < max {
+            let (krylov, more, its) = self.bicgstab(solution, r0, options.tolerance, max - cycles);
+            solution = krylov;
+            history.extend_from_slice(&more[1..]);
+            iterations += its;
+        }
         let rel = history[history.len() - 1];
         let report = SolveReport {
             solver: Solver::Multigrid,
@@ -226,8 +252,7 @@ impl DiffusionProblem {
             converged: rel < options.tolerance,
             history,
         };
-        debug_assert_eq!(x.len(), finest.b.len());
-        (x, report)
+        (solution, report)
     }
 
     /// The V-cycle as a preconditioner: z ≈ A⁻¹·r (zero on fixed samples).
@@ -311,6 +336,7 @@ impl DiffusionProblem {
         let rc = coarse.restrict(level, &r);
         let mut e = Field::zeros(coarse.nx, coarse.ny);
         self.vcycle(l + 1, &mut e, &rc);
+        e.scale(CORRECTION_DAMPING);
         x.add_interpolated(&e, &level.fixed, true);
         for _ in 0..sweeps() {
             level.smooth(x, rhs);
@@ -648,6 +674,11 @@ impl Level {
     }
 }
 
+/// Weight of the coarse-grid correction. The coarse rows only approximate the fine ones (second-
+/// and first-order terms scale differently), and undamped corrections overshoot on slope bands
+/// until V-cycles diverge; at 0.7 they converge on every constraint set we tried.
+const CORRECTION_DAMPING: f32 = 0.7;
+
 /// Red-black sweeps before and after each coarse-grid correction.
 const fn sweeps() -> usize {
     2
@@ -714,6 +745,12 @@ impl Field {
             }
         }
         f
+    }
+
+    fn scale(&mut self, s: f32) {
+        for c in &mut self.c {
+            c.par_chunks_mut(CHUNK).for_each(|chunk| chunk.iter_mut().for_each(|v| *v *= s));
+        }
     }
 
     #[inline]
