@@ -103,9 +103,9 @@ fn resolutions_agree_after_resampling() {
         presets::ridge(&[DVec2::new(200.0, 500.0), DVec2::new(1800.0, 900.0)], 300.0, 900.0, 200.0, 25.0, 300.0),
         presets::riverbed(&[DVec2::new(0.0, 1500.0), DVec2::new(2000.0, 1700.0)], 60.0, 20.0, 40.0, 5.0, 80.0),
     ];
-    let coarse = generate(&curves, &grid(257, 2000.0), &plain()).unwrap().smooth;
-    let fine = generate(&curves, &grid(513, 2000.0), &plain()).unwrap().smooth;
-    let down = fine.resample(257, 257).unwrap();
+    let coarse = generate(&curves, &grid(512, 2000.0), &plain()).unwrap().smooth;
+    let fine = generate(&curves, &grid(1024, 2000.0), &plain()).unwrap().smooth;
+    let down = fine.resample(512, 512).unwrap();
     let (lo, hi) = coarse.min_max().unwrap();
     let worst = coarse.samples().iter().zip(down.samples()).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
     let mean = coarse.samples().iter().zip(down.samples()).map(|(a, b)| f64::from((a - b).abs())).sum::<f64>()
