@@ -42,6 +42,27 @@ fn find_metadata(info: &png::Info<'_>) -> Result<Option<Metadata>, IoErrorKind> 
     Ok(None)
 }
 
+/// A zeroed buffer for the image `reader` announces (`w` × `h` of `unit`), refused before it is
+/// allocated when the file (`found` bytes) is too short to hold it: deflate cannot compress better
+/// than about 1032:1, so a shorter file is lying about its size.
+fn frame_buffer<R: std::io::BufRead + std::io::Seek>(
+    reader: &png::Reader<R>,
+    (w, h): (u32, u32),
+    found: usize,
+    limits: Limits,
+    unit: &str,
+) -> Result<Vec<u8>, IoErrorKind> {
+    let len = reader
+        .output_buffer_size()
+        .ok_or_else(|| IoErrorKind::TooLarge { cells: u64::from(w) * u64::from(h), limit: limits.max_cells })?;
+    if (found as u64).saturating_mul(1032) < len as u64 {
+        return Err(IoErrorKind::HeaderMismatch(format!(
+            "header announces {w}x{h} {unit} ({len} bytes) but the file holds only {found} bytes"
+        )));
+    }
+    Ok(vec![0u8; len])
+}
+
 pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErrorKind> {
     let found = bytes.len();
     let budget = png::Limits { bytes: limits.byte_budget(2, 16 << 20) };
@@ -60,17 +81,7 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
         }
     };
     let mut reader = decoder.read_info().map_err(|e| decode_error(e, found))?;
-    let len = reader
-        .output_buffer_size()
-        .ok_or_else(|| IoErrorKind::TooLarge { cells: u64::from(w) * u64::from(h), limit: limits.max_cells })?;
-    // Deflate cannot compress better than about 1032:1, so a file shorter than that fraction of
-    // the image it announces is lying about its size: refuse before allocating.
-    if (found as u64).saturating_mul(1032) < len as u64 {
-        return Err(IoErrorKind::HeaderMismatch(format!(
-            "header announces {w}x{h} samples ({len} bytes) but the file holds only {found} bytes"
-        )));
-    }
-    let mut buf = vec![0u8; len];
+    let mut buf = frame_buffer(&reader, (w, h), found, limits, "samples")?;
     reader.next_frame(&mut buf).map_err(|e| decode_error(e, found))?;
     // Reads the chunks after the image data too (a text chunk may follow IDAT) and catches files
     // cut before IEND.
@@ -141,7 +152,6 @@ pub(crate) fn encode(hf: &Heightfield, bits: u8) -> Result<Vec<u8>, IoErrorKind>
     Ok(out)
 }
 
-/// Encodes an 8-bit RGB image (used by the shaded-relief preview).
 /// Decodes any PNG (gray, gray + alpha, RGB, RGBA, palette, any bit depth) as luma in [0, 1]
 /// (ITU-R BT.601 weights for colour), fully transparent pixels as no-data, on a plain grid
 /// (origin 0, cell 1, rows flipped to south-first): label masks and probability maps.
@@ -154,15 +164,7 @@ pub(crate) fn decode_luma(bytes: &[u8], limits: Limits) -> Result<Heightfield, I
     let (w, h) = (header.width, header.height);
     limits.check(u64::from(w), u64::from(h))?;
     let mut reader = decoder.read_info().map_err(|e| decode_error(e, found))?;
-    let len = reader
-        .output_buffer_size()
-        .ok_or_else(|| IoErrorKind::TooLarge { cells: u64::from(w) * u64::from(h), limit: limits.max_cells })?;
-    if (found as u64).saturating_mul(1032) < len as u64 {
-        return Err(IoErrorKind::HeaderMismatch(format!(
-            "header announces {w}x{h} pixels ({len} bytes) but the file holds only {found} bytes"
-        )));
-    }
-    let mut buf = vec![0u8; len];
+    let mut buf = frame_buffer(&reader, (w, h), found, limits, "pixels")?;
     let frame = reader.next_frame(&mut buf).map_err(|e| decode_error(e, found))?;
     let (color, depth) = (frame.color_type, frame.bit_depth);
     let channels = color.samples();
@@ -191,6 +193,7 @@ pub(crate) fn decode_luma(bytes: &[u8], limits: Limits) -> Result<Heightfield, I
     Heightfield::from_samples(plain_grid(nx, ny)?, values).map_err(IoErrorKind::InvalidData)
 }
 
+/// Encodes an 8-bit RGB image (used by the shaded-relief preview).
 pub(crate) fn encode_rgb(width: u32, height: u32, pixels: &[u8]) -> Result<Vec<u8>, IoErrorKind> {
     let enc_err = |e: png::EncodingError| IoErrorKind::Encode(e.to_string());
     let mut out = Vec::new();
