@@ -6,7 +6,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::check_param;
 use crate::flow::{D8, Mfd, mfd_drainage_area};
-use crate::grid8::Grid8;
 use crate::{HydrologyError, Outlets, fill};
 
 /// A histogram with equal-width bins over `[lo, hi]`.
@@ -172,10 +171,10 @@ impl Descriptors {
         let log_area =
             Histogram::of(area.iter().zip(z).filter(|(_, v)| !v.is_nan()).map(|(a, _)| a.log10()), options.bins);
         let d8 = D8::new(&filled)?;
-        let stream_area_m2 = options.stream_area_m2.unwrap_or_else(|| {
-            let g = Grid8::new(hf.grid());
-            0.005 * (0..g.len()).filter(|&k| !z[k].is_nan()).map(|k| g.area(k)).sum::<f64>()
-        });
+        // Everything drains to a sink of the filled DEM, so the sinks hold the whole valid area.
+        let stream_area_m2 = options
+            .stream_area_m2
+            .unwrap_or_else(|| 0.005 * d8.sinks().map(|(i, j)| d8.drainage_area()[hf.grid().index(i, j)]).sum::<f64>());
         let streams = d8.streams(stream_area_m2)?;
         let max_strahler = d8.strahler(&streams)?.into_iter().max().unwrap_or(0);
         Ok(Self { elevation, slope_deg, log10_drainage_area: log_area, max_strahler, stream_area_m2, cells })

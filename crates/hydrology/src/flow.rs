@@ -58,7 +58,7 @@ impl D8 {
                 (best, best_d as f32)
             })
             .unzip();
-        let mut area: Vec<f64> = (0..n).map(|k| if z[k].is_nan() { 0.0 } else { g.area(k) }).collect();
+        let mut area = g.cell_areas(z);
         let order = accumulate(&receivers, &mut area);
         Ok(Self { nx: g.nx, receivers, distance, order, area })
     }
@@ -251,7 +251,7 @@ pub fn mfd_drainage_area(hf: &Heightfield, method: Mfd) -> Result<Vec<f64>, Hydr
     let z = hf.samples();
     let mut order: Vec<u32> = (0..n as u32).filter(|&k| !z[k as usize].is_nan()).collect();
     order.par_sort_unstable_by(|&a, &b| z[b as usize].total_cmp(&z[a as usize]).then(a.cmp(&b)));
-    let mut area: Vec<f64> = (0..n).map(|k| if z[k].is_nan() { 0.0 } else { g.area(k) }).collect();
+    let mut area = g.cell_areas(z);
     let mut share = [(0usize, 0.0f64); 8];
     for &k in &order {
         let k = k as usize;

@@ -38,6 +38,11 @@ impl Grid8 {
         self.area[k / self.nx]
     }
 
+    /// Per cell of `z`, the area it stands for in m² (0 on no-data): what drainage starts from.
+    pub(crate) fn cell_areas(&self, z: &[f32]) -> Vec<f64> {
+        z.iter().enumerate().map(|(k, v)| if v.is_nan() { 0.0 } else { self.area(k) }).collect()
+    }
+
     /// Calls `f(neighbour, direction, distance)` for each in-grid neighbour of `k`.
     #[inline]
     pub(crate) fn each(&self, k: usize, mut f: impl FnMut(usize, usize, f64)) {
