@@ -8,26 +8,17 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec2;
-use relief_diffusion_multigrid::{ConstraintMaps, DiffusionProblem, FeatureCurve, SolveOptions, Solver, presets};
-use relief_heightfield::GridSpec;
+use relief_diffusion_multigrid::{ConstraintMaps, DiffusionProblem, SolveOptions, Solver};
 
-fn scene() -> Vec<FeatureCurve> {
-    let mut curves = presets::multiple_ridges(
-        DVec2::splat(2000.0),
-        1200.0,
-        &[DVec2::new(500.0, 800.0), DVec2::new(3500.0, 1200.0), DVec2::new(2000.0, 3600.0)],
-        200.0,
-        &[30.0, 20.0, 35.0],
-        600.0,
-    );
-    curves.push(presets::riverbed(&[DVec2::new(0.0, 200.0), DVec2::new(4000.0, 400.0)], 50.0, 0.0, 60.0, 5.0, 100.0));
-    curves
-}
+#[path = "common/scene.rs"]
+mod scene;
+use relief_heightfield::GridSpec;
+use scene::scene_with;
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("diffusion");
     group.sample_size(10);
-    let curves = scene();
+    let curves = scene_with(600.0);
     for n in [512usize, 1024, 2048, 4096] {
         let grid = GridSpec::new(n, n, DVec2::ZERO, DVec2::splat(4000.0 / (n - 1) as f64)).expect("grid");
         group.bench_with_input(BenchmarkId::new("rasterize", n), &grid, |b, grid| {

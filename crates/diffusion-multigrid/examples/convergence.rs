@@ -5,24 +5,19 @@
 use std::time::Instant;
 
 use glam::DVec2;
-use relief_diffusion_multigrid::{ConstraintMaps, DiffusionProblem, SolveOptions, Solver, presets};
+use relief_diffusion_multigrid::{ConstraintMaps, DiffusionProblem, SolveOptions, Solver};
+
+#[path = "../benches/common/scene.rs"]
+mod scene;
 use relief_heightfield::GridSpec;
+use scene::scene_with;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: usize = std::env::args().nth(1).map_or(Ok(513), |s| s.parse())?;
     let slopes = std::env::args().nth(2).is_none_or(|s| s != "0");
     let cell = 4000.0 / (n - 1) as f64;
     let grid = GridSpec::new(n, n, DVec2::ZERO, DVec2::splat(cell))?;
-    let extent = if slopes { 600.0 } else { 0.0 };
-    let mut curves = presets::multiple_ridges(
-        DVec2::splat(2000.0),
-        1200.0,
-        &[DVec2::new(500.0, 800.0), DVec2::new(3500.0, 1200.0), DVec2::new(2000.0, 3600.0)],
-        200.0,
-        &[30.0, 20.0, 35.0],
-        extent,
-    );
-    curves.push(presets::riverbed(&[DVec2::new(0.0, 200.0), DVec2::new(4000.0, 400.0)], 50.0, 0.0, 60.0, 5.0, 100.0));
+    let curves = scene_with(if slopes { 600.0 } else { 0.0 });
     let t = Instant::now();
     let maps = ConstraintMaps::rasterize(&curves, &grid)?;
     let problem = DiffusionProblem::elevation(&maps)?;

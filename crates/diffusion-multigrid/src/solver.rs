@@ -130,8 +130,8 @@ impl DiffusionProblem {
                     level.wy[k] = 0.5 * y * y;
                     // What the normal leaves (a zero normal) goes to the Laplacian.
                     level.wl[k] += 0.125 * (1.0 - x * x - y * y).max(0.0);
-                    level.ox[k] = -(x.signum() as i8) * i8::from(x != 0.0);
-                    level.oy[k] = -(y.signum() as i8) * i8::from(y != 0.0);
+                    level.ox[k] = -sign(x);
+                    level.oy[k] = -sign(y);
                     level.b[k] = 0.5 * maps.gradient[k];
                 }
                 _ => {}
@@ -458,8 +458,8 @@ impl Level {
                 c.b[k] = b / m;
                 c.wx[k] = dx.abs();
                 c.wy[k] = dy.abs();
-                c.ox[k] = dx.signum() as i8 * i8::from(dx != 0.0);
-                c.oy[k] = dy.signum() as i8 * i8::from(dy != 0.0);
+                c.ox[k] = sign(dx);
+                c.oy[k] = sign(dy);
                 c.wl[k] = ((1.0 - c.wx[k] - c.wy[k]) / 4.0).max(0.0);
                 // Residuals of second-order (Laplace) rows grow 4× per coarsening, first-order
                 // (gradient) rows 2×.
@@ -682,6 +682,11 @@ const CORRECTION_DAMPING: f32 = 0.7;
 /// Red-black sweeps before and after each coarse-grid correction.
 const fn sweeps() -> usize {
     2
+}
+
+/// −1, 0 or 1: the upwind step along an axis (`f32::signum` gives ±1 for zero).
+fn sign(v: f32) -> i8 {
+    i8::from(v > 0.0) - i8::from(v < 0.0)
 }
 
 /// Chunk length of the deterministic reductions.
