@@ -78,21 +78,19 @@ pub struct SolveReport {
     pub history: Vec<f64>,
 }
 
-/// One level of the system.
+/// One level of the system, stored by colour like [`Field`].
 #[derive(Debug, Clone)]
 struct Level {
     nx: usize,
     ny: usize,
-    wl: Vec<f32>,
-    wx: Vec<f32>,
-    wy: Vec<f32>,
-    ox: Vec<i8>,
-    oy: Vec<i8>,
-    fixed: Vec<bool>,
-    /// Right-hand side of this level's version of the problem.
-    b: Vec<f32>,
-    /// Factor applied to the restricted residual arriving at this level (coarse levels).
-    scale: Vec<f32>,
+    /// Row stride of the colour arrays (`⌈nx / 2⌉`).
+    w: usize,
+    /// Per sample, the signed upwind weights `[wx·ox, wy·oy]` in units of [`QUANTUM`]; [`FIXED`]
+    /// in the first marks a fixed sample. Everything else follows from these two numbers: the
+    /// Laplacian weight is `(1 − |wx| − |wy|) / 4`, so each row sums to 1.
+    g: [Vec<[i16; 2]>; 2],
+    /// Right-hand side of this level's version of the problem (the value on fixed samples).
+    b: Field,
 }
 
 /// A diffusion problem on a grid with its coarse versions.
@@ -113,48 +111,40 @@ impl DiffusionProblem {
         }
         let (nx, ny) = (maps.grid.nx(), maps.grid.ny());
         let n = nx * ny;
-        let mut level = Level::empty(nx, ny);
+        let mut g = vec![[0i16; 2]; n];
+        let mut b = vec![0.0f32; n];
         for k in 0..n {
             let (i, j) = (k % nx, k / nx);
             let border = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
             match maps.kind[k] {
                 CellKind::Elevation => {
-                    level.fixed[k] = true;
-                    level.wl[k] = 0.0;
-                    level.b[k] = maps.elevation[k];
+                    g[k] = [FIXED, 0];
+                    b[k] = maps.elevation[k];
                 }
                 CellKind::Gradient | CellKind::Hole if !border => {
+                    // Half gradient along the normal: weights n²/2 per axis, upwind against the
+                    // normal (a shorter normal leaves the rest to the Laplacian).
                     let [x, y] = maps.normal[k];
-                    level.wl[k] = 0.125;
-                    level.wx[k] = 0.5 * x * x;
-                    level.wy[k] = 0.5 * y * y;
-                    // What the normal leaves (a zero normal) goes to the Laplacian.
-                    level.wl[k] += 0.125 * (1.0 - x * x - y * y).max(0.0);
-                    level.ox[k] = -sign(x);
-                    level.oy[k] = -sign(y);
-                    level.b[k] = 0.5 * maps.gradient[k];
+                    let len2 = (x * x + y * y).max(1.0);
+                    g[k] = [quantize(-0.5 * x * x.abs() / len2), quantize(-0.5 * y * y.abs() / len2)];
+                    b[k] = 0.5 * maps.gradient[k];
                 }
                 _ => {}
             }
         }
-        Ok(Self::with_coarse(level))
+        Ok(Self::with_coarse(Level::new(nx, ny, &g, &b)))
     }
 
     /// Plain Laplace diffusion of `values` (NaN where free): what the noise amplitude and
-    /// roughness go through. `None` if no value is given.
+    /// roughness go through. `None` if no value is given, the grid is narrower than 2 samples
+    /// along an axis, or `values` is not `nx·ny` long.
     pub fn laplace(nx: usize, ny: usize, values: &[f32]) -> Option<Self> {
-        if values.iter().all(|v| v.is_nan()) {
+        if nx < 2 || ny < 2 || values.len() != nx * ny || values.iter().all(|v| v.is_nan()) {
             return None;
         }
-        let mut level = Level::empty(nx, ny);
-        for (k, &v) in values.iter().enumerate() {
-            if !v.is_nan() {
-                level.fixed[k] = true;
-                level.wl[k] = 0.0;
-                level.b[k] = v;
-            }
-        }
-        Some(Self::with_coarse(level))
+        let g: Vec<[i16; 2]> = values.iter().map(|v| if v.is_nan() { [0, 0] } else { [FIXED, 0] }).collect();
+        let b: Vec<f32> = values.iter().map(|&v| if v.is_nan() { 0.0 } else { v }).collect();
+        Some(Self::with_coarse(Level::new(nx, ny, &g, &b)))
     }
 
     fn with_coarse(finest: Level) -> Self {
@@ -186,34 +176,34 @@ impl DiffusionProblem {
     /// [`DiffusionError::InvalidOption`] for a tolerance outside (0, 1).
     pub fn solve(&self, options: &SolveOptions) -> Result<(Vec<f32>, SolveReport), DiffusionError> {
         options.check()?;
-        Ok(match options.solver {
+        let (x, report) = match options.solver {
             Solver::Multigrid => self.multigrid(options),
             Solver::JacobiPyramid => self.jacobi_pyramid(options),
-        })
+        };
+        Ok((x.to_full(), report))
     }
 
     /// ‖r‖₂ of the constraints alone (fixed values, zero elsewhere): the reference of the
     /// relative residual.
     fn reference_norm(&self) -> f64 {
         let l = &self.levels[0];
-        let start: Vec<f32> = (0..l.b.len()).map(|k| if l.fixed[k] { l.b[k] } else { 0.0 }).collect();
-        let norm = l.residual_norm(&Field::from_full(l.nx, l.ny, &start), &l.b);
+        let norm = norm(&l.residual(&l.start(), &l.b));
         if norm > 0.0 { norm } else { 1.0 }
     }
 
-    fn multigrid(&self, options: &SolveOptions) -> (Vec<f32>, SolveReport) {
+    fn multigrid(&self, options: &SolveOptions) -> (Field, SolveReport) {
         let r0 = self.reference_norm();
         let top = self.levels.len() - 1;
         // Full multigrid: solve the coarsest version, then interpolate and cycle once per level.
         let coarsest = &self.levels[top];
-        let mut x = Field::from_full(coarsest.nx, coarsest.ny, &coarsest.start());
+        let mut x = coarsest.start();
         for _ in 0..100 {
-            coarsest.smooth(&mut x, &coarsest.b);
+            coarsest.sweep(&mut x, &coarsest.b);
         }
         for l in (0..top).rev() {
             let level = &self.levels[l];
-            let mut finer = Field::from_full(level.nx, level.ny, &level.start());
-            finer.add_interpolated(&x, &level.fixed, false);
+            let mut finer = level.start();
+            finer.interpolate(&x, level, None);
             x = finer;
             self.vcycle(l, &mut x, &level.b);
         }
@@ -221,14 +211,15 @@ impl DiffusionProblem {
         let max = options.max_iterations.unwrap_or(60);
         // Plain V-cycles while each cuts the residual by at least 30 %; BiCGStab, preconditioned by
         // the same V-cycle, takes over from the first that does not (slope-dominated constraint
-        // sets can make the cycles stall), restarting from the last good iterate.
-        let mut history = vec![finest.residual_norm(&x, &finest.b) / r0];
+        // sets can make the cycles stall), restarting from the last good iterate. Every cycle ends
+        // with a sweep, so the residual lives on colour 0 only.
+        let mut history = vec![norm(&finest.residual_after_sweep(&x, &finest.b)) / r0];
         let mut cycles = 0;
         while history[history.len() - 1] >= options.tolerance && cycles < max {
             let before = x.clone();
             self.vcycle(0, &mut x, &finest.b);
             cycles += 1;
-            let rel = finest.residual_norm(&x, &finest.b) / r0;
+            let rel = norm(&finest.residual_after_sweep(&x, &finest.b)) / r0;
             if rel > 0.7 * history[history.len() - 1] {
                 x = before;
                 cycles -= 1;
@@ -237,10 +228,9 @@ impl DiffusionProblem {
             history.push(rel);
         }
         let mut iterations = cycles;
-        let mut solution = x.to_full();
         if history[history.len() - 1] >= options.tolerance && cycles < max {
-            let (krylov, more, its) = self.bicgstab(solution, r0, options.tolerance, max - cycles);
-            solution = krylov;
+            let (krylov, more, its) = self.bicgstab(x, r0, options.tolerance, max - cycles);
+            x = krylov;
             history.extend_from_slice(&more[1..]);
             iterations += its;
         }
@@ -252,15 +242,15 @@ impl DiffusionProblem {
             converged: rel < options.tolerance,
             history,
         };
-        (solution, report)
+        (x, report)
     }
 
     /// The V-cycle as a preconditioner: z ≈ A⁻¹·r (zero on fixed samples).
-    fn precondition(&self, r: &[f32]) -> Vec<f32> {
+    fn precondition(&self, r: &Field) -> Field {
         let l = &self.levels[0];
         let mut z = Field::zeros(l.nx, l.ny);
         self.vcycle(0, &mut z, r);
-        z.to_full()
+        z
     }
 
     /// `BiCGStab` (van der Vorst 1992), right-preconditioned by one V-cycle per application. The
@@ -268,17 +258,24 @@ impl DiffusionProblem {
     /// gradient-dominated constraint sets; wrapped in `BiCGStab` it converges robustly. Krylov
     /// vectors vanish on fixed samples, which therefore keep their values. Returns the solution,
     /// the relative residual after the start and after each iteration, and the iteration count.
-    fn bicgstab(&self, mut x: Vec<f32>, r0: f64, tol: f64, max: usize) -> (Vec<f32>, Vec<f64>, usize) {
+    fn bicgstab(&self, mut x: Field, r0: f64, tol: f64, max: usize) -> (Field, Vec<f64>, usize) {
         let l = &self.levels[0];
-        let mut r = l.residual_full(&x);
+        let zero = Field::zeros(l.nx, l.ny);
+        // A·v = v − S·v on free samples and v on fixed ones: minus the residual of v for rhs 0.
+        let apply = |v: &Field| {
+            let mut a = l.residual(v, &zero);
+            a.map2(&zero, |a, _| -a);
+            a
+        };
+        let mut r = l.residual(&x, &l.b);
         let mut history = vec![norm(&r) / r0];
         if history[0] < tol {
             return (x, history, 0);
         }
         let hat = r.clone();
         let (mut rho, mut alpha, mut omega) = (1.0f64, 1.0f64, 1.0f64);
-        let mut v = vec![0.0f32; r.len()];
-        let mut p = vec![0.0f32; r.len()];
+        let mut v = Field::zeros(l.nx, l.ny);
+        let mut p = Field::zeros(l.nx, l.ny);
         let mut iterations = 0;
         while iterations < max {
             iterations += 1;
@@ -286,31 +283,37 @@ impl DiffusionProblem {
             if rho_new == 0.0 || omega == 0.0 {
                 break;
             }
-            let beta = (rho_new / rho) * (alpha / omega);
+            let beta = ((rho_new / rho) * (alpha / omega)) as f32;
             rho = rho_new;
-            axpy_update(&mut p, &r, &v, beta, omega);
+            // p = r + β·(p − ω·v)
+            let om = omega as f32;
+            p.map2(&v, |p, v| p - om * v);
+            p.map2(&r, |p, r| r + beta * p);
             let y = self.precondition(&p);
-            v = l.apply(&y);
+            v = apply(&y);
             let hv = dot(&hat, &v);
             if hv == 0.0 {
                 break;
             }
             alpha = rho / hv;
-            let s: Vec<f32> = r.iter().zip(&v).map(|(&r, &v)| r - (alpha as f32) * v).collect();
+            let mut s = r.clone();
+            let a = alpha as f32;
+            s.map2(&v, |s, v| s - a * v);
             if norm(&s) / r0 < tol {
-                add_scaled(&mut x, &y, alpha);
-                r = l.residual_full(&x);
+                x.map2(&y, |x, y| x + a * y);
+                r = l.residual(&x, &l.b);
                 history.push(norm(&r) / r0);
                 break;
             }
             let z = self.precondition(&s);
-            let t = l.apply(&z);
+            let t = apply(&z);
             let tt = dot(&t, &t);
             omega = if tt > 0.0 { dot(&t, &s) / tt } else { 0.0 };
-            add_scaled(&mut x, &y, alpha);
-            add_scaled(&mut x, &z, omega);
+            let om = omega as f32;
+            x.map2(&y, |x, y| x + a * y);
+            x.map2(&z, |x, z| x + om * z);
             // The true residual, not the recurrence: f32 recurrences drift.
-            r = l.residual_full(&x);
+            r = l.residual(&x, &l.b);
             history.push(norm(&r) / r0);
             if history[history.len() - 1] < tol {
                 break;
@@ -320,63 +323,61 @@ impl DiffusionProblem {
     }
 
     /// One V-cycle on level `l` for `rhs`: 2 red-black sweeps, coarse-grid correction, 2 sweeps.
-    fn vcycle(&self, l: usize, x: &mut Field, rhs: &[f32]) {
+    fn vcycle(&self, l: usize, x: &mut Field, rhs: &Field) {
         let level = &self.levels[l];
         if l + 1 == self.levels.len() {
             for _ in 0..60 {
-                level.smooth(x, rhs);
+                level.sweep(x, rhs);
             }
             return;
         }
-        for _ in 0..sweeps() {
-            level.smooth(x, rhs);
+        for _ in 0..SWEEPS {
+            level.sweep(x, rhs);
         }
-        let r = level.residual(x, rhs);
         let coarse = &self.levels[l + 1];
-        let rc = coarse.restrict(level, &r);
+        let rc = coarse.restrict(level, &level.residual_after_sweep(x, rhs));
         let mut e = Field::zeros(coarse.nx, coarse.ny);
         self.vcycle(l + 1, &mut e, &rc);
-        e.scale(CORRECTION_DAMPING);
-        x.add_interpolated(&e, &level.fixed, true);
-        for _ in 0..sweeps() {
-            level.smooth(x, rhs);
+        x.interpolate(&e, level, Some(CORRECTION_DAMPING));
+        for _ in 0..SWEEPS {
+            level.sweep(x, rhs);
         }
     }
 
-    fn jacobi_pyramid(&self, options: &SolveOptions) -> (Vec<f32>, SolveReport) {
+    fn jacobi_pyramid(&self, options: &SolveOptions) -> (Field, SolveReport) {
         let r0 = self.reference_norm();
         let l = self.levels.len();
-        let mut x: Option<Vec<f32>> = None;
+        let mut x: Option<Field> = None;
         // Level i of the paper counts from the coarsest (0); ours from the finest.
         for depth in (0..l).rev() {
             let level = &self.levels[depth];
             let mut cur = level.start();
             if let Some(coarse) = &x {
-                let coarse_level = &self.levels[depth + 1];
-                let c = Field::from_full(coarse_level.nx, coarse_level.ny, coarse);
-                let mut f = Field::from_full(level.nx, level.ny, &cur);
-                f.add_interpolated(&c, &level.fixed, false);
-                cur = f.to_full();
+                cur.interpolate(coarse, level, None);
             }
+            let mut spare = cur.clone();
             let paper_level = l - 1 - depth;
             for _ in 0..5 * (l - paper_level) {
-                cur = level.jacobi(&cur);
+                level.jacobi(&cur, &mut spare);
+                std::mem::swap(&mut cur, &mut spare);
             }
             x = Some(cur);
         }
         let finest = &self.levels[0];
         let mut cur = x.unwrap_or_else(|| finest.start());
-        let norm = |v: &[f32]| finest.residual_norm(&Field::from_full(finest.nx, finest.ny, v), &finest.b) / r0;
-        let mut history = vec![norm(&cur)];
+        let mut spare = cur.clone();
+        let rel = |v: &Field| norm(&finest.residual(v, &finest.b)) / r0;
+        let mut history = vec![rel(&cur)];
         let max = options.max_iterations.unwrap_or(20_000);
         let mut sweeps = 0;
         while history[history.len() - 1] >= options.tolerance && sweeps < max {
             let batch = 50.min(max - sweeps);
             for _ in 0..batch {
-                cur = finest.jacobi(&cur);
+                finest.jacobi(&cur, &mut spare);
+                std::mem::swap(&mut cur, &mut spare);
             }
             sweeps += batch;
-            history.push(norm(&cur));
+            history.push(rel(&cur));
         }
         let rel = history[history.len() - 1];
         let report = SolveReport {
@@ -390,39 +391,77 @@ impl DiffusionProblem {
     }
 }
 
+/// Unit of the stored equation weights: 2⁻¹⁶, so a weight (at most ½) keeps 15 bits. Every solver
+/// path reads the same quantized weights, so they define the system rather than approximate it.
+const QUANTUM: f32 = 1.0 / 65536.0;
+
+/// The first stored weight of a fixed sample.
+const FIXED: i16 = i16::MIN;
+
+fn quantize(w: f32) -> i16 {
+    (w / QUANTUM).round().clamp(-32767.0, 32767.0) as i16
+}
+
+/// The update value of one sample: its equation applied to the neighbours plus `rhs`. A fixed
+/// sample gets `rhs` (its value on the finest level, 0 in a correction). Written without
+/// branches so the row loop vectorizes.
+#[inline]
+fn stencil(g: [i16; 2], west: f32, east: f32, south: f32, north: f32, rhs: f32) -> f32 {
+    let free = if g[0] == FIXED { 0.0 } else { 1.0 };
+    let gx = free * f32::from(g[0]) * QUANTUM;
+    let gy = f32::from(g[1]) * QUANTUM;
+    let wl = free * 0.25 * (1.0 - gx.abs() - gy.abs());
+    let pos = |v: f32| if v > 0.0 { v } else { 0.0 };
+    wl * (west + east + south + north) + pos(gx) * east + pos(-gx) * west + pos(gy) * north + pos(-gy) * south + rhs
+}
+
 impl Level {
-    fn empty(nx: usize, ny: usize) -> Self {
-        let n = nx * ny;
-        Self {
-            nx,
-            ny,
-            wl: vec![0.25; n],
-            wx: vec![0.0; n],
-            wy: vec![0.0; n],
-            ox: vec![0; n],
-            oy: vec![0; n],
-            fixed: vec![false; n],
-            b: vec![0.0; n],
-            scale: vec![1.0; n],
+    /// A level from row-major weights and right-hand side.
+    fn new(nx: usize, ny: usize, g: &[[i16; 2]], b: &[f32]) -> Self {
+        let w = nx.div_ceil(2);
+        let mut split = [vec![[0i16; 2]; w * ny], vec![[0i16; 2]; w * ny]];
+        for j in 0..ny {
+            for i in 0..nx {
+                split[(i + j) & 1][j * w + (i >> 1)] = g[j * nx + i];
+            }
         }
+        Self { nx, ny, w, g: split, b: Field::from_full(nx, ny, b) }
+    }
+
+    #[inline]
+    fn weights(&self, i: usize, j: usize) -> [i16; 2] {
+        self.g[(i + j) & 1][j * self.w + (i >> 1)]
+    }
+
+    #[inline]
+    fn fixed(&self, i: usize, j: usize) -> bool {
+        self.weights(i, j)[0] == FIXED
     }
 
     /// Fixed values where fixed, zero elsewhere.
-    fn start(&self) -> Vec<f32> {
-        (0..self.b.len()).map(|k| if self.fixed[k] { self.b[k] } else { 0.0 }).collect()
+    fn start(&self) -> Field {
+        let mut x = self.b.clone();
+        for (xc, gc) in x.c.iter_mut().zip(&self.g) {
+            for (v, g) in xc.iter_mut().zip(gc) {
+                if g[0] != FIXED {
+                    *v = 0.0;
+                }
+            }
+        }
+        x
     }
 
     /// The coarse version, vertex-centred: coarse sample (I, J) sits on fine sample (2I, 2J) and
     /// stands for its 3 × 3 neighbourhood under full weighting (¼, ½, ¼ per axis). It is fixed when
     /// the fine sample or one of its four neighbours is (so Dirichlet data, even a one-sample-wide
     /// curve, survives every coarsening and no coarse problem is a singular pure-Neumann one), at
-    /// the weighted mean of those fixed values. Otherwise it averages its neighbourhood's equation
-    /// weights (upwind directions by their signed weights; what cancels goes to the Laplacian, so
-    /// the row still sums to 1) and doubles the gradient steps of the right-hand side (one coarse
-    /// step spans two fine ones).
+    /// the weighted mean of those fixed values. Otherwise it averages its neighbourhood's signed
+    /// upwind weights (what cancels goes to the Laplacian, so the row still sums to 1) and doubles
+    /// the gradient steps of the right-hand side (one coarse step spans two fine ones).
     fn coarsen(&self) -> Self {
         let (cx, cy) = (self.nx.div_ceil(2), self.ny.div_ceil(2));
-        let mut c = Self::empty(cx, cy);
+        let mut g = vec![[0i16; 2]; cx * cy];
+        let mut b = vec![0.0f32; cx * cy];
         for jc in 0..cy {
             for ic in 0..cx {
                 let k = jc * cx + ic;
@@ -431,48 +470,40 @@ impl Level {
                 for (di, dj) in [(0i64, 0i64), (-1, 0), (1, 0), (0, -1), (0, 1)] {
                     let (i, j) = (fi as i64 + di, fj as i64 + dj);
                     if i >= 0 && j >= 0 && (i as usize) < self.nx && (j as usize) < self.ny {
-                        let f = j as usize * self.nx + i as usize;
-                        if self.fixed[f] {
+                        let (i, j) = (i as usize, j as usize);
+                        if self.fixed(i, j) {
                             let w = if di == 0 && dj == 0 { 4.0 } else { 1.0 };
                             fixed_w += w;
-                            h += w * self.b[f];
+                            h += w * self.b.get(i, j);
                         }
                     }
                 }
                 if fixed_w > 0.0 {
-                    c.fixed[k] = true;
-                    c.wl[k] = 0.0;
-                    c.b[k] = h / fixed_w;
+                    g[k] = [FIXED, 0];
+                    b[k] = h / fixed_w;
                     continue;
                 }
-                let (mut m, mut dx, mut dy, mut b) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
-                self.full_weighting(fi, fj, |f, w| {
-                    if !self.fixed[f] {
+                let (mut m, mut dx, mut dy, mut rhs) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+                self.full_weighting(fi, fj, |i, j, w| {
+                    let [gx, gy] = self.weights(i, j);
+                    if gx != FIXED {
                         m += w;
-                        dx += w * self.wx[f] * f32::from(self.ox[f]);
-                        dy += w * self.wy[f] * f32::from(self.oy[f]);
-                        b += w * 2.0 * self.b[f];
+                        dx += w * f32::from(gx) * QUANTUM;
+                        dy += w * f32::from(gy) * QUANTUM;
+                        rhs += w * 2.0 * self.b.get(i, j);
                     }
                 });
-                let (dx, dy) = (dx / m, dy / m);
-                c.b[k] = b / m;
-                c.wx[k] = dx.abs();
-                c.wy[k] = dy.abs();
-                c.ox[k] = sign(dx);
-                c.oy[k] = sign(dy);
-                c.wl[k] = ((1.0 - c.wx[k] - c.wy[k]) / 4.0).max(0.0);
-                // Residuals of second-order (Laplace) rows grow 4× per coarsening, first-order
-                // (gradient) rows 2×.
-                c.scale[k] = 16.0 * c.wl[k] + 2.0 * (c.wx[k] + c.wy[k]);
+                g[k] = [quantize(dx / m), quantize(dy / m)];
+                b[k] = rhs / m;
             }
         }
-        c
+        Self::new(cx, cy, &g, &b)
     }
 
-    /// Calls `f(fine index, weight)` over the 3 × 3 full-weighting neighbourhood of fine sample
+    /// Calls `f(i, j, weight)` over the 3 × 3 full-weighting neighbourhood of fine sample
     /// `(fi, fj)` (weights ¼, ½, ¼ per axis; samples off the grid skipped).
     #[inline]
-    fn full_weighting(&self, fi: usize, fj: usize, mut f: impl FnMut(usize, f32)) {
+    fn full_weighting(&self, fi: usize, fj: usize, mut f: impl FnMut(usize, usize, f32)) {
         for dj in -1i64..=1 {
             let j = fj as i64 + dj;
             if j < 0 || j as usize >= self.ny {
@@ -485,189 +516,135 @@ impl Level {
                     continue;
                 }
                 let wi = if di == 0 { 0.5 } else { 0.25 };
-                f(j as usize * self.nx + i as usize, wi * wj);
+                f(i as usize, j as usize, wi * wj);
             }
         }
     }
 
+    /// Number of samples of colour `c` in row `j`.
     #[inline]
-    fn west(i: usize) -> usize {
-        if i > 0 { i - 1 } else { 1 }
+    fn count(&self, c: usize, j: usize) -> usize {
+        (self.nx - ((j + c) & 1)).div_ceil(2)
     }
-    #[inline]
-    fn east(&self, i: usize) -> usize {
-        if i + 1 < self.nx { i + 1 } else { self.nx - 2 }
-    }
-    #[inline]
-    fn south(j: usize) -> usize {
-        if j > 0 { j - 1 } else { 1 }
-    }
-    #[inline]
-    fn north(&self, j: usize) -> usize {
-        if j + 1 < self.ny { j + 1 } else { self.ny - 2 }
-    }
-    #[inline]
-    fn step_x(&self, i: usize, o: i8) -> usize {
-        match o {
-            -1 => Self::west(i),
-            1 => self.east(i),
-            _ => i,
+
+    /// `out[h] = stencil(...)` for every sample of colour `c` in row `j`, reading the neighbours
+    /// from `other` (the whole other colour) and `rhs` (this row of colour `c`). The grid border
+    /// reflects: a missing neighbour is replaced by the one opposite.
+    fn stencil_row(&self, c: usize, j: usize, other: &[f32], rhs: &[f32], out: &mut [f32]) {
+        let (w, nx) = (self.w, self.nx);
+        let p = (j + c) & 1;
+        let count = self.count(c, j);
+        let mid = &other[j * w..j * w + self.count(1 - c, j)];
+        // Rows j ± 1 of the other colour hold the samples of our parity, at our indices.
+        let row = |r: usize| &other[r * w..r * w + count];
+        let south = row(if j > 0 { j - 1 } else { 1 });
+        let north = row(if j + 1 < self.ny { j + 1 } else { self.ny - 2 });
+        let g = &self.g[c][j * w..j * w + count];
+        let (rhs, out) = (&rhs[..count], &mut out[..count]);
+        // Sample h is at i = 2h + p; its west neighbour is mid[h + p − 1], its east one mid[h + p].
+        let lo = 1 - p;
+        let hi = (nx - p - 1).div_ceil(2).max(lo);
+        let n = hi - lo;
+        let (gs, rs, ss, ns) = (&g[lo..hi], &rhs[lo..hi], &south[lo..hi], &north[lo..hi]);
+        let (ws, es) = (&mid[..n], &mid[1..=n]);
+        for (k, o) in out[lo..hi].iter_mut().enumerate() {
+            *o = stencil(gs[k], ws[k], es[k], ss[k], ns[k], rs[k]);
         }
-    }
-    #[inline]
-    fn step_y(&self, j: usize, o: i8) -> usize {
-        match o {
-            -1 => Self::south(j),
-            1 => self.north(j),
-            _ => j,
+        // The border samples: i = 0 (no west) and i = nx − 1 (no east).
+        for h in (0..lo).chain(hi..count) {
+            let i = 2 * h + p;
+            let west = if i > 0 { mid[h + p - 1] } else { mid[h + p] };
+            let east = if i + 1 < nx { mid[h + p] } else { west };
+            out[h] = stencil(g[h], west, east, south[h], north[h], rhs[h]);
         }
     }
 
-    /// The right side of the update at `(i, j)`, reading neighbours through `get`.
-    #[inline]
-    fn update(&self, i: usize, j: usize, rhs: f32, get: impl Fn(usize, usize) -> f32) -> f32 {
-        let k = j * self.nx + i;
-        let lap = get(Self::west(i), j) + get(self.east(i), j) + get(i, Self::south(j)) + get(i, self.north(j));
-        let mut v = self.wl[k] * lap + rhs;
-        if self.wx[k] != 0.0 {
-            v += self.wx[k] * get(self.step_x(i, self.ox[k]), j);
-        }
-        if self.wy[k] != 0.0 {
-            v += self.wy[k] * get(i, self.step_y(j, self.oy[k]));
-        }
-        v
-    }
-
-    /// One red-black Gauss–Seidel sweep for `rhs` (fixed samples untouched).
-    fn smooth(&self, x: &mut Field, rhs: &[f32]) {
-        let nx = self.nx;
-        for colour in 0..2 {
-            let w = x.w;
-            let (first, second) = x.c.split_at_mut(1);
-            let (mine, other) = if colour == 0 { (&mut first[0], &second[0]) } else { (&mut second[0], &first[0]) };
-            mine.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-                let get = |i: usize, jj: usize| other[jj * w + (i >> 1)];
-                let start = (j + colour) & 1;
-                if j == 0 || j + 1 == self.ny || nx < 3 {
-                    for i in (start..nx).step_by(2) {
-                        let k = j * nx + i;
-                        if !self.fixed[k] {
-                            row[i >> 1] = self.update(i, j, rhs[k], get);
-                        }
-                    }
-                    return;
-                }
-                // Interior rows: no reflection, the vertical upwind neighbour picked from the
-                // rows below, here and above by its offset (any finite value when its weight is 0).
-                let rows = [&other[(j - 1) * w..j * w], &other[j * w..(j + 1) * w], &other[(j + 1) * w..(j + 2) * w]];
-                let base = j * nx;
-                for i in (start..nx).step_by(2) {
-                    let k = base + i;
-                    if self.fixed[k] {
-                        continue;
-                    }
-                    if i == 0 || i + 1 == nx {
-                        row[i >> 1] = self.update(i, j, rhs[k], get);
-                        continue;
-                    }
-                    let h = i >> 1;
-                    let mid = rows[1];
-                    let lap = mid[(i - 1) >> 1] + mid[(i + 1) >> 1] + rows[0][h] + rows[2][h];
-                    let bx = mid[i.wrapping_add_signed(isize::from(self.ox[k])) >> 1];
-                    let by = rows[(1 + self.oy[k]) as usize][h];
-                    row[h] = self.wl[k] * lap + self.wx[k] * bx + self.wy[k] * by + rhs[k];
-                }
+    /// One red-black Gauss–Seidel sweep for `rhs` (colour 0, then colour 1).
+    fn sweep(&self, x: &mut Field, rhs: &Field) {
+        let w = self.w;
+        for c in 0..2 {
+            let [x0, x1] = &mut x.c;
+            let (mine, other) = if c == 0 { (x0, &*x1) } else { (x1, &*x0) };
+            mine.par_chunks_mut(w).zip(rhs.c[c].par_chunks(w)).enumerate().for_each(|(j, (row, r))| {
+                self.stencil_row(c, j, other, r, row);
             });
         }
     }
 
-    /// Per sample of a full row-major `x`: `f(k, x_k, U_k)` where `U_k` is the update value (the
-    /// stencil applied to x plus `rhs`, or plus 0), for non-fixed samples; `fixed(k, x_k)` for
-    /// fixed ones. Interior samples take a fast path without reflection.
-    fn map_stencil(
-        &self,
-        x: &[f32],
-        rhs: Option<&[f32]>,
-        fixed: impl Fn(f32) -> f32 + Sync,
-        f: impl Fn(f32, f32) -> f32 + Sync,
-    ) -> Vec<f32> {
-        let nx = self.nx;
-        let mut out = vec![0.0f32; x.len()];
-        out.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-            let get = |i: usize, jj: usize| x[jj * nx + i];
-            let edge_row = j == 0 || j + 1 == self.ny;
-            for (i, o) in row.iter_mut().enumerate() {
-                let k = j * nx + i;
-                if self.fixed[k] {
-                    *o = fixed(x[k]);
-                    continue;
+    /// One Jacobi sweep from `x` into `out`.
+    fn jacobi(&self, x: &Field, out: &mut Field) {
+        let w = self.w;
+        for (c, mine) in out.c.iter_mut().enumerate() {
+            let other = &x.c[1 - c];
+            mine.par_chunks_mut(w).zip(self.b.c[c].par_chunks(w)).enumerate().for_each(|(j, (row, r))| {
+                self.stencil_row(c, j, other, r, row);
+            });
+        }
+    }
+
+    /// The residual of colour `c`: update value minus current value (0 on fixed samples).
+    fn residual_colour(&self, c: usize, x: &Field, rhs: &Field) -> Vec<f32> {
+        let w = self.w;
+        let mut out = vec![0.0f32; x.c[c].len()];
+        out.par_chunks_mut(w).zip(rhs.c[c].par_chunks(w)).zip(x.c[c].par_chunks(w)).enumerate().for_each(
+            |(j, ((row, r), xs))| {
+                self.stencil_row(c, j, &x.c[1 - c], r, row);
+                for (o, &v) in row.iter_mut().zip(xs) {
+                    *o -= v;
                 }
-                let b = rhs.map_or(0.0, |r| r[k]);
-                let u = if edge_row || i == 0 || i + 1 == nx {
-                    self.update(i, j, b, get)
-                } else {
-                    let lap = x[k - 1] + x[k + 1] + x[k - nx] + x[k + nx];
-                    let bx = x[k.wrapping_add_signed(isize::from(self.ox[k]))];
-                    let by = x[k.wrapping_add_signed(isize::from(self.oy[k]) * nx as isize)];
-                    self.wl[k] * lap + self.wx[k] * bx + self.wy[k] * by + b
-                };
-                *o = f(x[k], u);
-            }
-        });
+            },
+        );
         out
     }
 
-    /// A·v on a full row-major array (v on fixed samples passes through).
-    fn apply(&self, v: &[f32]) -> Vec<f32> {
-        self.map_stencil(v, None, |x| x, |x, u| x - u)
+    /// The residual `rhs + S·x − x` of both colours.
+    fn residual(&self, x: &Field, rhs: &Field) -> Field {
+        Field { nx: self.nx, ny: self.ny, w: self.w, c: [0, 1].map(|c| self.residual_colour(c, x, rhs)) }
     }
 
-    /// b − A·x on a full row-major array (0 on fixed samples).
-    fn residual_full(&self, x: &[f32]) -> Vec<f32> {
-        self.map_stencil(x, Some(&self.b), |_| 0.0, |x, u| u - x)
+    /// The residual right after a sweep: colour 1 was just set to its update value, so its residual
+    /// is exactly zero (the same expression, evaluated the same way) and only colour 0 is computed.
+    fn residual_after_sweep(&self, x: &Field, rhs: &Field) -> Field {
+        Field { nx: self.nx, ny: self.ny, w: self.w, c: [self.residual_colour(0, x, rhs), vec![0.0; x.c[1].len()]] }
     }
 
-    /// One Jacobi sweep on a full row-major array.
-    fn jacobi(&self, x: &[f32]) -> Vec<f32> {
-        let mut out = vec![0.0f32; x.len()];
-        out.par_chunks_mut(self.nx).enumerate().for_each(|(j, row)| {
-            let get = |i: usize, jj: usize| x[jj * self.nx + i];
-            for (i, v) in row.iter_mut().enumerate() {
-                let k = j * self.nx + i;
-                *v = if self.fixed[k] { x[k] } else { self.update(i, j, self.b[k], get) };
-            }
-        });
-        out
-    }
-
-    /// The residual for `rhs`, row-major (0 on fixed samples).
-    fn residual(&self, x: &Field, rhs: &[f32]) -> Vec<f32> {
-        self.map_stencil(&x.to_full(), Some(rhs), |_| 0.0, |x, u| u - x)
-    }
-
-    /// ‖residual‖₂, summed per row then in row order (deterministic).
-    fn residual_norm(&self, x: &Field, rhs: &[f32]) -> f64 {
-        let r = self.residual(x, rhs);
-        let rows: Vec<f64> =
-            r.par_chunks(self.nx).map(|row| row.iter().map(|&v| f64::from(v) * f64::from(v)).sum()).collect();
-        rows.iter().sum::<f64>().sqrt()
-    }
-
-    /// The fine residual `r` restricted onto this (coarse) level by full weighting, scaled per row.
-    fn restrict(&self, fine: &Level, r: &[f32]) -> Vec<f32> {
-        let mut out = vec![0.0f32; self.nx * self.ny];
-        out.par_chunks_mut(self.nx).enumerate().for_each(|(jc, row)| {
-            for (ic, v) in row.iter_mut().enumerate() {
-                let k = jc * self.nx + ic;
-                if self.fixed[k] {
+    /// The fine residual `r` (zero on colour 1, see [`Self::residual_after_sweep`]) restricted onto
+    /// this coarse level by full weighting, times the growth of this row's residual per coarsening
+    /// (4× for Laplace rows, 2× for first-order gradient rows: `16·wl + 2·(|wx| + |wy|)`).
+    fn restrict(&self, fine: &Level, r: &Field) -> Field {
+        let mut out = Field::zeros(self.nx, self.ny);
+        let (cw, fw) = (self.w, fine.w);
+        let r0 = &r.c[0];
+        let [o0, o1] = &mut out.c;
+        o0.par_chunks_mut(cw).zip(o1.par_chunks_mut(cw)).enumerate().for_each(|(jc, (row0, row1))| {
+            let fj = 2 * jc;
+            let (south, north) = (fj > 0, fj + 1 < fine.ny);
+            let wj = 0.5 + 0.25 * (f32::from(u8::from(south)) + f32::from(u8::from(north)));
+            for ic in 0..self.nx {
+                let [gx, gy] = self.weights(ic, jc);
+                if gx == FIXED {
                     continue;
                 }
-                let (mut s, mut m) = (0.0f32, 0.0f32);
-                fine.full_weighting(2 * ic, 2 * jc, |f, w| {
-                    s += w * r[f];
-                    m += w;
-                });
-                *v = self.scale[k] * s / m;
+                let fi = 2 * ic;
+                let (west, east) = (fi > 0, fi + 1 < fine.nx);
+                let wi = 0.5 + 0.25 * (f32::from(u8::from(west)) + f32::from(u8::from(east)));
+                // Colour 0 of the 3 × 3: the centre (fi, fj) and the diagonals, at half-index
+                // ic (centre, east diagonals) or ic − 1 (west diagonals).
+                let mut s = 0.25 * r0[fj * fw + ic];
+                for (ok, jr) in [(south, fj.wrapping_sub(1)), (north, fj + 1)] {
+                    if ok {
+                        if west {
+                            s += 0.0625 * r0[jr * fw + ic - 1];
+                        }
+                        if east {
+                            s += 0.0625 * r0[jr * fw + ic];
+                        }
+                    }
+                }
+                let a = (f32::from(gx).abs() + f32::from(gy).abs()) * QUANTUM;
+                let growth = 4.0 - 2.0 * a;
+                let v = growth * s / (wi * wj);
+                if (ic + jc) & 1 == 0 { row0[ic >> 1] = v } else { row1[ic >> 1] = v }
             }
         });
         out
@@ -680,50 +657,27 @@ impl Level {
 const CORRECTION_DAMPING: f32 = 0.7;
 
 /// Red-black sweeps before and after each coarse-grid correction.
-const fn sweeps() -> usize {
-    2
-}
-
-/// −1, 0 or 1: the upwind step along an axis (`f32::signum` gives ±1 for zero).
-fn sign(v: f32) -> i8 {
-    i8::from(v > 0.0) - i8::from(v < 0.0)
-}
+const SWEEPS: usize = 2;
 
 /// Chunk length of the deterministic reductions.
 const CHUNK: usize = 1 << 14;
 
 /// ⟨a, b⟩ in f64, summed per chunk then in chunk order (the same for any thread count).
-fn dot(a: &[f32], b: &[f32]) -> f64 {
-    let parts: Vec<f64> = a
-        .par_chunks(CHUNK)
-        .zip(b.par_chunks(CHUNK))
-        .map(|(x, y)| x.iter().zip(y).map(|(&u, &v)| f64::from(u) * f64::from(v)).sum())
-        .collect();
-    parts.iter().sum()
+fn dot(a: &Field, b: &Field) -> f64 {
+    let mut sum = 0.0;
+    for (a, b) in a.c.iter().zip(&b.c) {
+        let parts: Vec<f64> = a
+            .par_chunks(CHUNK)
+            .zip(b.par_chunks(CHUNK))
+            .map(|(x, y)| x.iter().zip(y).map(|(&u, &v)| f64::from(u) * f64::from(v)).sum())
+            .collect();
+        sum += parts.iter().sum::<f64>();
+    }
+    sum
 }
 
-fn norm(a: &[f32]) -> f64 {
+fn norm(a: &Field) -> f64 {
     dot(a, a).sqrt()
-}
-
-/// x += c·y.
-fn add_scaled(x: &mut [f32], y: &[f32], c: f64) {
-    let c = c as f32;
-    x.par_chunks_mut(CHUNK).zip(y.par_chunks(CHUNK)).for_each(|(x, y)| {
-        for (a, &b) in x.iter_mut().zip(y) {
-            *a += c * b;
-        }
-    });
-}
-
-/// p = r + β·(p − ω·v).
-fn axpy_update(p: &mut [f32], r: &[f32], v: &[f32], beta: f64, omega: f64) {
-    let (beta, omega) = (beta as f32, omega as f32);
-    p.par_chunks_mut(CHUNK).zip(r.par_chunks(CHUNK)).zip(v.par_chunks(CHUNK)).for_each(|((p, r), v)| {
-        for ((a, &b), &c) in p.iter_mut().zip(r).zip(v) {
-            *a = b + beta * (*a - omega * c);
-        }
-    });
 }
 
 /// A grid function stored by colour: `c[(i + j) % 2][j·w + i/2]`, so a sweep of one colour
@@ -752,9 +706,14 @@ impl Field {
         f
     }
 
-    fn scale(&mut self, s: f32) {
-        for c in &mut self.c {
-            c.par_chunks_mut(CHUNK).for_each(|chunk| chunk.iter_mut().for_each(|v| *v *= s));
+    /// `self = f(self, other)` sample by sample.
+    fn map2(&mut self, other: &Field, f: impl Fn(f32, f32) -> f32 + Sync) {
+        for (a, b) in self.c.iter_mut().zip(&other.c) {
+            a.par_chunks_mut(CHUNK).zip(b.par_chunks(CHUNK)).for_each(|(a, b)| {
+                for (x, &y) in a.iter_mut().zip(b) {
+                    *x = f(*x, y);
+                }
+            });
         }
     }
 
@@ -773,20 +732,23 @@ impl Field {
         out
     }
 
-    /// Adds (or, with `add` false, writes) the bilinear interpolation of the coarse field `e`
-    /// (half the resolution, coarse sample I on fine sample 2I) on every non-fixed sample.
-    fn add_interpolated(&mut self, e: &Field, fixed: &[bool], add: bool) {
+    /// On every non-fixed sample of `level`: adds `factor ×` the bilinear interpolation of the
+    /// coarse field `e` (half the resolution, coarse sample I on fine sample 2I), or with `None`
+    /// writes the interpolation.
+    fn interpolate(&mut self, e: &Field, level: &Level, factor: Option<f32>) {
         let (nx, w) = (self.nx, self.w);
         let coarse = e.to_full();
         let (cnx, cny) = (e.nx, e.ny);
-        for colour in 0..2 {
-            self.c[colour].par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+        for (colour, c) in self.c.iter_mut().enumerate() {
+            let g = &level.g[colour];
+            c.par_chunks_mut(w).zip(g.par_chunks(w)).enumerate().for_each(|(j, (row, g))| {
                 // Vertex-centred: even fine indices sit on coarse samples, odd ones halfway.
                 let j0 = (j / 2).min(cny - 1);
                 let j1 = if j % 2 == 1 { (j0 + 1).min(cny - 1) } else { j0 };
                 let (r0, r1) = (&coarse[j0 * cnx..(j0 + 1) * cnx], &coarse[j1 * cnx..(j1 + 1) * cnx]);
                 for i in ((j + colour) & 1..nx).step_by(2) {
-                    if fixed[j * nx + i] {
+                    let h = i >> 1;
+                    if g[h][0] == FIXED {
                         continue;
                     }
                     let i0 = (i / 2).min(cnx - 1);
@@ -796,13 +758,95 @@ impl Field {
                     } else {
                         0.5 * (r0[i0] + r1[i0])
                     };
-                    if add {
-                        row[i >> 1] += v;
-                    } else {
-                        row[i >> 1] = v;
+                    match factor {
+                        Some(f) => row[h] += f * v,
+                        None => row[h] = v,
                     }
                 }
             });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small level with fixed samples, slope rows of every sign and odd sizes.
+    fn level(nx: usize, ny: usize) -> Level {
+        let n = nx * ny;
+        let mut g = vec![[0i16; 2]; n];
+        let mut b = vec![0.0f32; n];
+        for k in 0..n {
+            match k % 7 {
+                0 => {
+                    g[k] = [FIXED, 0];
+                    b[k] = (k % 13) as f32;
+                }
+                1 => g[k] = [quantize(0.3), quantize(-0.1)],
+                2 => g[k] = [quantize(-0.25), quantize(0.2)],
+                _ => {}
+            }
+            if g[k][0] != FIXED {
+                b[k] = 0.01 * (k % 5) as f32;
+            }
+        }
+        Level::new(nx, ny, &g, &b)
+    }
+
+    #[test]
+    fn colour_one_residual_is_exactly_zero_after_a_sweep() {
+        for (nx, ny) in [(7, 5), (8, 6), (2, 2), (9, 9)] {
+            let l = level(nx, ny);
+            let mut x = Field::from_full(nx, ny, &(0..nx * ny).map(|k| (k % 11) as f32).collect::<Vec<_>>());
+            l.sweep(&mut x, &l.b);
+            let full = l.residual(&x, &l.b);
+            assert!(full.c[1].iter().all(|&r| r == 0.0), "{nx}×{ny}");
+            assert_eq!(full.c[0], l.residual_after_sweep(&x, &l.b).c[0]);
+        }
+    }
+
+    #[test]
+    fn row_kernel_matches_a_plain_reflecting_stencil() {
+        let (nx, ny) = (9, 7);
+        let l = level(nx, ny);
+        let full: Vec<f32> = (0..nx * ny).map(|k| ((k * 37) % 17) as f32 - 8.0).collect();
+        let x = Field::from_full(nx, ny, &full);
+        let r = l.residual(&x, &l.b).to_full();
+        let at = |i: i64, j: i64| {
+            let i = if i < 0 {
+                1
+            } else if i >= nx as i64 {
+                nx as i64 - 2
+            } else {
+                i
+            };
+            let j = if j < 0 {
+                1
+            } else if j >= ny as i64 {
+                ny as i64 - 2
+            } else {
+                j
+            };
+            f64::from(full[j as usize * nx + i as usize])
+        };
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                let [gx, gy] = l.weights(i, j);
+                let expected = if gx == FIXED {
+                    f64::from(l.b.get(i, j)) - f64::from(full[k])
+                } else {
+                    let (gx, gy) = (f64::from(gx) / 65536.0, f64::from(gy) / 65536.0);
+                    let (ii, jj) = (i as i64, j as i64);
+                    let wl = 0.25 * (1.0 - gx.abs() - gy.abs());
+                    let lap = at(ii - 1, jj) + at(ii + 1, jj) + at(ii, jj - 1) + at(ii, jj + 1);
+                    let bx = at(ii + gx.signum() as i64, jj);
+                    let by = at(ii, jj + gy.signum() as i64);
+                    wl * lap + gx.abs() * bx + gy.abs() * by + f64::from(l.b.get(i, j)) - f64::from(full[k])
+                };
+                assert!((f64::from(r[k]) - expected).abs() < 1e-4, "({i}, {j}): {} vs {expected}", r[k]);
+            }
         }
     }
 }
