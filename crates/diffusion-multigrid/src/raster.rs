@@ -276,7 +276,11 @@ enum Paint {
 }
 
 /// Fills the gradient and normal of hole samples by Laplace diffusion (the paper's rule for
-/// crossing slope bands), then renormalises the normals. Each 4-connected group of holes is
+/// crossing slope bands). Where the diffused normals of antagonistic bands cancel, the filled
+/// normal is short; renormalised to unit length it would point anywhere, and a descent chain
+/// that loops digs a pit (a five-ridge summit sank to −1 200 m that way). So the normal keeps the
+/// diffused direction but not more than unit length, and the slope is scaled by its squared
+/// length: a coherent fill keeps the full constraint, a cancelled one fades to plain Laplace. Each 4-connected group of holes is
 /// solved on its own bounding box grown by a margin, with the slope samples there as fixed
 /// values and everything else free, by the same multigrid solver as the elevation.
 fn fill_holes(maps: &mut ConstraintMaps) {
@@ -335,7 +339,9 @@ fn fill_holes(maps: &mut ConstraintMaps) {
             maps.gradient[k] = g.as_ref().map_or(0.0, |g| g[c]);
             let (a, b) = (x.as_ref().map_or(0.0, |x| x[c]), y.as_ref().map_or(0.0, |y| y[c]));
             let len = a.hypot(b);
-            maps.normal[k] = if len > 1e-6 { [a / len, b / len] } else { [0.0, 0.0] };
+            let keep = len.min(1.0);
+            maps.normal[k] = if len > 1e-6 { [a / len * keep, b / len * keep] } else { [0.0, 0.0] };
+            maps.gradient[k] *= keep * keep;
         }
     }
 }

@@ -246,3 +246,26 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn crossing_slope_bands_leave_no_pit_below_the_ridge_feet() {
+    // The mountain-ridges fixture: five ridges from a 2400 m summit to 650 m feet with 700 m flanks
+    // of different angles per side. Around the summit the bands of neighbouring ridges cross and
+    // become holes; the diffused normals there partly cancel, and taken at full strength they dug
+    // a pit down to −1 200 m.
+    let scene: serde_json::Value =
+        serde_json::from_str(include_str!("../../../fixtures/scenes/mountain-ridges.json")).unwrap();
+    let curves: Vec<FeatureCurve> = serde_json::from_value(scene["generator"]["diffusion"]["curves"].clone()).unwrap();
+    let g = grid(512, 8000.0);
+    let maps = ConstraintMaps::rasterize(&curves, &g).unwrap();
+    assert!(maps.counts().3 > 0, "the scene must have crossing bands");
+    let (x, report) = DiffusionProblem::elevation(&maps).unwrap().solve(&SolveOptions::default()).unwrap();
+    assert!(report.converged, "{report:?}");
+    for j in 0..512 {
+        for i in 0..512 {
+            if g.position(i, j).distance(DVec2::splat(4000.0)) < 1500.0 {
+                assert!(x[j * 512 + i] > 650.0, "({i}, {j}) = {}", x[j * 512 + i]);
+            }
+        }
+    }
+}
