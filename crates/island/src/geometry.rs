@@ -1,0 +1,370 @@
+//! Polygon geometry of the coastline: orientation, containment, crossings, and the stroke
+//! operations of §3.1 (cut and supplement).
+
+use glam::DVec2;
+
+use crate::IslandError;
+
+/// Twice the signed area (positive counter-clockwise, y up).
+pub(crate) fn signed_area(p: &[DVec2]) -> f64 {
+    let n = p.len();
+    (0..n).map(|i| p[i].perp_dot(p[(i + 1) % n])).sum::<f64>() * 0.5
+}
+
+/// Even-odd containment of `q` in the closed polygon `p`.
+pub(crate) fn contains(p: &[DVec2], q: DVec2) -> bool {
+    let n = p.len();
+    let mut inside = false;
+    for i in 0..n {
+        let (a, b) = (p[i], p[(i + 1) % n]);
+        if (a.y > q.y) != (b.y > q.y) {
+            let x = a.x + (q.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if q.x < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// Closest point to `q` on segment `ab` and its parameter along it.
+pub(crate) fn project(a: DVec2, b: DVec2, q: DVec2) -> (DVec2, f64) {
+    let d = b - a;
+    let len2 = d.length_squared();
+    let t = if len2 > 0.0 { ((q - a).dot(d) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    (a + d * t, t)
+}
+
+/// Distance from `q` to the closed polygon's boundary, with the edge index and point reached.
+pub(crate) fn nearest_on_boundary(p: &[DVec2], q: DVec2) -> (f64, usize, DVec2) {
+    let n = p.len();
+    let mut best = (f64::INFINITY, 0, p[0]);
+    for i in 0..n {
+        let (c, _) = project(p[i], p[(i + 1) % n], q);
+        let d = c.distance(q);
+        if d < best.0 {
+            best = (d, i, c);
+        }
+    }
+    best
+}
+
+/// Parameters `(t, u)` where segments `a0a1` and `b0b1` cross, if they do (`t` along a, `u`
+/// along b, both in [0, 1]). Parallel segments never cross here.
+pub(crate) fn crossing(a0: DVec2, a1: DVec2, b0: DVec2, b1: DVec2) -> Option<(f64, f64)> {
+    let (da, db) = (a1 - a0, b1 - b0);
+    let den = da.perp_dot(db);
+    if den == 0.0 {
+        return None;
+    }
+    let w = b0 - a0;
+    let t = w.perp_dot(db) / den;
+    let u = w.perp_dot(da) / den;
+    ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then_some((t, u))
+}
+
+/// Checks a closed polygon: finite points, at least three distinct, nonzero area, no two
+/// non-adjacent edges touching. Returns it counter-clockwise with repeated points removed.
+pub(crate) fn simple_polygon(points: &[DVec2]) -> Result<Vec<DVec2>, IslandError> {
+    if points.iter().any(|p| !p.is_finite()) {
+        return Err(IslandError::NotFinite { what: "a coastline point" });
+    }
+    let mut p: Vec<DVec2> = Vec::with_capacity(points.len());
+    for &q in points {
+        if p.last().is_none_or(|&l: &DVec2| l.distance_squared(q) > 1e-18) {
+            p.push(q);
+        }
+    }
+    while p.len() > 1 && p[0].distance_squared(p[p.len() - 1]) <= 1e-18 {
+        p.pop();
+    }
+    if p.len() >= 4
+        && let Some(at) = self_crossing(&p)
+    {
+        return Err(IslandError::SelfIntersecting { x: at.x, y: at.y });
+    }
+    let area = signed_area(&p);
+    if p.len() < 3 || area.abs() < 1e-12 {
+        return Err(IslandError::DegenerateCoastline { points: points.len() });
+    }
+    if area < 0.0 {
+        p.reverse();
+    }
+    Ok(p)
+}
+
+/// Where two non-adjacent edges of a closed polygon meet, if any. Edges are sorted by their
+/// lowest x so only overlapping x-ranges are compared.
+fn self_crossing(p: &[DVec2]) -> Option<DVec2> {
+    let n = p.len();
+    let mut order: Vec<usize> = (0..n).collect();
+    let lo = |i: usize| p[i].x.min(p[(i + 1) % n].x);
+    let hi = |i: usize| p[i].x.max(p[(i + 1) % n].x);
+    order.sort_by(|&a, &b| lo(a).total_cmp(&lo(b)));
+    for (k, &e) in order.iter().enumerate() {
+        let (a0, a1) = (p[e], p[(e + 1) % n]);
+        let (ylo, yhi) = (a0.y.min(a1.y), a0.y.max(a1.y));
+        for &f in &order[k + 1..] {
+            if lo(f) > hi(e) {
+                break;
+            }
+            if f == (e + 1) % n || e == (f + 1) % n {
+                continue;
+            }
+            let (b0, b1) = (p[f], p[(f + 1) % n]);
+            if b0.y.max(b1.y) < ylo || b0.y.min(b1.y) > yhi {
+                continue;
+            }
+            if let Some((t, _)) = crossing(a0, a1, b0, b1) {
+                return Some(a0 + (a1 - a0) * t);
+            }
+        }
+    }
+    None
+}
+
+/// What one piece of a stroke did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EditKind {
+    /// A piece through the land: the part left of the stroke direction was removed.
+    Cut,
+    /// A clockwise piece outside the land: the area it encloses was added.
+    Add,
+    /// A counter-clockwise piece outside the land: the area it encloses replaced the island.
+    Replace,
+}
+
+/// A coastline: a simple counter-clockwise polygon, each edge flagged when it comes from the
+/// latest stroke (the "new coastline" of §3.2's height update).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Coast {
+    pub(crate) points: Vec<DVec2>,
+    /// `fresh[i]`: edge `points[i] → points[i + 1]` was drawn by the latest edit.
+    pub(crate) fresh: Vec<bool>,
+}
+
+impl Coast {
+    pub(crate) fn new(points: Vec<DVec2>) -> Self {
+        let fresh = vec![true; points.len()];
+        Self { points, fresh }
+    }
+
+    /// Inserts `q` (a point on edge `e`) as a vertex unless it is one already.
+    fn insert(&mut self, e: usize, q: DVec2) {
+        let n = self.points.len();
+        let tol = 1e-9 * (1.0 + q.abs().max_element());
+        if self.points[e].distance(q) <= tol || self.points[(e + 1) % n].distance(q) <= tol {
+            return;
+        }
+        self.points.insert(e + 1, q);
+        let flag = self.fresh[e];
+        self.fresh.insert(e + 1, flag);
+    }
+
+    /// The stroke split at its contacts with the coast, each piece running from contact to
+    /// contact. Contacts are crossings, plus an end of the stroke lying within `snap` of the coast
+    /// (projected onto it) when no crossing is that close along the stroke.
+    pub(crate) fn pieces(&self, stroke: &[DVec2], snap: f64) -> Result<Vec<Vec<DVec2>>, IslandError> {
+        if stroke.len() < 2 {
+            return Err(IslandError::ShortStroke);
+        }
+        if stroke.iter().any(|p| !p.is_finite()) {
+            return Err(IslandError::NotFinite { what: "a stroke point" });
+        }
+        let p = &self.points;
+        let n = p.len();
+        // Contacts as (stroke segment + parameter, point).
+        let mut contacts: Vec<(f64, DVec2)> = Vec::new();
+        for s in 0..stroke.len() - 1 {
+            let (a, b) = (stroke[s], stroke[s + 1]);
+            for e in 0..n {
+                if let Some((t, _)) = crossing(a, b, p[e], p[(e + 1) % n]) {
+                    contacts.push((s as f64 + t, a + (b - a) * t));
+                }
+            }
+        }
+        contacts.sort_by(|x, y| x.0.total_cmp(&y.0));
+        contacts.dedup_by(|x, y| x.1.distance(y.1) <= 1e-9 * (1.0 + x.1.abs().max_element()));
+        // Arc length of the stroke up to parameter s.
+        let mut cum = vec![0.0];
+        for w in stroke.windows(2) {
+            cum.push(cum[cum.len() - 1] + w[0].distance(w[1]));
+        }
+        let along = |s: f64| {
+            let k = (s.floor() as usize).min(stroke.len() - 2);
+            cum[k] + (s - k as f64) * (cum[k + 1] - cum[k])
+        };
+        let last = (stroke.len() - 1) as f64;
+        let (d0, _, q0) = nearest_on_boundary(p, stroke[0]);
+        if d0 <= snap && contacts.first().is_none_or(|c| along(c.0) > snap) {
+            contacts.insert(0, (0.0, q0));
+        }
+        let (d1, _, q1) = nearest_on_boundary(p, stroke[stroke.len() - 1]);
+        if d1 <= snap && contacts.last().is_none_or(|c| along(last) - along(c.0) > snap) {
+            contacts.push((last, q1));
+        }
+        if contacts.len() < 2 {
+            return Err(IslandError::StrokeMissesCoast { snap });
+        }
+        let mut pieces = Vec::new();
+        for w in contacts.windows(2) {
+            let (s0, s1) = (w[0].0, w[1].0);
+            let mut piece = vec![w[0].1];
+            for (k, &q) in stroke.iter().enumerate() {
+                let k = k as f64;
+                if k > s0 && k < s1 {
+                    piece.push(q);
+                }
+            }
+            piece.push(w[1].1);
+            let length: f64 = piece.windows(2).map(|w| w[0].distance(w[1])).sum();
+            if length > 1e-9 * (1.0 + w[0].1.abs().max_element()) {
+                pieces.push(piece);
+            }
+        }
+        if pieces.is_empty() {
+            return Err(IslandError::StrokeMissesCoast { snap });
+        }
+        Ok(pieces)
+    }
+
+    /// Applies one piece (its ends on the coast, the rest strictly inside or outside the land).
+    pub(crate) fn apply(&mut self, piece: &[DVec2]) -> Result<EditKind, IslandError> {
+        let (a, b) = (piece[0], piece[piece.len() - 1]);
+        // Inside or outside: the middle of the piece by arc length.
+        let total: f64 = piece.windows(2).map(|w| w[0].distance(w[1])).sum();
+        let mut walked = 0.0;
+        let mut mid = a;
+        for w in piece.windows(2) {
+            let l = w[0].distance(w[1]);
+            if walked + l >= 0.5 * total {
+                mid = w[0] + (w[1] - w[0]) * ((0.5 * total - walked) / l.max(f64::MIN_POSITIVE));
+                break;
+            }
+            walked += l;
+        }
+        let inside = contains(&self.points, mid);
+        let (_, ea, qa) = nearest_on_boundary(&self.points, a);
+        self.insert(ea, qa);
+        let (_, eb, qb) = nearest_on_boundary(&self.points, b);
+        self.insert(eb, qb);
+        let vertex = |q: DVec2| {
+            (0..self.points.len()).min_by(|&i, &j| self.points[i].distance(q).total_cmp(&self.points[j].distance(q)))
+        };
+        let (ia, ib) = (vertex(qa).unwrap_or(0), vertex(qb).unwrap_or(0));
+        let n = self.points.len();
+        if ia == ib {
+            // A loop from one coast point back to itself: a closed sketch, not an edit.
+            return Err(IslandError::StrokeMissesCoast { snap: 0.0 });
+        }
+        // The two loops: the piece a → b, then the coast from b back to a forwards or backwards.
+        let inner = &piece[1..piece.len() - 1];
+        let loop_with = |forward: bool| -> (Vec<DVec2>, Vec<bool>) {
+            let mut pts: Vec<DVec2> = Vec::with_capacity(n + inner.len() + 1);
+            let mut fresh = Vec::with_capacity(n + inner.len() + 1);
+            pts.push(self.points[ia]);
+            fresh.push(true);
+            for &q in inner {
+                pts.push(q);
+                fresh.push(true);
+            }
+            let mut k = ib;
+            loop {
+                pts.push(self.points[k]);
+                let next = if forward { (k + 1) % n } else { (k + n - 1) % n };
+                // The coast edge k → next keeps its flag (edge k forwards, edge next backwards).
+                fresh.push(if forward { self.fresh[k] } else { self.fresh[next] });
+                if next == ia {
+                    break;
+                }
+                k = next;
+            }
+            (pts, fresh)
+        };
+        let (f, b_) = (loop_with(true), loop_with(false));
+        let (af, ab) = (signed_area(&f.0), signed_area(&b_.0));
+        let (kind, (mut pts, mut fresh)) = if inside {
+            // Cut: the loop left of the stroke is counter-clockwise; keep the other one.
+            (EditKind::Cut, if af > 0.0 { b_ } else { f })
+        } else {
+            // Supplement: the smaller loop is the area the piece encloses with the coast; its
+            // orientation is the stroke's.
+            let (region, region_area, union) = if af.abs() < ab.abs() { (f, af, b_) } else { (b_, ab, f) };
+            if region_area < 0.0 { (EditKind::Add, union) } else { (EditKind::Replace, region) }
+        };
+        if signed_area(&pts) < 0.0 {
+            // Reverse the ring and its edge flags (edge i of the reversed ring is old edge n−2−i).
+            pts.reverse();
+            let m = fresh.len();
+            let old = fresh.clone();
+            for (i, f) in fresh.iter_mut().enumerate() {
+                *f = old[(2 * m - 2 - i) % m];
+            }
+        }
+        let pts_checked = simple_polygon(&pts)?;
+        if pts_checked.len() != pts.len() {
+            // Repeated points were dropped: rebuild the flags by matching edges.
+            fresh = rebuild_flags(&pts, &fresh, &pts_checked);
+            pts = pts_checked;
+        }
+        self.points = pts;
+        self.fresh = fresh;
+        Ok(kind)
+    }
+}
+
+/// Edge flags of `clean` (a copy of `ring` with repeated points removed), taken from the edge of
+/// `ring` that starts at the same point.
+fn rebuild_flags(ring: &[DVec2], flags: &[bool], clean: &[DVec2]) -> Vec<bool> {
+    clean.iter().map(|q| ring.iter().position(|p| p == q).is_none_or(|i| flags[i])).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Coast {
+        Coast::new(vec![DVec2::new(0.0, 0.0), DVec2::new(10.0, 0.0), DVec2::new(10.0, 10.0), DVec2::new(0.0, 10.0)])
+    }
+
+    #[test]
+    fn a_cut_removes_the_left_side() {
+        // Upwards through x = 4: the left side (x < 4) goes.
+        let mut c = square();
+        let stroke = [DVec2::new(4.0, -1.0), DVec2::new(4.0, 11.0)];
+        let pieces = c.pieces(&stroke, 0.5).unwrap();
+        assert_eq!(pieces.len(), 1);
+        assert_eq!(c.apply(&pieces[0]).unwrap(), EditKind::Cut);
+        assert!((signed_area(&c.points) - 60.0).abs() < 1e-9);
+        assert!(contains(&c.points, DVec2::new(7.0, 5.0)) && !contains(&c.points, DVec2::new(2.0, 5.0)));
+    }
+
+    #[test]
+    fn reversing_the_cut_removes_the_other_side() {
+        let mut c = square();
+        let stroke = [DVec2::new(4.0, 11.0), DVec2::new(4.0, -1.0)];
+        for piece in c.clone().pieces(&stroke, 0.5).unwrap() {
+            c.apply(&piece).unwrap();
+        }
+        assert!((signed_area(&c.points) - 40.0).abs() < 1e-9);
+        assert!(contains(&c.points, DVec2::new(2.0, 5.0)));
+    }
+
+    #[test]
+    fn flags_mark_the_new_edges() {
+        let mut c = square();
+        for f in &mut c.fresh {
+            *f = false;
+        }
+        let stroke = [DVec2::new(4.0, -1.0), DVec2::new(4.0, 11.0)];
+        for piece in c.clone().pieces(&stroke, 0.5).unwrap() {
+            c.apply(&piece).unwrap();
+        }
+        let n = c.points.len();
+        let fresh: Vec<(DVec2, DVec2)> =
+            (0..n).filter(|&i| c.fresh[i]).map(|i| (c.points[i], c.points[(i + 1) % n])).collect();
+        assert_eq!(fresh.len(), 1);
+        assert!(fresh[0].0.x == 4.0 && fresh[0].1.x == 4.0);
+    }
+}

@@ -1,0 +1,68 @@
+//! Elliptic paraboloids (§3.3): the hills a user places and the small perturbations of the
+//! filters (§3.4).
+
+use glam::DVec2;
+use serde::{Deserialize, Serialize};
+
+use crate::IslandError;
+
+/// An elliptic paraboloid `z = h·(1 − x²/a² − y²/b²)` inside its ellipse and 0 outside, in the
+/// frame rotated by `rotation` about `center`. A negative height makes a valley, lake or crater.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+#[serde(deny_unknown_fields)]
+pub struct Hill {
+    /// Centre `[x, y]` in world units.
+    pub center: [f64; 2],
+    /// Semi-axes `[a, b]`, `a ≥ b > 0` (the paper's convention; rotate by 90° for the other way).
+    pub radii: [f64; 2],
+    /// Rotation of the `a` axis from +x, degrees counter-clockwise (default 0).
+    #[serde(default)]
+    pub rotation: f64,
+    /// Height at the centre, world units; negative for a hollow.
+    pub height: f64,
+}
+
+impl Hill {
+    /// A round hill.
+    pub fn round(center: DVec2, radius: f64, height: f64) -> Self {
+        Self { center: center.to_array(), radii: [radius, radius], rotation: 0.0, height }
+    }
+
+    /// Checks the parameters.
+    ///
+    /// # Errors
+    /// [`IslandError::NotFinite`] or [`IslandError::InvalidHill`].
+    pub fn validate(&self) -> Result<(), IslandError> {
+        let values = [self.center[0], self.center[1], self.radii[0], self.radii[1], self.rotation, self.height];
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(IslandError::NotFinite { what: "a hill parameter" });
+        }
+        if self.radii[0] <= 0.0 || self.radii[1] <= 0.0 {
+            return Err(IslandError::InvalidHill { reason: "radii must be positive" });
+        }
+        if self.radii[0] < self.radii[1] {
+            return Err(IslandError::InvalidHill { reason: "radii [a, b] need a ≥ b (rotate by 90° instead)" });
+        }
+        Ok(())
+    }
+
+    /// The paraboloid's height at `p` (0 outside its ellipse).
+    #[inline]
+    pub fn at(&self, p: DVec2) -> f64 {
+        let (s, c) = self.rotation.to_radians().sin_cos();
+        let d = p - DVec2::from(self.center);
+        let (x, y) = (c * d.x + s * d.y, -s * d.x + c * d.y);
+        let q = (x / self.radii[0]).powi(2) + (y / self.radii[1]).powi(2);
+        if q < 1.0 { self.height * (1.0 - q) } else { 0.0 }
+    }
+
+    /// Axis-aligned bounds of the ellipse: `(min, max)`.
+    pub fn bounds(&self) -> (DVec2, DVec2) {
+        let (s, c) = self.rotation.to_radians().sin_cos();
+        let [a, b] = self.radii;
+        let half = DVec2::new((a * c).hypot(b * s), (a * s).hypot(b * c));
+        let center = DVec2::from(self.center);
+        (center - half, center + half)
+    }
+}

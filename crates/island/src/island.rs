@@ -1,0 +1,685 @@
+//! The island model: a coastline, hills and filters, and the three grids of §5.1 (heights, hills,
+//! filters) whose sum is the terrain.
+
+use glam::DVec2;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use relief_heightfield::{GridSpec, Heightfield, distance_transform_seeded};
+use serde::{Deserialize, Serialize};
+
+use crate::IslandError;
+use crate::geometry::{Coast, EditKind, contains, nearest_on_boundary, signed_area, simple_polygon};
+use crate::hill::Hill;
+
+/// The most samples an island grid may hold: 2²⁵ (a 5792² grid). An island keeps about 25 bytes
+/// per sample, so this caps it near 850 MB.
+pub const MAX_CELLS: usize = 1 << 25;
+
+/// The most perturbations one island may carry.
+pub const MAX_FILTERS: usize = 1 << 20;
+
+/// How an island is shaped.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+#[serde(default, deny_unknown_fields)]
+pub struct IslandSettings {
+    /// Height of a freshly drawn island at the point farthest from its coast, world units
+    /// (the island is a cone over its coastline; default 100).
+    pub height: f64,
+    /// How close to the coast a stroke must start or end to count as touching it, and how close a
+    /// drawn coastline's ends must be to count as closed, world units (default: 2 % of the
+    /// domain's shorter side).
+    pub snap: Option<f64>,
+    /// Land never goes below this height, so only the coastline is at sea level (default 0.1).
+    pub land_floor: f64,
+    /// Perturbation radii as fractions of the island's equivalent radius `√(area / π)`
+    /// (default [0.03, 0.1]).
+    pub filter_radius: [f64; 2],
+    /// Perturbation heights as fractions of their radius, up or down at random (default
+    /// [0.02, 0.08]: wider than tall, as §3.4 wants).
+    pub filter_height: [f64; 2],
+}
+
+impl Default for IslandSettings {
+    fn default() -> Self {
+        Self { height: 100.0, snap: None, land_floor: 0.1, filter_radius: [0.03, 0.1], filter_height: [0.02, 0.08] }
+    }
+}
+
+impl IslandSettings {
+    fn check(&self) -> Result<(), IslandError> {
+        let bad = |name, value, reason| Err(IslandError::InvalidParameter { name, value, reason });
+        if !(self.height.is_finite() && self.height > 0.0) {
+            return bad("height", self.height, "must be positive");
+        }
+        if let Some(s) = self.snap
+            && !(s.is_finite() && s > 0.0)
+        {
+            return bad("snap", s, "must be positive");
+        }
+        if !(self.land_floor.is_finite() && self.land_floor > 0.0) {
+            return bad("land_floor", self.land_floor, "must be positive");
+        }
+        for (name, [lo, hi]) in [("filter_radius", self.filter_radius), ("filter_height", self.filter_height)] {
+            if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
+                return bad(name, lo, "needs 0 < min ≤ max");
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One step of an island's editing history, as scenes store it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Operation {
+    /// Replace the coastline by a closed polygon (first and last points within the snap distance);
+    /// heights restart as a cone over it.
+    Coastline {
+        /// The points `[x, y]`.
+        points: Vec<[f64; 2]>,
+    },
+    /// A stroke across or around the coast: cuts and supplements at each crossing (§3.1).
+    Stroke {
+        /// The points `[x, y]`, in drawing order.
+        points: Vec<[f64; 2]>,
+    },
+    /// Add a hill (or, with a negative height, a hollow).
+    AddHill(Hill),
+    /// Move hill `hill` (its index in order of addition) to `center`.
+    MoveHill {
+        /// Index of the hill.
+        hill: usize,
+        /// New centre `[x, y]`.
+        center: [f64; 2],
+    },
+    /// Change hill `hill`'s radii, and optionally its height and rotation.
+    ResizeHill {
+        /// Index of the hill.
+        hill: usize,
+        /// New semi-axes `[a, b]`.
+        radii: [f64; 2],
+        /// New height (default: unchanged).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        height: Option<f64>,
+        /// New rotation, degrees (default: unchanged).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rotation: Option<f64>,
+    },
+    /// Remove hill `hill` (later hills move down one index).
+    RemoveHill {
+        /// Index of the hill.
+        hill: usize,
+    },
+    /// Apply the perturbation filter once: about `coverage` × (island area / mean perturbation
+    /// area) new perturbations, seeded.
+    AddFilters {
+        /// How many perturbations, in island areas covered (default 1).
+        #[serde(default = "one")]
+        coverage: f64,
+    },
+    /// Remove the `count` most recent perturbations.
+    RemoveFilters {
+        /// How many.
+        count: usize,
+    },
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Which grid a primitive edit touches.
+#[derive(Clone, Copy)]
+enum Layer {
+    Hills,
+    Filters,
+}
+
+/// An island being sketched: its coastline, hills and perturbations, with the heights grid the
+/// coastline edits have shaped and the final terrain kept up to date after every edit.
+#[derive(Debug, Clone)]
+pub struct Island {
+    grid: GridSpec,
+    settings: IslandSettings,
+    seed: u64,
+    coast: Coast,
+    land: Vec<bool>,
+    heights: Vec<f32>,
+    hills: Vec<Hill>,
+    hills_grid: Vec<f64>,
+    filters: Vec<Hill>,
+    filters_grid: Vec<f64>,
+    batches: u64,
+    terrain: Vec<f32>,
+}
+
+impl Island {
+    /// The start state of §4: a circular coastline (radius 0.4 of the domain's shorter side,
+    /// centred) over a conical island of `settings.height`.
+    ///
+    /// # Errors
+    /// [`IslandError::Grid`] for grids narrower than 3 samples or above [`MAX_CELLS`];
+    /// [`IslandError::InvalidParameter`] for bad settings.
+    pub fn new(grid: GridSpec, settings: IslandSettings, seed: u64) -> Result<Self, IslandError> {
+        let (nx, ny) = (grid.nx(), grid.ny());
+        if nx < 3 || ny < 3 {
+            return Err(IslandError::Grid { nx, ny, reason: "needs at least 3 samples along each axis" });
+        }
+        if nx.saturating_mul(ny) > MAX_CELLS {
+            return Err(IslandError::Grid { nx, ny, reason: "more samples than the island limit (2^25)" });
+        }
+        settings.check()?;
+        let extent = grid.extent();
+        let (center, r) = (extent.center(), 0.4 * extent.size().min_element());
+        let circle: Vec<DVec2> = (0..128)
+            .map(|k| {
+                let a = std::f64::consts::TAU * f64::from(k) / 128.0;
+                center + r * DVec2::new(a.cos(), a.sin())
+            })
+            .collect();
+        let n = grid.len();
+        let mut island = Self {
+            grid,
+            settings,
+            seed,
+            coast: Coast::new(simple_polygon(&circle)?),
+            land: vec![false; n],
+            heights: vec![0.0; n],
+            hills: Vec::new(),
+            hills_grid: vec![0.0; n],
+            filters: Vec::new(),
+            filters_grid: vec![0.0; n],
+            batches: 0,
+            terrain: vec![0.0; n],
+        };
+        island.update_heights();
+        Ok(island)
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> &GridSpec {
+        &self.grid
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &IslandSettings {
+        &self.settings
+    }
+
+    /// The coastline, counter-clockwise, not repeating its first point.
+    pub fn coastline(&self) -> &[DVec2] {
+        &self.coast.points
+    }
+
+    /// The hills, in order of addition.
+    pub fn hills(&self) -> &[Hill] {
+        &self.hills
+    }
+
+    /// The perturbations of the filters, in order of addition.
+    pub fn filters(&self) -> &[Hill] {
+        &self.filters
+    }
+
+    /// Per sample: inside the coastline.
+    pub fn land(&self) -> &[bool] {
+        &self.land
+    }
+
+    /// The heights grid (the coastline's shape, before hills and filters).
+    pub fn heights(&self) -> &[f32] {
+        &self.heights
+    }
+
+    /// The final grid: heights + hills + filters on land (at least `land_floor`), exactly 0 at sea.
+    pub fn terrain(&self) -> &[f32] {
+        &self.terrain
+    }
+
+    /// The final grid as a heightfield.
+    ///
+    /// # Panics
+    /// Never in practice: every sample is finite (parameters are checked on entry) and the grid
+    /// is the island's own.
+    pub fn heightfield(&self) -> Heightfield {
+        Heightfield::from_samples(self.grid, self.terrain.clone()).expect("finite samples on the island's own grid")
+    }
+
+    /// Area inside the coastline, world units².
+    pub fn area(&self) -> f64 {
+        signed_area(&self.coast.points)
+    }
+
+    /// The snap distance in force.
+    pub fn snap(&self) -> f64 {
+        self.settings.snap.unwrap_or(0.02 * self.grid.extent().size().min_element())
+    }
+
+    /// Replaces the coastline by the closed polygon `points` and rebuilds the heights as a cone
+    /// over it.
+    ///
+    /// # Errors
+    /// [`IslandError::OpenCoastline`], [`IslandError::DegenerateCoastline`],
+    /// [`IslandError::SelfIntersecting`], [`IslandError::NotFinite`], [`IslandError::NoLand`].
+    pub fn set_coastline(&mut self, points: &[DVec2]) -> Result<(), IslandError> {
+        if points.len() >= 2 {
+            let gap = points[0].distance(points[points.len() - 1]);
+            if gap > self.snap() {
+                return Err(IslandError::OpenCoastline { gap, snap: self.snap() });
+            }
+        }
+        let coast = Coast::new(simple_polygon(points)?);
+        self.commit(coast)
+    }
+
+    /// Applies a stroke (§3.1): split at its contacts with the coast, each piece through the land
+    /// cuts off the part left of the stroke, each piece outside adds the area it encloses
+    /// (clockwise) or keeps only that area (counter-clockwise). Heights then follow §3.2.
+    ///
+    /// # Errors
+    /// [`IslandError::ShortStroke`], [`IslandError::StrokeMissesCoast`],
+    /// [`IslandError::SelfIntersecting`] (the stroke crosses itself or the result does),
+    /// [`IslandError::NoLand`], [`IslandError::NotFinite`].
+    pub fn stroke(&mut self, points: &[DVec2]) -> Result<Vec<EditKind>, IslandError> {
+        let mut coast = self.coast.clone();
+        coast.fresh.iter_mut().for_each(|f| *f = false);
+        let pieces = coast.pieces(points, self.snap())?;
+        let mut kinds = Vec::with_capacity(pieces.len());
+        for piece in &pieces {
+            kinds.push(coast.apply(piece)?);
+        }
+        self.commit(coast)?;
+        Ok(kinds)
+    }
+
+    fn commit(&mut self, coast: Coast) -> Result<(), IslandError> {
+        let previous = std::mem::replace(&mut self.coast, coast);
+        if !self.update_heights() {
+            self.coast = previous;
+            self.update_heights();
+            return Err(IslandError::NoLand);
+        }
+        Ok(())
+    }
+
+    /// §3.2: `H = H_o·(1 − W) + H_n·W` with `W = ½ + ½·tanh(D_o² − D_n)`, where `D_o` and `D_n`
+    /// are the distances to the unchanged and to the new pieces of the coastline, each scaled to
+    /// [0, 1] over the land. `H_n` is the height a fresh island with this coastline would have:
+    /// `height ×` distance to the coast / its largest value (a cone; the paper says only
+    /// "proportional"). Next to a cut W ≥ ½, so the new coast keeps up to half the old height:
+    /// cuts leave cliffs, as in the paper's figures. Sea samples get 0. Returns false when no sample is on land (and changes
+    /// nothing then).
+    fn update_heights(&mut self) -> bool {
+        let land = self.mask();
+        if !land.contains(&true) {
+            return false;
+        }
+        let (d_new, d_old) = rayon::join(|| self.distance_to(true), || self.distance_to(false));
+        let max_over_land = |d: &[f64]| {
+            d.iter().zip(&land).filter(|x| *x.1).map(|x| *x.0).filter(|v| v.is_finite()).fold(0.0f64, f64::max)
+        };
+        let d_coast: Vec<f64> = d_new.iter().zip(&d_old).map(|(a, b)| a.min(*b)).collect();
+        let (m_new, m_old, m_coast) = (max_over_land(&d_new), max_over_land(&d_old), max_over_land(&d_coast));
+        let cell = self.grid.cell_size().min_element();
+        let height = self.settings.height;
+        self.heights.par_iter_mut().enumerate().for_each(|(k, h)| {
+            if !land[k] {
+                *h = 0.0;
+                return;
+            }
+            let hn = height * d_coast[k] / m_coast.max(cell);
+            let w = if d_old[k].is_finite() {
+                let dn = d_new[k] / m_new.max(cell);
+                let dold = d_old[k] / m_old.max(cell);
+                0.5 + 0.5 * (dold * dold - dn).tanh()
+            } else {
+                1.0
+            };
+            // A sample that was at sea had no old height.
+            let ho = f64::from(*h);
+            *h = (ho * (1.0 - w) + hn * w) as f32;
+        });
+        self.land = land;
+        self.refresh_terrain(0, self.grid.nx() - 1, 0, self.grid.ny() - 1);
+        true
+    }
+
+    /// Samples inside the coastline (scanline fill at the sample positions).
+    fn mask(&self) -> Vec<bool> {
+        let (nx, p) = (self.grid.nx(), &self.coast.points);
+        let n = p.len();
+        let mut mask = vec![false; self.grid.len()];
+        mask.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            let y = self.grid.position(0, j).y;
+            let mut xs: Vec<f64> = Vec::new();
+            for i in 0..n {
+                let (a, b) = (p[i], p[(i + 1) % n]);
+                if (a.y > y) != (b.y > y) {
+                    xs.push(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
+                }
+            }
+            xs.sort_by(f64::total_cmp);
+            for pair in xs.chunks_exact(2) {
+                let g0 = self.grid.grid_coords(DVec2::new(pair[0], y)).x;
+                let g1 = self.grid.grid_coords(DVec2::new(pair[1], y)).x;
+                // Samples strictly inside: i > g0 and i < g1.
+                let lo = (g0.floor() + 1.0).max(0.0) as usize;
+                let hi = g1.ceil() - 1.0;
+                if hi < 0.0 {
+                    continue;
+                }
+                for v in row.iter_mut().take((hi as usize).min(nx - 1) + 1).skip(lo) {
+                    *v = true;
+                }
+            }
+        });
+        mask
+    }
+
+    /// Distance from every sample to the coast edges whose fresh flag is `fresh` (infinite when
+    /// there is none). Samples within two cells of an edge seed a labelled Euclidean distance
+    /// transform with that edge; every sample then measures its exact distance to the edge of its
+    /// nearest seed (the transform's own value would be short by up to the seeds' offset).
+    fn distance_to(&self, fresh: bool) -> Vec<f64> {
+        let (nx, ny) = (self.grid.nx(), self.grid.ny());
+        let mut sq = vec![f64::INFINITY; nx * ny];
+        let mut label = vec![u32::MAX; nx * ny];
+        let (p, n) = (&self.coast.points, self.coast.points.len());
+        let cell = self.grid.cell_size();
+        let step = 0.5 * cell.min_element();
+        let edge = |e: usize| (p[e], p[(e + 1) % n]);
+        let mut any = false;
+        for e in (0..n).filter(|&e| self.coast.fresh[e] == fresh) {
+            any = true;
+            let (a, b) = edge(e);
+            let steps = (a.distance(b) / step).ceil() as usize + 1;
+            for s in 0..=steps {
+                let g = self.grid.grid_coords(a + (b - a) * (s as f64 / steps as f64));
+                let (i0, j0) = ((g.x.floor() - 1.0).max(0.0) as usize, (g.y.floor() - 1.0).max(0.0) as usize);
+                for j in j0..(j0 + 4).min(ny) {
+                    for i in i0..(i0 + 4).min(nx) {
+                        let c = self.grid.position(i, j);
+                        let d2 = crate::geometry::project(a, b, c).0.distance_squared(c);
+                        let k = j * nx + i;
+                        if d2 < sq[k] {
+                            sq[k] = d2;
+                            label[k] = e as u32;
+                        }
+                    }
+                }
+            }
+        }
+        if !any {
+            return sq;
+        }
+        distance_transform_seeded(nx, ny, cell, &mut sq, Some(&mut label));
+        let grid = self.grid;
+        sq.par_chunks_mut(nx).zip(label.par_chunks(nx)).enumerate().for_each(|(j, (row, labels))| {
+            for (i, (v, &e)) in row.iter_mut().zip(labels).enumerate() {
+                let (a, b) = edge(e as usize);
+                let c = grid.position(i, j);
+                *v = crate::geometry::project(a, b, c).0.distance(c);
+            }
+        });
+        sq
+    }
+
+    /// Sample box `[i0, i1] × [j0, j1]` covering world bounds, or `None` off the grid.
+    fn cell_box(&self, lo: DVec2, hi: DVec2) -> Option<(usize, usize, usize, usize)> {
+        let (a, b) = (self.grid.grid_coords(lo), self.grid.grid_coords(hi));
+        let (nx, ny) = (self.grid.nx() as f64, self.grid.ny() as f64);
+        let (i0, j0) = (a.x.min(b.x).floor().max(0.0), a.y.min(b.y).floor().max(0.0));
+        let (i1, j1) = (a.x.max(b.x).ceil().min(nx - 1.0), a.y.max(b.y).ceil().min(ny - 1.0));
+        (i0 <= i1 && j0 <= j1).then_some((i0 as usize, i1 as usize, j0 as usize, j1 as usize))
+    }
+
+    /// Recomputes a layer's grid over the box covering `bounds`, summing its primitives in order,
+    /// then the final grid there. A full rebuild is the same call over the whole grid.
+    fn refresh(&mut self, layer: Layer, bounds: (DVec2, DVec2)) {
+        let Some((i0, i1, j0, j1)) = self.cell_box(bounds.0, bounds.1) else { return };
+        let (prims, grid) = match layer {
+            Layer::Hills => (&self.hills, &mut self.hills_grid),
+            Layer::Filters => (&self.filters, &mut self.filters_grid),
+        };
+        let (lo, hi) = (self.grid.position(i0, j0), self.grid.position(i1, j1));
+        let near: Vec<(&Hill, DVec2, DVec2)> = prims
+            .iter()
+            .map(|h| {
+                let (a, b) = h.bounds();
+                (h, a, b)
+            })
+            .filter(|(_, a, b)| a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y)
+            .collect();
+        let nx = self.grid.nx();
+        let spec = self.grid;
+        grid.par_chunks_mut(nx).enumerate().skip(j0).take(j1 - j0 + 1).for_each(|(j, row)| {
+            for (i, v) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
+                let p = spec.position(i, j);
+                let mut acc = 0.0;
+                for (h, a, b) in &near {
+                    if p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y {
+                        acc += h.at(p);
+                    }
+                }
+                *v = acc;
+            }
+        });
+        self.refresh_terrain(i0, i1, j0, j1);
+    }
+
+    /// Adds the last primitive of a layer on top of its grid (the ordered sum continues, so the
+    /// result equals a rebuild bit for bit), then refreshes the final grid under it.
+    fn append(&mut self, layer: Layer) {
+        let last = match layer {
+            Layer::Hills => self.hills.last(),
+            Layer::Filters => self.filters.last(),
+        };
+        let Some(&h) = last else { return };
+        let (a, b) = h.bounds();
+        let Some((i0, i1, j0, j1)) = self.cell_box(a, b) else { return };
+        let grid = match layer {
+            Layer::Hills => &mut self.hills_grid,
+            Layer::Filters => &mut self.filters_grid,
+        };
+        let nx = self.grid.nx();
+        let spec = self.grid;
+        grid.par_chunks_mut(nx).enumerate().skip(j0).take(j1 - j0 + 1).for_each(|(j, row)| {
+            for (i, v) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
+                let p = spec.position(i, j);
+                if p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y {
+                    *v += h.at(p);
+                }
+            }
+        });
+        self.refresh_terrain(i0, i1, j0, j1);
+    }
+
+    /// The final grid over a sample box.
+    fn refresh_terrain(&mut self, i0: usize, i1: usize, j0: usize, j1: usize) {
+        let nx = self.grid.nx();
+        let floor = self.settings.land_floor;
+        let (land, heights, hills, filters) = (&self.land, &self.heights, &self.hills_grid, &self.filters_grid);
+        self.terrain.par_chunks_mut(nx).enumerate().skip(j0).take(j1 - j0 + 1).for_each(|(j, row)| {
+            for (i, v) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
+                let k = j * nx + i;
+                *v = if land[k] { (f64::from(heights[k]) + hills[k] + filters[k]).max(floor) as f32 } else { 0.0 };
+            }
+        });
+    }
+
+    /// Recomputes the hills, filters and final grids from scratch: what every incremental update
+    /// must equal (tests compare the two).
+    pub fn rebuild(&mut self) {
+        let e = self.grid.extent();
+        self.refresh(Layer::Hills, (e.min, e.max));
+        self.refresh(Layer::Filters, (e.min, e.max));
+    }
+
+    fn hill_index(&self, index: usize) -> Result<usize, IslandError> {
+        if index < self.hills.len() {
+            Ok(index)
+        } else {
+            Err(IslandError::NoSuchHill { index, count: self.hills.len() })
+        }
+    }
+
+    /// Adds a hill; returns its index. Only the samples under it are recomputed.
+    ///
+    /// # Errors
+    /// [`IslandError::InvalidHill`], [`IslandError::NotFinite`].
+    pub fn add_hill(&mut self, hill: Hill) -> Result<usize, IslandError> {
+        hill.validate()?;
+        self.hills.push(hill);
+        self.append(Layer::Hills);
+        Ok(self.hills.len() - 1)
+    }
+
+    /// Replaces hill `index`; the samples under the old and the new one are recomputed.
+    ///
+    /// # Errors
+    /// [`IslandError::NoSuchHill`], [`IslandError::InvalidHill`], [`IslandError::NotFinite`].
+    pub fn set_hill(&mut self, index: usize, hill: Hill) -> Result<(), IslandError> {
+        let index = self.hill_index(index)?;
+        hill.validate()?;
+        let old = std::mem::replace(&mut self.hills[index], hill);
+        self.refresh(Layer::Hills, old.bounds());
+        self.refresh(Layer::Hills, hill.bounds());
+        Ok(())
+    }
+
+    /// Moves hill `index` to `center`.
+    ///
+    /// # Errors
+    /// As [`Self::set_hill`].
+    pub fn move_hill(&mut self, index: usize, center: DVec2) -> Result<(), IslandError> {
+        let mut hill = self.hills[self.hill_index(index)?];
+        hill.center = center.to_array();
+        self.set_hill(index, hill)
+    }
+
+    /// Removes hill `index` (later hills move down one index).
+    ///
+    /// # Errors
+    /// [`IslandError::NoSuchHill`].
+    pub fn remove_hill(&mut self, index: usize) -> Result<Hill, IslandError> {
+        let index = self.hill_index(index)?;
+        let old = self.hills.remove(index);
+        self.refresh(Layer::Hills, old.bounds());
+        Ok(old)
+    }
+
+    /// Applies the filter once (§3.4): `coverage` × (land area / mean perturbation area)
+    /// perturbations at random land positions, each an elliptic paraboloid wider than tall, up or
+    /// down at random. Batches draw from the island's seed and their own stream, so replaying
+    /// the same edits gives the same perturbations. Returns how many were added.
+    ///
+    /// # Errors
+    /// [`IslandError::InvalidParameter`] for a coverage that is negative, not finite, or would
+    /// exceed [`MAX_FILTERS`].
+    pub fn add_filters(&mut self, coverage: f64) -> Result<usize, IslandError> {
+        if !(coverage.is_finite() && coverage >= 0.0) {
+            return Err(IslandError::InvalidParameter {
+                name: "coverage",
+                value: coverage,
+                reason: "must be finite and ≥ 0",
+            });
+        }
+        let area = self.area();
+        let r_eq = (area / std::f64::consts::PI).sqrt();
+        let [r0, r1] = self.settings.filter_radius.map(|f| f * r_eq);
+        let mean_area = std::f64::consts::PI * (0.5 * (r0 + r1)).powi(2);
+        let count = (coverage * area / mean_area).round();
+        if count > (MAX_FILTERS - self.filters.len()) as f64 {
+            return Err(IslandError::InvalidParameter {
+                name: "coverage",
+                value: coverage,
+                reason: "asks for more perturbations than the limit (2^20 per island)",
+            });
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        rng.set_stream(self.batches);
+        self.batches += 1;
+        let (lo, hi) =
+            self.coast.points.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+        let [h0, h1] = self.settings.filter_height;
+        let mut added = 0;
+        for _ in 0..count as usize {
+            // Rejection sampling in the coast's bounds (the land fills a good share of them).
+            let mut center = None;
+            for _ in 0..64 {
+                let p = DVec2::new(rng.random_range(lo.x..=hi.x), rng.random_range(lo.y..=hi.y));
+                if contains(&self.coast.points, p) {
+                    center = Some(p);
+                    break;
+                }
+            }
+            let Some(center) = center else { continue };
+            let r = rng.random_range(r0..=r1);
+            let aspect = rng.random_range(0.5..=1.0);
+            let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+            let height = sign * r * rng.random_range(h0..=h1);
+            let rotation = rng.random_range(0.0..180.0);
+            self.filters.push(Hill { center: center.to_array(), radii: [r, r * aspect], rotation, height });
+            self.append(Layer::Filters);
+            added += 1;
+        }
+        Ok(added)
+    }
+
+    /// Removes the `count` most recent perturbations (all if fewer); returns how many went.
+    pub fn remove_filters(&mut self, count: usize) -> usize {
+        let keep = self.filters.len().saturating_sub(count);
+        let removed: Vec<Hill> = self.filters.drain(keep..).collect();
+        for h in &removed {
+            self.refresh(Layer::Filters, h.bounds());
+        }
+        removed.len()
+    }
+
+    /// Applies one operation.
+    ///
+    /// # Errors
+    /// Those of the method the operation calls.
+    pub fn apply(&mut self, op: &Operation) -> Result<(), IslandError> {
+        let points = |p: &[[f64; 2]]| p.iter().map(|&q| DVec2::from(q)).collect::<Vec<_>>();
+        match op {
+            Operation::Coastline { points: p } => self.set_coastline(&points(p)),
+            Operation::Stroke { points: p } => self.stroke(&points(p)).map(|_| ()),
+            Operation::AddHill(h) => self.add_hill(*h).map(|_| ()),
+            Operation::MoveHill { hill, center } => self.move_hill(*hill, DVec2::from(*center)),
+            Operation::ResizeHill { hill, radii, height, rotation } => {
+                let mut h = self.hills[self.hill_index(*hill)?];
+                h.radii = *radii;
+                h.height = height.unwrap_or(h.height);
+                h.rotation = rotation.unwrap_or(h.rotation);
+                self.set_hill(*hill, h)
+            }
+            Operation::RemoveHill { hill } => self.remove_hill(*hill).map(|_| ()),
+            Operation::AddFilters { coverage } => self.add_filters(*coverage).map(|_| ()),
+            Operation::RemoveFilters { count } => {
+                self.remove_filters(*count);
+                Ok(())
+            }
+        }
+    }
+
+    /// Replays `ops` in order.
+    ///
+    /// # Errors
+    /// [`IslandError::Operation`] with the index of the first operation that fails; the island
+    /// keeps the operations before it.
+    pub fn replay(&mut self, ops: &[Operation]) -> Result<(), IslandError> {
+        for (index, op) in ops.iter().enumerate() {
+            self.apply(op).map_err(|e| IslandError::Operation { index, source: Box::new(e) })?;
+        }
+        Ok(())
+    }
+
+    /// Distance from `p` to the coastline.
+    pub fn distance_to_coast(&self, p: DVec2) -> f64 {
+        nearest_on_boundary(&self.coast.points, p).0
+    }
+}
