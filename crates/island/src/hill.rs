@@ -48,13 +48,8 @@ impl Hill {
     }
 
     /// The paraboloid's height at `p` (0 outside its ellipse).
-    #[inline]
     pub fn at(&self, p: DVec2) -> f64 {
-        let (s, c) = self.rotation.to_radians().sin_cos();
-        let d = p - DVec2::from(self.center);
-        let (x, y) = (c * d.x + s * d.y, -s * d.x + c * d.y);
-        let q = (x / self.radii[0]).powi(2) + (y / self.radii[1]).powi(2);
-        if q < 1.0 { self.height * (1.0 - q) } else { 0.0 }
+        Shape::new(self).at(p)
     }
 
     /// Axis-aligned bounds of the ellipse: `(min, max)`.
@@ -64,5 +59,46 @@ impl Hill {
         let half = DVec2::new((a * c).hypot(b * s), (a * s).hypot(b * c));
         let center = DVec2::from(self.center);
         (center - half, center + half)
+    }
+}
+
+/// A hill prepared for evaluation at many points: rotation and radii folded into two axis
+/// vectors, bounds computed once.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Shape {
+    center: DVec2,
+    /// Rotated unit axes divided by their radius: `x = d·u`, `y = d·v` in radius units.
+    u: DVec2,
+    v: DVec2,
+    height: f64,
+    pub(crate) lo: DVec2,
+    pub(crate) hi: DVec2,
+}
+
+impl Shape {
+    pub(crate) fn new(h: &Hill) -> Self {
+        let (s, c) = h.rotation.to_radians().sin_cos();
+        let (lo, hi) = h.bounds();
+        Self {
+            center: DVec2::from(h.center),
+            u: DVec2::new(c, s) / h.radii[0],
+            v: DVec2::new(-s, c) / h.radii[1],
+            height: h.height,
+            lo,
+            hi,
+        }
+    }
+
+    #[inline]
+    pub(crate) fn at(&self, p: DVec2) -> f64 {
+        let d = p - self.center;
+        let (x, y) = (d.dot(self.u), d.dot(self.v));
+        let q = x * x + y * y;
+        if q < 1.0 { self.height * (1.0 - q) } else { 0.0 }
+    }
+
+    #[inline]
+    pub(crate) fn covers(&self, p: DVec2) -> bool {
+        p.x >= self.lo.x && p.x <= self.hi.x && p.y >= self.lo.y && p.y <= self.hi.y
     }
 }

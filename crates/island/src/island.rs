@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::IslandError;
 use crate::geometry::{Coast, EditKind, contains, nearest_on_boundary, signed_area, simple_polygon};
-use crate::hill::Hill;
+use crate::hill::{Hill, Shape};
 
 /// The most samples an island grid may hold: 2²⁵ (a 5792² grid). An island keeps about 25 bytes
 /// per sample, so this caps it near 850 MB.
@@ -445,27 +445,21 @@ impl Island {
             Layer::Filters => (&self.filters, &mut self.filters_grid),
         };
         let (lo, hi) = (self.grid.position(i0, j0), self.grid.position(i1, j1));
-        let near: Vec<(&Hill, DVec2, DVec2)> = prims
+        let near: Vec<Shape> = prims
             .iter()
-            .map(|h| {
-                let (a, b) = h.bounds();
-                (h, a, b)
-            })
-            .filter(|(_, a, b)| a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y)
+            .map(Shape::new)
+            .filter(|s| s.lo.x <= hi.x && s.hi.x >= lo.x && s.lo.y <= hi.y && s.hi.y >= lo.y)
             .collect();
-        let nx = self.grid.nx();
         let spec = self.grid;
-        grid.par_chunks_mut(nx).enumerate().skip(j0).take(j1 - j0 + 1).for_each(|(j, row)| {
-            for (i, v) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
-                let p = spec.position(i, j);
-                let mut acc = 0.0;
-                for (h, a, b) in &near {
-                    if p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y {
-                        acc += h.at(p);
-                    }
+        for_rows(grid, spec.nx(), (i0, i1, j0, j1), |i, j, v| {
+            let p = spec.position(i, j);
+            let mut acc = 0.0;
+            for s in &near {
+                if s.covers(p) {
+                    acc += s.at(p);
                 }
-                *v = acc;
             }
+            *v = acc;
         });
         self.refresh_terrain(i0, i1, j0, j1);
     }
@@ -477,21 +471,17 @@ impl Island {
             Layer::Hills => self.hills.last(),
             Layer::Filters => self.filters.last(),
         };
-        let Some(&h) = last else { return };
-        let (a, b) = h.bounds();
-        let Some((i0, i1, j0, j1)) = self.cell_box(a, b) else { return };
+        let Some(h) = last.map(Shape::new) else { return };
+        let Some((i0, i1, j0, j1)) = self.cell_box(h.lo, h.hi) else { return };
         let grid = match layer {
             Layer::Hills => &mut self.hills_grid,
             Layer::Filters => &mut self.filters_grid,
         };
-        let nx = self.grid.nx();
         let spec = self.grid;
-        grid.par_chunks_mut(nx).enumerate().skip(j0).take(j1 - j0 + 1).for_each(|(j, row)| {
-            for (i, v) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
-                let p = spec.position(i, j);
-                if p.x >= a.x && p.x <= b.x && p.y >= a.y && p.y <= b.y {
-                    *v += h.at(p);
-                }
+        for_rows(grid, spec.nx(), (i0, i1, j0, j1), |i, j, v| {
+            let p = spec.position(i, j);
+            if h.covers(p) {
+                *v += h.at(p);
             }
         });
         self.refresh_terrain(i0, i1, j0, j1);
@@ -502,11 +492,9 @@ impl Island {
         let nx = self.grid.nx();
         let floor = self.settings.land_floor;
         let (land, heights, hills, filters) = (&self.land, &self.heights, &self.hills_grid, &self.filters_grid);
-        self.terrain.par_chunks_mut(nx).enumerate().skip(j0).take(j1 - j0 + 1).for_each(|(j, row)| {
-            for (i, v) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
-                let k = j * nx + i;
-                *v = if land[k] { (f64::from(heights[k]) + hills[k] + filters[k]).max(floor) as f32 } else { 0.0 };
-            }
+        for_rows(&mut self.terrain, nx, (i0, i1, j0, j1), |i, j, v| {
+            let k = j * nx + i;
+            *v = if land[k] { (f64::from(heights[k]) + hills[k] + filters[k]).max(floor) as f32 } else { 0.0 };
         });
     }
 
@@ -681,5 +669,27 @@ impl Island {
     /// Distance from `p` to the coastline.
     pub fn distance_to_coast(&self, p: DVec2) -> f64 {
         nearest_on_boundary(&self.coast.points, p).0
+    }
+}
+
+/// Calls `f(i, j, &mut sample)` over a sample box of a row-major grid, rows in parallel when the
+/// box is large enough to pay for it (each sample is computed on its own, so the result is the
+/// same either way).
+fn for_rows<T: Send>(
+    grid: &mut [T],
+    nx: usize,
+    (i0, i1, j0, j1): (usize, usize, usize, usize),
+    f: impl Fn(usize, usize, &mut T) + Sync,
+) {
+    let row = |(j, row): (usize, &mut [T])| {
+        for (i, v) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
+            f(i, j, v);
+        }
+    };
+    let rows = grid.chunks_mut(nx).enumerate().skip(j0).take(j1 - j0 + 1);
+    if (i1 - i0 + 1) * (j1 - j0 + 1) < 1 << 14 {
+        rows.for_each(row);
+    } else {
+        grid.par_chunks_mut(nx).enumerate().skip(j0).take(j1 - j0 + 1).for_each(row);
     }
 }

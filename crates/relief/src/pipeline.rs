@@ -27,10 +27,11 @@ use crate::heightfield::noise::Fbm;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
 use crate::hydrology::{self, D8, Field, HydrologyError, Outlets, StreamPower, Thermal};
 use crate::io::{Format, ReadOptions};
+use crate::island::{Island, IslandError};
 use crate::poisson_sampling::{Polygon, Rect};
 use crate::scene::{
-    ContoursGenerator, DiffusionGenerator, Edit, Generator, HistogramSource, Levels, Outputs, PostProcess, Probability,
-    ReconstructionMode, Rectangle, Scene, SolverSpec,
+    ContoursGenerator, DiffusionGenerator, Edit, Generator, HistogramSource, IslandGenerator, Levels, Outputs,
+    PostProcess, Probability, ReconstructionMode, Rectangle, Scene, SolverSpec,
 };
 use crate::tin::PointLocator;
 use crate::warp::{PathOptions, PathWarp, Profile, SlopeModulation, Warp, WarpError, warp_polyline, warp_raster};
@@ -174,10 +175,26 @@ pub struct Summary {
     /// How the diffusion solve went (diffusion generator only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub diffusion: Option<SolveReport>,
+    /// The island's final shape (island generator only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub island: Option<IslandSummary>,
     /// Closed basins and stream order of the final heightfield.
     pub drainage: DrainageSummary,
     /// Time per step, in order (they vary from run to run, unlike everything else).
     pub timings_ms: Vec<Timing>,
+}
+
+/// What an island scene ended with.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct IslandSummary {
+    /// Vertices of the coastline.
+    pub coast_vertices: usize,
+    /// Area inside the coastline, world units².
+    pub area: f64,
+    /// Hills placed.
+    pub hills: usize,
+    /// Perturbations the filters added.
+    pub perturbations: usize,
 }
 
 /// A generated terrain: the heightfield, the contours it was rebuilt from, and the run summary.
@@ -216,6 +233,7 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
     match &scene.generator {
         Generator::Contours(generator) => generate_contours(scene, generator, base_dir, &mut timer),
         Generator::Diffusion(generator) => generate_diffusion(scene, generator, &mut timer),
+        Generator::Island(generator) => generate_island(scene, generator, &mut timer),
     }
 }
 
@@ -302,6 +320,7 @@ fn generate_contours(
             raster: if land.is_empty() { 1.0 } else { inputs.histogram.ks_distance(&land) },
         }),
         diffusion: None,
+        island: None,
         drainage,
         timings_ms: std::mem::take(&mut timer.timings),
     };
@@ -338,11 +357,33 @@ fn generate_diffusion(
     let report = terrain.report;
     let (lo, _) = terrain.heightfield.min_max().unwrap_or((0.0, 0.0));
     let sea_level = generator.sea_level.unwrap_or(f64::from(lo) - 1.0);
-    let (heightfield, drainage) = finish(scene, terrain.heightfield, sea_level, timer)?;
+    let extras = Extras { diffusion: Some(report), island: None };
+    raster_terrain(scene, terrain.heightfield, sea_level, &generator.levels, DIFFUSION, extras, timer)
+}
+
+/// What a raster generator adds to the summary.
+struct Extras {
+    diffusion: Option<SolveReport>,
+    island: Option<IslandSummary>,
+}
+
+/// The shared end of the raster generators (diffusion, island): post-processing and drainage
+/// ([`finish`]), then contours at `levels` and the summary. `path` is the generator's JSON path.
+fn raster_terrain(
+    scene: &Scene,
+    heightfield: Heightfield,
+    sea_level: f64,
+    levels_spec: &Levels,
+    path: &'static str,
+    extras: Extras,
+    timer: &mut Timer<'_>,
+) -> Result<Terrain, ReliefError> {
+    let grid = *heightfield.grid();
+    let (heightfield, drainage) = finish(scene, heightfield, sea_level, timer)?;
     let samples: Vec<f64> = heightfield.samples().iter().map(|&v| f64::from(v)).collect();
-    let histogram = Histogram::from_samples(samples).map_err(|e| ReliefError::pipeline("diffusion", e))?;
+    let histogram = Histogram::from_samples(samples).map_err(|e| ReliefError::pipeline(path, e))?;
     let contours = timer.step("contours", || {
-        let levels = levels(&generator.levels, &histogram, "generator.diffusion.levels")?;
+        let levels = levels(levels_spec, &histogram, &format!("{path}.levels"))?;
         extract_dem(&heightfield, &levels).map_err(|e| ReliefError::pipeline("contours", e))
     })?;
     let (min, max) = heightfield.min_max().unwrap_or((f32::NAN, f32::NAN));
@@ -365,11 +406,48 @@ fn generate_diffusion(
             sea_level,
         },
         histogram_match: None,
-        diffusion: Some(report),
+        diffusion: extras.diffusion,
+        island: extras.island,
         drainage,
         timings_ms: std::mem::take(&mut timer.timings),
     };
     Ok(Terrain { heightfield, contours, histogram, sea_level, summary })
+}
+
+const ISLAND: &str = "generator.island";
+
+/// A sketched island (Puig-Centelles et al.): the start state, then the scene's operations.
+fn generate_island(scene: &Scene, generator: &IslandGenerator, timer: &mut Timer<'_>) -> Result<Terrain, ReliefError> {
+    let extent = match &scene.domain {
+        Some(d) => rectangle(d, "domain")?,
+        None => Extent::new(DVec2::ZERO, DVec2::splat(1000.0)),
+    };
+    let grid = raster_grid(scene, extent)?;
+    let built = timer.step("island", || {
+        let mut island = Island::new(grid, generator.settings, scene.seed).map_err(|e| island_error(&e))?;
+        island.replay(&generator.operations).map_err(|e| island_error(&e))?;
+        Ok::<_, ReliefError>(island)
+    })?;
+    let summary = IslandSummary {
+        coast_vertices: built.coastline().len(),
+        area: built.area(),
+        hills: built.hills().len(),
+        perturbations: built.filters().len(),
+    };
+    let extras = Extras { diffusion: None, island: Some(summary) };
+    // Sea is exactly 0 and land at least `land_floor`: half the floor parts them.
+    let sea_level = 0.5 * generator.settings.land_floor;
+    raster_terrain(scene, built.heightfield(), sea_level, &generator.levels, ISLAND, extras, timer)
+}
+
+/// An island error as a scene error at the JSON path it comes from.
+fn island_error(e: &IslandError) -> ReliefError {
+    match e {
+        IslandError::Operation { index, source } => ReliefError::scene(format!("{ISLAND}.operations[{index}]"), source),
+        IslandError::InvalidParameter { name, .. } => ReliefError::scene(format!("{ISLAND}.settings.{name}"), e),
+        IslandError::Grid { .. } => ReliefError::scene("reconstruction.resolution", e),
+        _ => ReliefError::scene(ISLAND, e),
+    }
 }
 
 /// Curves, grid and options of a diffusion scene, checked.

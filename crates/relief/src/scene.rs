@@ -63,6 +63,26 @@ pub enum Generator {
     /// Feature curves with elevation, slope and noise constraints, diffused into a terrain
     /// (Hnaidi et al. 2010).
     Diffusion(DiffusionGenerator),
+    /// A sketched island (Puig-Centelles et al.): a circular coast over a cone, then coastline
+    /// strokes, hills and filters replayed in order.
+    Island(IslandGenerator),
+}
+
+/// Parameters and editing history of a sketched island. The domain defaults to a 1000 × 1000
+/// square from the origin; the raster is `reconstruction.resolution`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct IslandGenerator {
+    /// Island height, snap distance, land floor and perturbation sizes.
+    #[serde(default)]
+    pub settings: relief_island::IslandSettings,
+    /// The operations, replayed in order on the start state (a circle of radius 0.4 × the
+    /// domain's shorter side, centred, over a cone of `settings.height`).
+    #[serde(default)]
+    pub operations: Vec<relief_island::Operation>,
+    /// Contours drawn from the result (default 20 evenly spaced levels).
+    #[serde(default = "default_diffusion_levels")]
+    pub levels: Levels,
 }
 
 /// Parameters of feature-curve diffusion.
@@ -105,7 +125,8 @@ fn default_diffusion_levels() -> Levels {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum SolverSpec {
-    /// Multigrid-preconditioned `BiCGStab` with a full-multigrid start.
+    /// Full multigrid, then red-black Gauss–Seidel V-cycles (`BiCGStab` preconditioned by the
+    /// V-cycle takes over if they stall).
     #[default]
     Multigrid,
     /// The paper's coarse-to-fine Jacobi pyramid, then Jacobi to the tolerance.

@@ -351,3 +351,35 @@ fn grown_node_heights_have_no_endorheic_node_unless_a_depression_asks() {
         }
     }
 }
+
+#[test]
+fn island_scenes_replay_identically_and_name_the_failing_operation() {
+    let text = std::fs::read_to_string(root().join("fixtures/scenes/volcano-island-sketch.json")).unwrap();
+    let mut scene = Scene::from_json(&text).unwrap();
+    scene.reconstruction.resolution = [160, 160];
+    let one = with_threads(1, || generate(&scene, &root(), &mut ()).unwrap());
+    let two = with_threads(2, || generate(&scene, &root(), &mut ()).unwrap());
+    assert_eq!(one.heightfield, two.heightfield, "thread count changed the island");
+    let summary = one.summary.island.as_ref().unwrap();
+    assert!(summary.hills == 4 && summary.perturbations > 0, "{summary:?}");
+    // Sea is exactly 0, land above the sea level; the crater sits below its rim.
+    let h = |x: f64, y: f64| one.heightfield.sample_bilinear(DVec2::new(x, y)).unwrap();
+    assert_eq!(h(20.0, 20.0), 0.0);
+    assert!(
+        h(1900.0, 2000.0) + 100.0 < h(1900.0 + 700.0, 2000.0),
+        "crater {} rim {}",
+        h(1900.0, 2000.0),
+        h(2600.0, 2000.0)
+    );
+    assert!(one.heightfield.samples().iter().all(|&v| v == 0.0 || f64::from(v) > one.sea_level));
+    one.contours.check_invariants().unwrap();
+    // A stroke that never reaches the coast fails at its operation's JSON path.
+    let Generator::Island(g) = &mut scene.generator else { panic!("an island scene") };
+    g.operations.insert(1, serde_json::from_str(r#"{"stroke": {"points": [[1900, 1900], [2000, 2000]]}}"#).unwrap());
+    let err = generate(&scene, &root(), &mut ()).unwrap_err();
+    assert!(
+        matches!(&err, relief::ReliefError::Scene { path, .. } if path == "generator.island.operations[1]"),
+        "{err}"
+    );
+    assert!(err.to_string().contains("never touches the coastline"), "{err}");
+}
