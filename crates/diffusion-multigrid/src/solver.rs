@@ -213,13 +213,13 @@ impl DiffusionProblem {
         // the same V-cycle, takes over from the first that does not (slope-dominated constraint
         // sets can make the cycles stall), restarting from the last good iterate. Every cycle ends
         // with a sweep, so the residual lives on colour 0 only.
-        let mut history = vec![norm(&finest.residual_after_sweep(&x, &finest.b)) / r0];
+        let mut history = vec![norm_after_sweep(&finest.residual_after_sweep(&x, &finest.b)) / r0];
         let mut cycles = 0;
         while history[history.len() - 1] >= options.tolerance && cycles < max {
             let before = x.clone();
             self.vcycle(0, &mut x, &finest.b);
             cycles += 1;
-            let rel = norm(&finest.residual_after_sweep(&x, &finest.b)) / r0;
+            let rel = norm_after_sweep(&finest.residual_after_sweep(&x, &finest.b)) / r0;
             if rel > 0.7 * history[history.len() - 1] {
                 x = before;
                 cycles -= 1;
@@ -602,19 +602,18 @@ impl Level {
         Field { nx: self.nx, ny: self.ny, w: self.w, c: [0, 1].map(|c| self.residual_colour(c, x, rhs)) }
     }
 
-    /// The residual right after a sweep: colour 1 was just set to its update value, so its residual
-    /// is exactly zero (the same expression, evaluated the same way) and only colour 0 is computed.
-    fn residual_after_sweep(&self, x: &Field, rhs: &Field) -> Field {
-        Field { nx: self.nx, ny: self.ny, w: self.w, c: [self.residual_colour(0, x, rhs), vec![0.0; x.c[1].len()]] }
+    /// The residual right after a sweep, colour 0 only: colour 1 was just set to its update value,
+    /// so its residual is exactly zero (the same expression, evaluated the same way).
+    fn residual_after_sweep(&self, x: &Field, rhs: &Field) -> Vec<f32> {
+        self.residual_colour(0, x, rhs)
     }
 
-    /// The fine residual `r` (zero on colour 1, see [`Self::residual_after_sweep`]) restricted onto
+    /// The fine residual's colour 0 `r0` (colour 1 is zero, see [`Self::residual_after_sweep`]) restricted onto
     /// this coarse level by full weighting, times the growth of this row's residual per coarsening
     /// (4× for Laplace rows, 2× for first-order gradient rows: `16·wl + 2·(|wx| + |wy|)`).
-    fn restrict(&self, fine: &Level, r: &Field) -> Field {
+    fn restrict(&self, fine: &Level, r0: &[f32]) -> Field {
         let mut out = Field::zeros(self.nx, self.ny);
         let (cw, fw) = (self.w, fine.w);
-        let r0 = &r.c[0];
         let [o0, o1] = &mut out.c;
         o0.par_chunks_mut(cw).zip(o1.par_chunks_mut(cw)).enumerate().for_each(|(jc, (row0, row1))| {
             let fj = 2 * jc;
@@ -663,21 +662,27 @@ const SWEEPS: usize = 2;
 const CHUNK: usize = 1 << 14;
 
 /// ⟨a, b⟩ in f64, summed per chunk then in chunk order (the same for any thread count).
+fn dot_slices(a: &[f32], b: &[f32]) -> f64 {
+    let parts: Vec<f64> = a
+        .par_chunks(CHUNK)
+        .zip(b.par_chunks(CHUNK))
+        .map(|(x, y)| x.iter().zip(y).map(|(&u, &v)| f64::from(u) * f64::from(v)).sum())
+        .collect();
+    parts.iter().sum()
+}
+
+/// ⟨a, b⟩ over both colours, colour 0 first.
 fn dot(a: &Field, b: &Field) -> f64 {
-    let mut sum = 0.0;
-    for (a, b) in a.c.iter().zip(&b.c) {
-        let parts: Vec<f64> = a
-            .par_chunks(CHUNK)
-            .zip(b.par_chunks(CHUNK))
-            .map(|(x, y)| x.iter().zip(y).map(|(&u, &v)| f64::from(u) * f64::from(v)).sum())
-            .collect();
-        sum += parts.iter().sum::<f64>();
-    }
-    sum
+    dot_slices(&a.c[0], &b.c[0]) + dot_slices(&a.c[1], &b.c[1])
 }
 
 fn norm(a: &Field) -> f64 {
     dot(a, a).sqrt()
+}
+
+/// ‖r0‖₂ of a colour-0 residual (the whole residual right after a sweep).
+fn norm_after_sweep(r0: &[f32]) -> f64 {
+    dot_slices(r0, r0).sqrt()
 }
 
 /// A grid function stored by colour: `c[(i + j) % 2][j·w + i/2]`, so a sweep of one colour
@@ -802,7 +807,7 @@ mod tests {
             l.sweep(&mut x, &l.b);
             let full = l.residual(&x, &l.b);
             assert!(full.c[1].iter().all(|&r| r == 0.0), "{nx}×{ny}");
-            assert_eq!(full.c[0], l.residual_after_sweep(&x, &l.b).c[0]);
+            assert_eq!(full.c[0], l.residual_after_sweep(&x, &l.b));
         }
     }
 
