@@ -281,14 +281,21 @@ fn erosion_post_processes_carve_the_terrain_and_fill_closes_nothing() {
     assert!(matches!(&err, relief::ReliefError::Scene { path, .. } if path == "post[0].stream_power.n"), "{err}");
 }
 
-#[test]
-fn diffusion_scenes_run_through_the_same_pipeline() {
-    let text = std::fs::read_to_string(root().join("fixtures/scenes/volcanic-island.json")).unwrap();
+/// Fixture scene `name` at `resolution`, generated with one thread and again with two: the two
+/// heightfields must be equal.
+fn fixture_on_one_and_two_threads(name: &str, resolution: [usize; 2]) -> (Scene, relief::Terrain) {
+    let text = std::fs::read_to_string(root().join("fixtures/scenes").join(name)).unwrap();
     let mut scene = Scene::from_json(&text).unwrap();
-    scene.reconstruction.resolution = [128, 128];
+    scene.reconstruction.resolution = resolution;
     let one = with_threads(1, || generate(&scene, &root(), &mut ()).unwrap());
     let two = with_threads(2, || generate(&scene, &root(), &mut ()).unwrap());
-    assert_eq!(one.heightfield, two.heightfield, "thread count changed the terrain");
+    assert_eq!(one.heightfield, two.heightfield, "{name}: thread count changed the terrain");
+    (scene, one)
+}
+
+#[test]
+fn diffusion_scenes_run_through_the_same_pipeline() {
+    let (mut scene, one) = fixture_on_one_and_two_threads("volcanic-island.json", [128, 128]);
     let report = one.summary.diffusion.as_ref().unwrap();
     assert!(report.converged, "{report:?}");
     assert!(one.summary.graph.is_none() && one.summary.histogram_match.is_none());
@@ -354,12 +361,7 @@ fn grown_node_heights_have_no_endorheic_node_unless_a_depression_asks() {
 
 #[test]
 fn island_scenes_replay_identically_and_name_the_failing_operation() {
-    let text = std::fs::read_to_string(root().join("fixtures/scenes/volcano-island-sketch.json")).unwrap();
-    let mut scene = Scene::from_json(&text).unwrap();
-    scene.reconstruction.resolution = [160, 160];
-    let one = with_threads(1, || generate(&scene, &root(), &mut ()).unwrap());
-    let two = with_threads(2, || generate(&scene, &root(), &mut ()).unwrap());
-    assert_eq!(one.heightfield, two.heightfield, "thread count changed the island");
+    let (mut scene, one) = fixture_on_one_and_two_threads("volcano-island-sketch.json", [160, 160]);
     let summary = one.summary.island.as_ref().unwrap();
     assert!(summary.hills == 4 && summary.perturbations > 0, "{summary:?}");
     // Sea is exactly 0, land above the sea level; the crater sits below its rim.
