@@ -8,66 +8,58 @@ use crate::GridSpec;
 /// Squared 1-D transform of `f` in place, for samples `spacing` apart:
 /// `f[q] ← min_p (spacing·(q − p))² + f[p]`, with `label[q]` (if given) taken from the minimising `p`.
 fn transform_1d(f: &mut [f64], label: Option<&mut [u32]>, spacing: f64, scratch: &mut Scratch) {
-    let n = f.len();
     let s2 = spacing * spacing;
-    let Scratch { v, z, out, lab } = scratch;
-    // The lower envelope of the parabolas rooted at finite samples.
-    let mut k = usize::MAX;
-    for q in 0..n {
-        if !f[q].is_finite() {
+    let half_inv = 0.5 / s2;
+    let Scratch { v, z, g, out, lab } = scratch;
+    // The lower envelope of the parabolas rooted at finite samples: parabola `r` is rooted at
+    // `v[r]`, holds `f[v[r]]` in `out[r]` and `f + s²·v²` in `g[r]`, and is lowest from `z[r]` on.
+    let mut k = 0;
+    for (q, &fq) in f.iter().enumerate() {
+        if !fq.is_finite() {
             continue;
         }
-        loop {
-            if k == usize::MAX {
-                k = 0;
-                v[0] = q;
-                z[0] = f64::NEG_INFINITY;
-                z[1] = f64::INFINITY;
-                break;
-            }
-            let p = v[k];
-            // Where the parabolas rooted at p and q intersect.
-            let s = ((f[q] + s2 * (q * q) as f64) - (f[p] + s2 * (p * p) as f64)) / (2.0 * s2 * (q as f64 - p as f64));
-            if s <= z[k] {
-                if k == 0 {
-                    k = usize::MAX;
-                    continue;
-                }
-                k -= 1;
-            } else {
-                k += 1;
-                v[k] = q;
-                z[k] = s;
-                z[k + 1] = f64::INFINITY;
-                break;
-            }
+        let qf = q as f64;
+        let gq = fq + s2 * qf * qf;
+        // Where the parabolas rooted at the top and at q meet: (gq − gp) / (2s²(q − p)). The top
+        // is hidden when that is at or left of where the top starts (compared without dividing).
+        while k > 0 && (gq - g[k - 1]) * half_inv <= z[k - 1] * (qf - v[k - 1] as f64) {
+            k -= 1;
         }
+        z[k] = if k == 0 { f64::NEG_INFINITY } else { (gq - g[k - 1]) * half_inv / (qf - v[k - 1] as f64) };
+        v[k] = q;
+        g[k] = gq;
+        out[k] = fq;
+        if let Some(label) = label.as_deref() {
+            lab[k] = label[q];
+        }
+        k += 1;
     }
-    if k == usize::MAX {
+    if k == 0 {
         return; // no seed on this line: everything stays infinite
     }
-    // Keep the roots' values and labels: the output overwrites `f` and `label` in place.
-    for (r, &p) in v[..=k].iter().enumerate() {
-        out[r] = f[p];
-        if let Some(label) = label.as_deref() {
-            lab[r] = label[p];
-        }
-    }
-    let mut j = 0;
-    for (q, fq) in f.iter_mut().enumerate() {
-        while z[j + 1] < q as f64 {
-            j += 1;
-        }
-        let d = q as f64 - v[j] as f64;
-        *fq = s2 * d * d + out[j];
-    }
-    if let Some(label) = label {
-        let mut j = 0;
-        for (q, l) in label.iter_mut().enumerate() {
-            while z[j + 1] < q as f64 {
-                j += 1;
+    z[k] = f64::INFINITY;
+    let mut r = 0;
+    match label {
+        Some(label) => {
+            for (q, (fq, l)) in f.iter_mut().zip(label.iter_mut()).enumerate() {
+                let qf = q as f64;
+                while z[r + 1] < qf {
+                    r += 1;
+                }
+                let d = qf - v[r] as f64;
+                *fq = s2 * d * d + out[r];
+                *l = lab[r];
             }
-            *l = lab[j];
+        }
+        None => {
+            for (q, fq) in f.iter_mut().enumerate() {
+                let qf = q as f64;
+                while z[r + 1] < qf {
+                    r += 1;
+                }
+                let d = qf - v[r] as f64;
+                *fq = s2 * d * d + out[r];
+            }
         }
     }
 }
@@ -76,13 +68,14 @@ fn transform_1d(f: &mut [f64], label: Option<&mut [u32]>, spacing: f64, scratch:
 struct Scratch {
     v: Vec<usize>,
     z: Vec<f64>,
+    g: Vec<f64>,
     out: Vec<f64>,
     lab: Vec<u32>,
 }
 
 impl Scratch {
     fn new(n: usize) -> Self {
-        Self { v: vec![0; n], z: vec![0.0; n + 1], out: vec![0.0; n], lab: vec![0; n] }
+        Self { v: vec![0; n], z: vec![0.0; n + 1], g: vec![0.0; n], out: vec![0.0; n], lab: vec![0; n] }
     }
 }
 
@@ -162,18 +155,20 @@ pub fn distance_transform_seeded_with(
     transpose_into(&scratch.tsq, ny, nx, sq);
 }
 
-/// Writes the transpose of `src` (`h` rows of `w`) into `out` (`w` rows of `h`), in tiles so that
-/// both sides stay in cache.
+/// Writes the transpose of `src` (`h` rows of `w`) into `out` (`w` rows of `h`), in small square
+/// blocks so that the rows a block reads and writes stay in L1 cache.
 fn transpose_into<T: Copy>(src: &[T], w: usize, h: usize, out: &mut [T]) {
-    const TILE: usize = 32;
+    const BLOCK: usize = 16;
     assert!(src.len() == w * h && out.len() == w * h, "transpose of {w}x{h}");
-    for j0 in (0..h).step_by(TILE) {
-        let j1 = (j0 + TILE).min(h);
-        let tile = &src[j0 * w..j1 * w];
-        for i in 0..w {
-            // Output row i, columns j0..j1: a contiguous run, read down column i of the tile.
-            for (o, row) in out[i * h + j0..i * h + j1].iter_mut().zip(tile.chunks_exact(w)) {
-                *o = row[i];
+    for j0 in (0..h).step_by(BLOCK) {
+        let j1 = (j0 + BLOCK).min(h);
+        let band = &src[j0 * w..j1 * w];
+        for i0 in (0..w).step_by(BLOCK) {
+            for i in i0..(i0 + BLOCK).min(w) {
+                // Output row i, columns j0..j1: down column i of the band.
+                for (o, jj) in out[i * h + j0..i * h + j1].iter_mut().zip(0..) {
+                    *o = band[jj * w + i];
+                }
             }
         }
     }

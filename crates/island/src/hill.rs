@@ -97,8 +97,40 @@ impl Shape {
         if q < 1.0 { self.height * (1.0 - q) } else { 0.0 }
     }
 
+    /// Adds the paraboloid's heights at the points `(x0 + k·dx, y)` to `out[k]` (0 beyond the
+    /// ellipse). Linear along the row in the shape's frame, so each point costs a few
+    /// multiply-adds and no branch.
     #[inline]
-    pub(crate) fn covers(&self, p: DVec2) -> bool {
-        p.x >= self.lo.x && p.x <= self.hi.x && p.y >= self.lo.y && p.y <= self.hi.y
+    pub(crate) fn add_row(&self, x0: f64, dx: f64, y: f64, out: &mut [f64]) {
+        let d = DVec2::new(x0, y) - self.center;
+        let (x, y) = (d.dot(self.u), d.dot(self.v));
+        let (sx, sy) = (dx * self.u.x, dx * self.v.x);
+        for (k, o) in out.iter_mut().enumerate() {
+            let t = k as f64;
+            let (a, b) = (x + t * sx, y + t * sy);
+            let q = a * a + b * b;
+            *o += if q < 1.0 { self.height * (1.0 - q) } else { 0.0 };
+        }
+    }
+
+    /// Where the line at height `y` crosses the ellipse: the `x` range `(x0, x1)`, or `None` when
+    /// it misses. Outside the range [`Self::at`] is 0 (up to rounding at the very rim, which is
+    /// why callers widen it by a sample).
+    #[inline]
+    pub(crate) fn span(&self, y: f64) -> Option<(f64, f64)> {
+        if y < self.lo.y || y > self.hi.y {
+            return None;
+        }
+        // q(x) = (d·u)² + (d·v)² = A·x'² + 2B·x' + C with x' = x − centre.x; q < 1 between the roots.
+        let dy = y - self.center.y;
+        let a = self.u.x * self.u.x + self.v.x * self.v.x;
+        let b = dy * (self.u.x * self.u.y + self.v.x * self.v.y);
+        let c = dy * dy * (self.u.y * self.u.y + self.v.y * self.v.y) - 1.0;
+        let disc = b * b - a * c;
+        if disc < 0.0 {
+            return None;
+        }
+        let r = disc.sqrt();
+        Some((self.center.x + (-b - r) / a, self.center.x + (-b + r) / a))
     }
 }

@@ -8,14 +8,17 @@
 //!   several operations, one per pair of consecutive crossings.
 //! - Heights (§3.2): after a coastline change `H = H_o(1 − W) + H_n·W`,
 //!   `W = ½ + ½·tanh(D_o² − D_n)`, so land next to unchanged coast keeps its heights and land next
-//!   to new coast rises from sea level. Distances come from an exact Euclidean distance transform
-//!   (relief-heightfield), so a full silhouette update at 1024² takes milliseconds, not the
-//!   paper's 8 s.
+//!   to new coast rises from sea level. Distances come from a labelled Euclidean distance
+//!   transform (relief-heightfield) at half resolution over the coast's bounds, its labels
+//!   corrected by two sweeps, then measured exactly to the labelled coast edges (within a tenth
+//!   of a cell of the true distance in the tests), so a full silhouette update at 1024² takes
+//!   about 35 ms, not the paper's 8 s. Coast off the grid counts too.
 //! - [`Hill`] (§3.3): `z = h·(1 − x²/a² − y²/b²)` inside the rotated ellipse; negative heights
 //!   make craters and lakes. Filters (§3.4): perturbations of the same shape, wider than tall,
 //!   count proportional to the island's area, stored so they re-apply after every edit.
 //! - Incremental updates (§5): a hill or filter edit recomputes only the samples under the
-//!   primitives it touches; [`Island::rebuild`] recomputes everything and gives the same bytes.
+//!   primitives it touches, row by row over each paraboloid's span; a batch of filters is one
+//!   parallel pass. [`Island::rebuild`] recomputes everything and gives the same bytes.
 //! - Sea samples are exactly 0, land samples at least `land_floor`.
 //! - [`Operation`] lists replay an editing session (the facade's `island` scene kind).
 //!

@@ -239,3 +239,50 @@ fn bad_input_is_a_typed_error() {
     assert!(err.to_string().starts_with("operation 1: hill:"), "{err}");
     assert!(Island::new(grid(2), IslandSettings::default(), 0).is_err());
 }
+
+/// A coastline reaching past the grid: distances run to its edges off the grid too (they seed the
+/// grid's border), so heights stay finite and follow the distance to the whole coast.
+#[test]
+fn coast_beyond_the_grid_still_shapes_the_heights() {
+    // The grid covers [0, 1000]²; the island is a square [-600, 900] × [-600, 900]: its coast
+    // runs on the grid only along x = 900 and y = 900.
+    let mut i = island(129);
+    i.set_coastline(&pts(&[[-600.0, -600.0], [900.0, -600.0], [900.0, 900.0], [-600.0, 900.0], [-600.0, -600.0]]))
+        .unwrap();
+    sea_is_zero_and_land_positive(&i);
+    // The tallest point of a fresh island is its centre (150, 150), farthest from the coast.
+    let g = *i.grid();
+    let (k, _) = i.heights().iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
+    let top = g.position(k % g.nx(), k / g.nx());
+    assert!(top.distance(DVec2::splat(150.0)) < 12.0, "summit at {top}");
+    assert!(i.heights().iter().all(|h| h.is_finite()));
+    // A grid entirely inland: every sample is land, heights finite and positive.
+    let mut inland = island(65);
+    inland
+        .set_coastline(&pts(&[
+            [-3000.0, -3000.0],
+            [4000.0, -3000.0],
+            [4000.0, 4000.0],
+            [-3000.0, 4000.0],
+            [-3000.0, -3000.0],
+        ]))
+        .unwrap();
+    assert!(inland.land().iter().all(|&l| l));
+    assert!(inland.terrain().iter().all(|h| h.is_finite() && *h > 0.0), "finite heights inland");
+    // All four sides are off the grid, 3 km away on each: the summit is the grid's centre.
+    let g = *inland.grid();
+    let (k, _) = inland.heights().iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
+    let top = g.position(k % g.nx(), k / g.nx());
+    assert!(top.distance(DVec2::splat(500.0)) < 20.0, "inland summit at {top}");
+}
+
+/// An island far larger than its grid (edges 2·10⁸ long) costs no more than a normal one: the
+/// seeding along each edge is capped, and the grid is all land with finite heights.
+#[test]
+fn a_coast_astronomically_larger_than_the_grid_is_cheap_and_finite() {
+    let mut i = island(65);
+    let r = 1e8;
+    i.set_coastline(&pts(&[[-r, -r], [r, -r], [r, r], [-r, r], [-r, -r]])).unwrap();
+    assert!(i.land().iter().all(|&l| l));
+    assert!(i.terrain().iter().all(|h| h.is_finite() && *h > 0.0));
+}
