@@ -213,4 +213,18 @@ pub(crate) const REFERENCES: &[(&str, Reference)] = &[
         Reference::Fixed { label: "paper, Pentium D 2.8 GHz (Table 4)", seconds: 0.036 },
     ),
     ("island/silhouette_update/1024", Reference::Fixed { label: "target (issue #10)", seconds: 0.05 }),
+    // Perche et al. 2025, Table 1 and §6.1: rasterization on an RTX 3090 (10k primitives 15 ms,
+    // 32k 17 ms, 62k 21 ms at 1024²; 388 ms at 4096²), and issue #8's targets on this CPU.
+    ("gaussian_terrain/rasterize/1024/10k", Reference::Fixed { label: "paper, RTX 3090 (Table 1)", seconds: 0.015 }),
+    (
+        "gaussian_terrain/rasterize/1024/30k",
+        Reference::Fixed { label: "paper, RTX 3090 (Table 1, 32k)", seconds: 0.017 },
+    ),
+    (
+        "gaussian_terrain/rasterize/1024/60k",
+        Reference::Fixed { label: "paper, RTX 3090 (Table 1, 62k)", seconds: 0.021 },
+    ),
+    ("gaussian_terrain/rasterize/1024/60k", Reference::Fixed { label: "target (issue #8)", seconds: 0.25 }),
+    ("gaussian_terrain/rasterize/4096/60k", Reference::Fixed { label: "paper, RTX 3090 (§6.1)", seconds: 0.388 }),
+    ("gaussian_terrain/rasterize/4096/60k", Reference::Fixed { label: "target (issue #8)", seconds: 4.0 }),
 ];

@@ -1,0 +1,133 @@
+//! The vector terrain (a list of primitives, serde) and the atlas of saved landforms.
+
+use glam::DVec2;
+use serde::{Deserialize, Serialize};
+
+use crate::{Gaussian, GaussianError};
+
+/// The most primitives a terrain or atlas landform may hold: 2²² (about 4.2 million, 230 MB).
+pub const MAX_PRIMITIVES: usize = 1 << 22;
+
+/// A terrain as a sum of generalized Gaussian primitives: `h(p) = Σ gᵢ(p)` (§3.2). Resolution
+/// independent; [`crate::rasterize`] turns it into a grid at any resolution and window.
+///
+/// Deserialising checks only the shape of the data: call [`VectorTerrain::validate`] (the
+/// rasterizer does) to reject NaN, `σ ≤ 0` or too many primitives with a typed error.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VectorTerrain {
+    /// The primitives, summed in this order.
+    pub primitives: Vec<Gaussian>,
+}
+
+impl VectorTerrain {
+    /// A terrain of these primitives (not yet validated).
+    pub fn new(primitives: Vec<Gaussian>) -> Self {
+        Self { primitives }
+    }
+
+    /// Number of primitives.
+    pub fn len(&self) -> usize {
+        self.primitives.len()
+    }
+
+    /// Whether there is no primitive (a flat terrain at 0).
+    pub fn is_empty(&self) -> bool {
+        self.primitives.is_empty()
+    }
+
+    /// Checks every primitive and the count.
+    ///
+    /// # Errors
+    /// [`GaussianError::TooManyPrimitives`] above [`MAX_PRIMITIVES`]; the first primitive's
+    /// [`Gaussian::validate`] error otherwise.
+    pub fn validate(&self) -> Result<(), GaussianError> {
+        self.validate_with_limit(MAX_PRIMITIVES)
+    }
+
+    /// [`Self::validate`] with a caller's cap on the primitive count (a budget below
+    /// [`MAX_PRIMITIVES`]).
+    ///
+    /// # Errors
+    /// As [`Self::validate`], with `limit` in place of [`MAX_PRIMITIVES`].
+    pub fn validate_with_limit(&self, limit: usize) -> Result<(), GaussianError> {
+        let limit = limit.min(MAX_PRIMITIVES);
+        if self.primitives.len() > limit {
+            return Err(GaussianError::TooManyPrimitives { count: self.primitives.len(), limit });
+        }
+        self.primitives.iter().enumerate().try_for_each(|(i, g)| g.validate(i))
+    }
+
+    /// The exact elevation at `p`: every primitive, untruncated, in f64. O(primitives); the
+    /// reference the rasterizer is tested against.
+    pub fn height_at(&self, p: DVec2) -> f64 {
+        self.primitives.iter().map(|g| g.value(p)).sum()
+    }
+}
+
+/// A landform saved for stamping: primitives relative to an anchor at the origin.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Landform {
+    /// Name to find it by.
+    pub name: String,
+    /// Primitives, centres relative to the landform's anchor.
+    pub primitives: Vec<Gaussian>,
+}
+
+impl Landform {
+    /// Saves `primitives` as a landform anchored at `anchor` (their centres become relative).
+    pub fn new(name: impl Into<String>, primitives: &[Gaussian], anchor: DVec2) -> Self {
+        let primitives =
+            primitives.iter().map(|g| Gaussian { center: (DVec2::from(g.center) - anchor).to_array(), ..*g }).collect();
+        Self { name: name.into(), primitives }
+    }
+
+    /// The landform placed with its anchor at `at`, turned by `rotation` radians and scaled
+    /// uniformly by `scale` (σ and centre offsets; amplitudes unchanged).
+    pub fn placed(&self, at: DVec2, rotation: f64, scale: f64) -> Vec<Gaussian> {
+        let turn = DVec2::from_angle(rotation);
+        self.primitives
+            .iter()
+            .map(|g| Gaussian {
+                center: (at + turn.rotate(DVec2::from(g.center) * scale)).to_array(),
+                sigma: [g.sigma[0] * scale, g.sigma[1] * scale],
+                theta: g.theta + rotation,
+                ..*g
+            })
+            .collect()
+    }
+}
+
+/// A collection of saved landforms (§5.2, "vector-based atlas"): serde, so it saves as JSON.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Atlas {
+    /// The landforms, by name.
+    pub landforms: Vec<Landform>,
+}
+
+impl Atlas {
+    /// The landform called `name`.
+    ///
+    /// # Errors
+    /// [`GaussianError::NoSuchLandform`].
+    pub fn get(&self, name: &str) -> Result<&Landform, GaussianError> {
+        self.landforms
+            .iter()
+            .find(|l| l.name == name)
+            .ok_or_else(|| GaussianError::NoSuchLandform { name: name.into() })
+    }
+
+    /// Checks every landform's primitives (indices count across the atlas).
+    ///
+    /// # Errors
+    /// As [`VectorTerrain::validate`].
+    pub fn validate(&self) -> Result<(), GaussianError> {
+        let count: usize = self.landforms.iter().map(|l| l.primitives.len()).sum();
+        if count > MAX_PRIMITIVES {
+            return Err(GaussianError::TooManyPrimitives { count, limit: MAX_PRIMITIVES });
+        }
+        self.landforms.iter().flat_map(|l| &l.primitives).enumerate().try_for_each(|(i, g)| g.validate(i))
+    }
+}
