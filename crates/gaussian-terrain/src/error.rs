@@ -54,6 +54,9 @@ pub enum GaussianError {
         /// The cap ([`crate::MAX_RASTER_CELLS`]).
         limit: usize,
     },
+    /// The summed elevation left the f32 range of grids (amplitudes near ±3.4·10³⁸ adding up).
+    #[error("rasterized elevation: {0}")]
+    Raster(#[from] relief_heightfield::HeightfieldError),
     /// No landform of that name in an atlas.
     #[error("no landform named {name:?} in the atlas")]
     NoSuchLandform {

@@ -46,7 +46,7 @@ impl Gaussian {
     ///
     /// # Errors
     /// [`GaussianError::NotFinite`] for NaN or infinite values, [`GaussianError::InvalidPrimitive`]
-    /// for `σ ≤ 0` or `β ≤ 0`.
+    /// for `σ ≤ 0`, `β ≤ 0` or an amplitude beyond the f32 range.
     pub fn validate(&self, index: usize) -> Result<(), GaussianError> {
         let named = [
             ("center.x", self.center[0]),
@@ -64,6 +64,14 @@ impl Gaussian {
             if value <= 0.0 {
                 return Err(GaussianError::InvalidPrimitive { index, what, value, reason: "must be > 0" });
             }
+        }
+        if self.amplitude.abs() > f64::from(f32::MAX) {
+            return Err(GaussianError::InvalidPrimitive {
+                index,
+                what: "amplitude",
+                value: self.amplitude,
+                reason: "beyond the f32 range of grids",
+            });
         }
         if self.beta <= 0.0 {
             return Err(GaussianError::InvalidPrimitive {

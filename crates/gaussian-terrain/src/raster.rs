@@ -50,7 +50,8 @@ struct Prepared {
 ///
 /// # Errors
 /// The terrain's [`VectorTerrain::validate`] errors; [`GaussianError::InvalidOption`] for a
-/// tolerance outside `(0, 1)`; [`GaussianError::GridTooLarge`] above [`MAX_RASTER_CELLS`].
+/// tolerance outside `(0, 1)`; [`GaussianError::GridTooLarge`] above [`MAX_RASTER_CELLS`];
+/// [`GaussianError::Raster`] when a sum overflows f32.
 ///
 /// # Example
 /// ```
@@ -139,11 +140,7 @@ pub fn rasterize(
             }
         }
     });
-    Heightfield::from_samples(*grid, samples).map_err(|_| GaussianError::GridTooLarge {
-        nx,
-        ny,
-        limit: MAX_RASTER_CELLS,
-    })
+    Ok(Heightfield::from_samples(*grid, samples)?)
 }
 
 /// Adds primitive `p` along grid row `j` over the samples inside its support.
@@ -203,9 +200,5 @@ pub fn rasterize_exact(terrain: &VectorTerrain, grid: &GridSpec) -> Result<Heigh
     if grid.len() > MAX_RASTER_CELLS {
         return Err(GaussianError::GridTooLarge { nx, ny, limit: MAX_RASTER_CELLS });
     }
-    Heightfield::from_fn(*grid, |p| terrain.height_at(p) as f32).map_err(|_| GaussianError::GridTooLarge {
-        nx,
-        ny,
-        limit: MAX_RASTER_CELLS,
-    })
+    Ok(Heightfield::from_fn(*grid, |p| terrain.height_at(p) as f32)?)
 }

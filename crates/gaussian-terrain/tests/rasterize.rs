@@ -142,6 +142,11 @@ fn bad_input_gets_typed_errors() {
         rasterize(&many, &grid, &RasterOptions { tolerance: 0.0 }),
         Err(GaussianError::InvalidOption { name: "tolerance", .. })
     ));
+    // Amplitudes beyond f32, and f32 sums that overflow.
+    let loud = VectorTerrain::new(vec![Gaussian::round(DVec2::splat(5.0), 2.0, 1e39)]);
+    assert!(matches!(loud.validate(), Err(GaussianError::InvalidPrimitive { what: "amplitude", .. })));
+    let pair = VectorTerrain::new(vec![Gaussian::round(DVec2::splat(5.0), 2.0, 3e38); 2]);
+    assert!(matches!(rasterize(&pair, &grid, &RasterOptions::default()), Err(GaussianError::Raster(_))));
     let huge = GridSpec::new(20_000, 20_000, DVec2::ZERO, DVec2::ONE).unwrap();
     assert!(matches!(rasterize(&many, &huge, &RasterOptions::default()), Err(GaussianError::GridTooLarge { .. })));
 }

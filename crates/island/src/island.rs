@@ -428,7 +428,7 @@ impl Island {
     /// far edges. Every land sample measures its exact distance to the edges labelling the four
     /// coarse samples around it and keeps the least: the distance to the coast, or where two
     /// edges are almost equally near at most a fraction of a cell more (a test bounds it against
-    /// brute force on a star and a jagged coast: within 0.1 cell).
+    /// brute force on a star and a jagged coast: within half a cell).
     fn distance_to(&self, fresh: bool, window: (usize, usize, usize, usize), land: &[bool]) -> Vec<f32> {
         let (i0, i1, j0, j1) = window;
         let (w, h, nx) = (i1 - i0 + 1, j1 - j0 + 1, self.grid.nx());
@@ -878,7 +878,7 @@ mod tests {
     /// The half-resolution labelled distances against the brute-force distance to the nearest
     /// edge of each kind, on a jagged coast after a stroke (both kinds present).
     #[test]
-    fn coast_distances_match_brute_force_within_a_fraction_of_a_cell() {
+    fn coast_distances_match_brute_force_within_half_a_cell() {
         let grid = GridSpec::from_extent(203, 181, Extent::new(DVec2::ZERO, DVec2::new(1000.0, 900.0))).unwrap();
         // A star (long straight arms meeting at shallow angles) and a jagged 300-gon.
         let outline = |count: u32, radius: &dyn Fn(u32) -> f64| -> Vec<DVec2> {

@@ -10,9 +10,9 @@
 //!   `W = ½ + ½·tanh(D_o² − D_n)`, so land next to unchanged coast keeps its heights and land next
 //!   to new coast rises from sea level. Distances come from a labelled Euclidean distance
 //!   transform (relief-heightfield) at half resolution over the coast's bounds, its labels
-//!   corrected by two sweeps, then measured exactly to the labelled coast edges (within a tenth
-//!   of a cell of the true distance in the tests), so a full silhouette update at 1024² takes
-//!   about 35 ms, not the paper's 8 s. Coast off the grid counts too.
+//!   corrected by two sweeps, then measured exactly to the labelled coast edges (within half
+//!   a cell of the true distance in the tests), so a full silhouette update at 1024² takes
+//!   about 40 ms, not the paper's 8 s. Coast off the grid counts too.
 //! - [`Hill`] (§3.3): `z = h·(1 − x²/a² − y²/b²)` inside the rotated ellipse; negative heights
 //!   make craters and lakes. Filters (§3.4): perturbations of the same shape, wider than tall,
 //!   count proportional to the island's area, stored so they re-apply after every edit.
