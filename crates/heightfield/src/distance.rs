@@ -38,28 +38,17 @@ fn transform_1d(f: &mut [f64], label: Option<&mut [u32]>, spacing: f64, scratch:
         return; // no seed on this line: everything stays infinite
     }
     z[k] = f64::INFINITY;
+    let mut label = label;
     let mut r = 0;
-    match label {
-        Some(label) => {
-            for (q, (fq, l)) in f.iter_mut().zip(label.iter_mut()).enumerate() {
-                let qf = q as f64;
-                while z[r + 1] < qf {
-                    r += 1;
-                }
-                let d = qf - v[r] as f64;
-                *fq = s2 * d * d + out[r];
-                *l = lab[r];
-            }
+    for (q, fq) in f.iter_mut().enumerate() {
+        let qf = q as f64;
+        while z[r + 1] < qf {
+            r += 1;
         }
-        None => {
-            for (q, fq) in f.iter_mut().enumerate() {
-                let qf = q as f64;
-                while z[r + 1] < qf {
-                    r += 1;
-                }
-                let d = qf - v[r] as f64;
-                *fq = s2 * d * d + out[r];
-            }
+        let d = qf - v[r] as f64;
+        *fq = s2 * d * d + out[r];
+        if let Some(label) = label.as_deref_mut() {
+            label[q] = lab[r];
         }
     }
 }

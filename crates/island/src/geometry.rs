@@ -150,6 +150,11 @@ impl Coast {
         Self { points, fresh }
     }
 
+    /// Axis-aligned bounds `(min, max)` of the coastline.
+    pub(crate) fn bounds(&self) -> (DVec2, DVec2) {
+        self.points.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)))
+    }
+
     /// Inserts `q` (a point on edge `e`) as a vertex unless it is one already.
     fn insert(&mut self, e: usize, q: DVec2) {
         let n = self.points.len();

@@ -372,8 +372,7 @@ impl Island {
     /// Sample box `(i0, i1, j0, j1)` holding the coast's bounds grown by three cells, clipped to
     /// the grid: every land sample and every distance seed lies in it.
     fn coast_window(&self) -> (usize, usize, usize, usize) {
-        let (lo, hi) =
-            self.coast.points.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+        let (lo, hi) = self.coast.bounds();
         let (a, b) = (self.grid.grid_coords(lo), self.grid.grid_coords(hi));
         let clip = |v: f64, n: usize| v.clamp(0.0, (n - 1) as f64) as usize;
         let (nx, ny) = (self.grid.nx(), self.grid.ny());
@@ -698,8 +697,7 @@ impl Island {
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         rng.set_stream(self.batches);
         self.batches += 1;
-        let (lo, hi) =
-            self.coast.points.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), &p| (a.min(p), b.max(p)));
+        let (lo, hi) = self.coast.bounds();
         let [h0, h1] = self.settings.filter_height;
         let mut added = 0;
         for _ in 0..count as usize {
