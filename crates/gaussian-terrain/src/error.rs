@@ -57,6 +57,32 @@ pub enum GaussianError {
     /// The summed elevation left the f32 range of grids (amplitudes near ±3.4·10³⁸ adding up).
     #[error("rasterized elevation: {0}")]
     Raster(#[from] relief_heightfield::HeightfieldError),
+    /// The DEM to vectorize has fewer than 2 × 2 samples or no valid sample.
+    #[error("the DEM has {nx} × {ny} samples and no relief to fit: need at least 2 × 2 valid samples")]
+    EmptyDem {
+        /// Samples along x.
+        nx: usize,
+        /// Samples along y.
+        ny: usize,
+    },
+    /// The DEM to vectorize has no-data samples.
+    #[error("the DEM has {count} no-data samples: fill them first (e.g. Heightfield::fill_no_data)")]
+    DemHasNoData {
+        /// How many.
+        count: usize,
+    },
+    /// A selection region or placement is unusable.
+    #[error("invalid region: {reason}")]
+    InvalidRegion {
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// A skeleton, its attachments or a skeleton edit is unusable.
+    #[error("skeleton: {reason}")]
+    InvalidSkeleton {
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// No landform of that name in an atlas.
     #[error("no landform named {name:?} in the atlas")]
     NoSuchLandform {

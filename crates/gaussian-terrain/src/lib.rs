@@ -35,16 +35,26 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod detail;
 mod error;
 mod fastmath;
+mod loss;
 mod primitive;
 mod raster;
+mod region;
+mod skeleton;
 mod synthetic;
 mod terrain;
+mod vectorize;
 
+pub use detail::{DetailLayer, DetailSource};
 pub use error::GaussianError;
+pub use loss::{LossTerms, LossWeights};
 pub use primitive::{DEFAULT_TOLERANCE, Gaussian};
 pub use raster::{MAX_RASTER_CELLS, RasterOptions, rasterize, rasterize_exact};
+pub use region::{Placement, Region, StampMode, copy, cut, delete, paste, smoothstep, squeeze, stamp, twist};
 pub use relief_heightfield::{GridSpec, Heightfield};
-pub use synthetic::random_terrain;
+pub use skeleton::{Attachment, Skeleton};
+pub use synthetic::{fbm_dem, random_terrain};
 pub use terrain::{Atlas, Landform, MAX_PRIMITIVES, VectorTerrain};
+pub use vectorize::{Progress, VectorizeOptions, VectorizeReport, Vectorized, vectorize};

@@ -1,7 +1,7 @@
 //! The generalized Gaussian primitive of §3.2: `g(p) = a·exp(−½·d(p)^β)` with
 //! `d(p) = ‖A⁻¹(p − c)‖`, `A = R(θ)·S(σx, σy)`.
 
-use glam::DVec2;
+use glam::{DMat2, DVec2};
 use serde::{Deserialize, Serialize};
 
 use crate::GaussianError;
@@ -122,6 +122,35 @@ impl Gaussian {
     }
 }
 
+impl Gaussian {
+    /// The primitive under the affine map `p ↦ m·p + t` (Appendix A): the centre moves, the
+    /// ellipse `A·Aᵀ` becomes `m·A·Aᵀ·mᵀ` and is split back into `R(θ')·S(σ')` by a 2×2
+    /// symmetric eigen-decomposition, so a rotated ellipse scaled along any axis stays exact.
+    /// Amplitude and β are kept. `m` must be invertible.
+    #[must_use]
+    pub fn transformed(&self, m: DMat2, t: DVec2) -> Gaussian {
+        let (s, c) = self.theta.sin_cos();
+        let a = m * DMat2::from_cols(DVec2::new(c, s) * self.sigma[0], DVec2::new(-s, c) * self.sigma[1]);
+        // Σ = A·Aᵀ = [[p, q], [q, r]].
+        let (p, q, r) = (
+            a.x_axis.x * a.x_axis.x + a.y_axis.x * a.y_axis.x,
+            a.x_axis.x * a.x_axis.y + a.y_axis.x * a.y_axis.y,
+            a.x_axis.y * a.x_axis.y + a.y_axis.y * a.y_axis.y,
+        );
+        let mean = 0.5 * (p + r);
+        let half = (0.5 * (p - r)).hypot(q);
+        let (big, small) = (mean + half, (mean - half).max(0.0));
+        // The eigenvector of the larger eigenvalue is at ½·atan2(2q, p − r).
+        let theta = 0.5 * (2.0 * q).atan2(p - r);
+        Gaussian {
+            center: (m * DVec2::from(self.center) + t).to_array(),
+            sigma: [big.sqrt(), small.sqrt().max(f64::MIN_POSITIVE)],
+            theta,
+            ..*self
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -149,6 +178,26 @@ mod tests {
             let local = DVec2::new(r * g.sigma[0] * t.cos(), r * g.sigma[1] * t.sin());
             let p = DVec2::from_angle(g.theta).rotate(local);
             assert!(p.x >= lo.x - 1e-9 && p.x <= hi.x + 1e-9 && p.y >= lo.y - 1e-9 && p.y <= hi.y + 1e-9);
+        }
+    }
+
+    #[test]
+    fn transformed_ellipses_are_exact() {
+        let g = Gaussian { center: [3.0, -1.0], sigma: [4.0, 1.5], theta: 0.7, amplitude: 2.0, beta: 3.0 };
+        let maps = [
+            DMat2::from_diagonal(DVec2::new(2.0, 0.5)),
+            DMat2::from_angle(1.1) * DMat2::from_diagonal(DVec2::new(1.3, 0.7)),
+            DMat2::from_cols(DVec2::new(1.0, 0.4), DVec2::new(-0.2, 0.9)),
+        ];
+        for m in maps {
+            let t = DVec2::new(5.0, 2.0);
+            let h = g.transformed(m, t);
+            // h(m·p + t) = g(p) everywhere.
+            for k in 0..50 {
+                let p = DVec2::new(f64::from(k % 7) - 3.0, f64::from(k / 7) - 3.0) * 1.7 + DVec2::from(g.center);
+                let (a, b) = (g.value(p), h.value(m * p + t));
+                assert!((a - b).abs() < 1e-9, "{m:?}: {a} vs {b}");
+            }
         }
     }
 

@@ -5,6 +5,9 @@ use glam::DVec2;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use relief_heightfield::noise::Fbm;
+use relief_heightfield::{Extent, GridSpec, Heightfield};
+
 use crate::{DEFAULT_TOLERANCE, Gaussian, VectorTerrain};
 
 /// `count` primitives over the square `[0, size]²`, seeded: random centres, rotations, aspect
@@ -34,4 +37,20 @@ pub fn random_terrain(count: usize, size: f64, depth: f64, seed: u64) -> VectorT
         })
         .collect();
     VectorTerrain::new(primitives)
+}
+
+/// A seeded `n × n` test DEM over `[0, 1000]²`, elevations about 0–1000: fractional Brownian
+/// motion (7 octaves) plus a ridged octave pair, so it has broad massifs, sharp crests and
+/// valleys at every scale, like the real DEMs the paper vectorizes. For benchmarks and tests.
+///
+/// # Errors
+/// Never for `n ≥ 2` (a grid of fewer samples is refused by [`GridSpec`]).
+pub fn fbm_dem(n: usize, seed: u64) -> Result<Heightfield, crate::GaussianError> {
+    let grid = GridSpec::from_extent(n, n, Extent::new(DVec2::ZERO, DVec2::splat(1000.0)))?;
+    let base = Fbm { octaves: 7, frequency: 0.003, seed, ..Fbm::default() };
+    let ridge = Fbm { octaves: 2, frequency: 0.006, seed: seed ^ 0x5eed, ..Fbm::default() };
+    Ok(Heightfield::from_fn(grid, |p| {
+        let crest = 1.0 - ridge.sample(p).abs();
+        (500.0 + 450.0 * base.sample(p) + 250.0 * crest * crest) as f32
+    })?)
 }

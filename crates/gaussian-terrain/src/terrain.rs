@@ -3,7 +3,7 @@
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
-use crate::{Gaussian, GaussianError};
+use crate::{DetailLayer, Gaussian, GaussianError};
 
 /// The most primitives a terrain or atlas landform may hold: 2²² (about 4.2 million, 230 MB).
 pub const MAX_PRIMITIVES: usize = 1 << 22;
@@ -16,14 +16,21 @@ pub const MAX_PRIMITIVES: usize = 1 << 22;
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VectorTerrain {
+    /// A constant added everywhere (default 0): vectorization puts the DEM's minimum here so
+    /// that the primitives only model relief above it.
+    #[serde(default)]
+    pub base: f64,
     /// The primitives, summed in this order.
     pub primitives: Vec<Gaussian>,
+    /// Detail primitives (§3.2), added after the Gaussians in this order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub details: Vec<DetailLayer>,
 }
 
 impl VectorTerrain {
     /// A terrain of these primitives (not yet validated).
     pub fn new(primitives: Vec<Gaussian>) -> Self {
-        Self { primitives }
+        Self { base: 0.0, primitives, details: Vec::new() }
     }
 
     /// Number of primitives.
@@ -36,11 +43,11 @@ impl VectorTerrain {
         self.primitives.is_empty()
     }
 
-    /// Checks every primitive and the count.
+    /// Checks every primitive, detail layer and the count (Gaussians plus detail centres).
     ///
     /// # Errors
-    /// [`GaussianError::TooManyPrimitives`] above [`MAX_PRIMITIVES`]; the first primitive's
-    /// [`Gaussian::validate`] error otherwise.
+    /// [`GaussianError::TooManyPrimitives`] above [`MAX_PRIMITIVES`]; a non-finite base; the
+    /// first primitive's [`Gaussian::validate`] or layer's [`DetailLayer::validate`] error.
     pub fn validate(&self) -> Result<(), GaussianError> {
         self.validate_with_limit(MAX_PRIMITIVES)
     }
@@ -52,16 +59,23 @@ impl VectorTerrain {
     /// As [`Self::validate`], with `limit` in place of [`MAX_PRIMITIVES`].
     pub fn validate_with_limit(&self, limit: usize) -> Result<(), GaussianError> {
         let limit = limit.min(MAX_PRIMITIVES);
-        if self.primitives.len() > limit {
-            return Err(GaussianError::TooManyPrimitives { count: self.primitives.len(), limit });
+        let count = self.primitives.len() + self.details.iter().map(|d| d.centers.len()).sum::<usize>();
+        if count > limit {
+            return Err(GaussianError::TooManyPrimitives { count, limit });
         }
-        self.primitives.iter().enumerate().try_for_each(|(i, g)| g.validate(i))
+        if !self.base.is_finite() || self.base.abs() > f64::from(f32::MAX) {
+            return Err(GaussianError::NotFinite { index: 0, what: "base" });
+        }
+        self.primitives.iter().enumerate().try_for_each(|(i, g)| g.validate(i))?;
+        self.details.iter().enumerate().try_for_each(|(i, d)| d.validate(i))
     }
 
-    /// The exact elevation at `p`: every primitive, untruncated, in f64. O(primitives); the
-    /// reference the rasterizer is tested against.
+    /// The exact elevation at `p`: the base, every primitive untruncated and every detail
+    /// layer, in f64. O(primitives); the reference the rasterizer is tested against.
     pub fn height_at(&self, p: DVec2) -> f64 {
-        self.primitives.iter().map(|g| g.value(p)).sum()
+        self.base
+            + self.primitives.iter().map(|g| g.value(p)).sum::<f64>()
+            + self.details.iter().map(|d| d.value(p)).sum::<f64>()
     }
 }
 

@@ -1,0 +1,401 @@
+//! Landform tools (§5.2): circle and lasso selections, stamping (move / rotate / scale) with the
+//! primitives underneath damped, copy / cut / paste through [`Landform`]s, delete, twist and
+//! squeeze.
+//!
+//! Selections act on primitive centres: `P(Ω) = {Pᵢ : cᵢ ∈ Ω}`. Fall-offs use the smoothstep
+//! `s(x) = 3x² − 2x³` on `[0, 1]`. A tool only ever changes the primitives its fall-off reaches;
+//! every other primitive keeps its exact bits.
+
+use glam::{DMat2, DVec2};
+use serde::{Deserialize, Serialize};
+
+use crate::{Gaussian, GaussianError, Landform, VectorTerrain};
+
+/// The compactly supported step `s` of §5: smoothstep, 0 below 0 and 1 above 1.
+pub fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// A selected region Ω of the plane.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Region {
+    /// A disc.
+    Circle {
+        /// Centre `[x, y]`.
+        center: [f64; 2],
+        /// Radius (> 0).
+        radius: f64,
+    },
+    /// A free-form closed lasso (a simple polygon, at least 3 points, closing edge implied).
+    Lasso {
+        /// Vertices `[x, y]` in order.
+        points: Vec<[f64; 2]>,
+    },
+}
+
+impl Region {
+    /// Checks the shape.
+    ///
+    /// # Errors
+    /// [`GaussianError::InvalidRegion`] for a non-finite or non-positive radius, a lasso of
+    /// fewer than 3 points, non-finite points or a lasso of zero area.
+    pub fn validate(&self) -> Result<(), GaussianError> {
+        let bad = |reason: &'static str| Err(GaussianError::InvalidRegion { reason });
+        match self {
+            Region::Circle { center, radius } => {
+                if !(center.iter().all(|v| v.is_finite()) && radius.is_finite() && *radius > 0.0) {
+                    return bad("a circle needs a finite centre and a radius > 0");
+                }
+            }
+            Region::Lasso { points } => {
+                if points.len() < 3 {
+                    return bad("a lasso needs at least 3 points");
+                }
+                if points.iter().flatten().any(|v| !v.is_finite()) {
+                    return bad("a lasso point is not finite");
+                }
+                if self.area() <= 0.0 {
+                    return bad("the lasso encloses no area");
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn area(&self) -> f64 {
+        match self {
+            Region::Circle { radius, .. } => std::f64::consts::PI * radius * radius,
+            Region::Lasso { points } => {
+                let n = points.len();
+                let twice: f64 = (0..n)
+                    .map(|k| {
+                        let (a, b) = (points[k], points[(k + 1) % n]);
+                        a[0] * b[1] - b[0] * a[1]
+                    })
+                    .sum();
+                0.5 * twice.abs()
+            }
+        }
+    }
+
+    /// Whether `p` is inside Ω (even–odd rule for a lasso).
+    pub fn contains(&self, p: DVec2) -> bool {
+        match self {
+            Region::Circle { center, radius } => p.distance_squared(DVec2::from(*center)) <= radius * radius,
+            Region::Lasso { points } => {
+                let n = points.len();
+                let mut inside = false;
+                for k in 0..n {
+                    let (a, b) = (DVec2::from(points[k]), DVec2::from(points[(k + 1) % n]));
+                    if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+                        inside = !inside;
+                    }
+                }
+                inside
+            }
+        }
+    }
+
+    /// Distance from `p` to the boundary ∂Ω.
+    pub fn boundary_distance(&self, p: DVec2) -> f64 {
+        match self {
+            Region::Circle { center, radius } => (p.distance(DVec2::from(*center)) - radius).abs(),
+            Region::Lasso { points } => {
+                let n = points.len();
+                (0..n)
+                    .map(|k| {
+                        let (a, b) = (DVec2::from(points[k]), DVec2::from(points[(k + 1) % n]));
+                        let d = b - a;
+                        let t = if d.length_squared() > 0.0 {
+                            ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        };
+                        p.distance(a + d * t)
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
+
+    /// A point inside Ω to turn and scale about: the circle's centre or the lasso's centroid.
+    pub fn anchor(&self) -> DVec2 {
+        match self {
+            Region::Circle { center, .. } => DVec2::from(*center),
+            Region::Lasso { points } => points.iter().map(|&p| DVec2::from(p)).sum::<DVec2>() / points.len() as f64,
+        }
+    }
+
+    /// Inner fall-off for warps: `s(d(∂Ω, p) / r)` inside Ω, 0 outside (1 deep inside, 0 on the
+    /// boundary, so a warp fades to nothing where Ω ends).
+    pub fn inner_falloff(&self, p: DVec2, r: f64) -> f64 {
+        if self.contains(p) { smoothstep(self.boundary_distance(p) / r) } else { 0.0 }
+    }
+
+    /// Outer fall-off for damping: 0 inside Ω, `s(d(∂Ω, p) / r)` outside (1 beyond `r`); `r = ∞`
+    /// vanishes everything outside as well, as in §5.2.
+    pub fn outer_falloff(&self, p: DVec2, r: f64) -> f64 {
+        if self.contains(p) || r.is_infinite() { 0.0 } else { smoothstep(self.boundary_distance(p) / r) }
+    }
+
+    /// The indices of the primitives whose centre is inside Ω: `P(Ω)`.
+    pub fn select(&self, terrain: &VectorTerrain) -> Vec<usize> {
+        (0..terrain.primitives.len()).filter(|&k| self.contains(DVec2::from(terrain.primitives[k].center))).collect()
+    }
+
+    /// Ω under the similarity `p ↦ at + R(rotation)·scale·(p − anchor)`.
+    fn placed(&self, anchor: DVec2, at: DVec2, rotation: f64, scale: f64) -> Region {
+        let map = |p: [f64; 2]| (at + DVec2::from_angle(rotation).rotate((DVec2::from(p) - anchor) * scale)).to_array();
+        match self {
+            Region::Circle { center, radius } => Region::Circle { center: map(*center), radius: radius * scale },
+            Region::Lasso { points } => Region::Lasso { points: points.iter().map(|&p| map(p)).collect() },
+        }
+    }
+}
+
+/// Where and how a stamp puts the selected landform: turned by `rotation` radians and scaled by
+/// `scale` about the region's anchor, which lands at `to`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    /// Where the anchor goes.
+    pub to: [f64; 2],
+    /// Rotation, radians counter-clockwise (default 0).
+    #[serde(default)]
+    pub rotation: f64,
+    /// Uniform scale of positions and σ (default 1; > 0).
+    #[serde(default = "one")]
+    pub scale: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl Placement {
+    fn validate(&self) -> Result<(), GaussianError> {
+        if !(self.to.iter().all(|v| v.is_finite())
+            && self.rotation.is_finite()
+            && self.scale.is_finite()
+            && self.scale > 0.0)
+        {
+            return Err(GaussianError::InvalidRegion {
+                reason: "a placement needs a finite target, rotation and scale > 0",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Whether a stamp moves the selection or pastes a copy of it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum StampMode {
+    /// The selected primitives move (the source area is left without them).
+    #[default]
+    Move,
+    /// A transformed copy is added; the source stays.
+    Copy,
+}
+
+fn check_radius(name: &'static str, r: f64) -> Result<(), GaussianError> {
+    if r.is_nan() || r <= 0.0 {
+        return Err(GaussianError::InvalidOption { name, value: r, reason: "must be > 0 (∞ allowed)" });
+    }
+    Ok(())
+}
+
+/// Stamping (§5.2): the primitives of `P(Ω)` are moved (or copied) by `placement`, and every
+/// other primitive is damped by the outer fall-off of the destination region,
+/// `hᵢ ← f(cᵢ)·hᵢ` with `f = s(d(∂Ω̃, cᵢ)/r)`: vanished under the stamp, untouched beyond `r`.
+/// Returns the indices of the placed primitives.
+///
+/// # Errors
+/// [`GaussianError::InvalidRegion`] or [`GaussianError::InvalidOption`] for a bad region,
+/// placement or radius.
+pub fn stamp(
+    terrain: &mut VectorTerrain,
+    region: &Region,
+    placement: &Placement,
+    mode: StampMode,
+    damping_radius: f64,
+) -> Result<Vec<usize>, GaussianError> {
+    region.validate()?;
+    placement.validate()?;
+    let selected = region.select(terrain);
+    let landform = Landform::new(
+        "selection",
+        &selected.iter().map(|&k| terrain.primitives[k]).collect::<Vec<_>>(),
+        region.anchor(),
+    );
+    if mode == StampMode::Move {
+        delete_indices(terrain, &selected);
+    }
+    paste_landform(terrain, &landform, region, region.anchor(), placement, damping_radius)
+}
+
+/// Pastes `landform` (anchored at its origin) with `placement`, damping the primitives under
+/// it by the outer fall-off of `footprint` (given relative to the landform's anchor) placed the
+/// same way. Returns the indices of the pasted primitives.
+///
+/// # Errors
+/// As [`stamp`].
+pub fn paste(
+    terrain: &mut VectorTerrain,
+    landform: &Landform,
+    footprint: &Region,
+    placement: &Placement,
+    damping_radius: f64,
+) -> Result<Vec<usize>, GaussianError> {
+    footprint.validate()?;
+    placement.validate()?;
+    paste_landform(terrain, landform, footprint, DVec2::ZERO, placement, damping_radius)
+}
+
+fn paste_landform(
+    terrain: &mut VectorTerrain,
+    landform: &Landform,
+    source: &Region,
+    anchor: DVec2,
+    placement: &Placement,
+    damping_radius: f64,
+) -> Result<Vec<usize>, GaussianError> {
+    check_radius("damping radius", damping_radius)?;
+    let destination = source.placed(anchor, DVec2::from(placement.to), placement.rotation, placement.scale);
+    for g in &mut terrain.primitives {
+        let f = destination.outer_falloff(DVec2::from(g.center), damping_radius);
+        if f < 1.0 {
+            g.amplitude *= f;
+        }
+    }
+    let start = terrain.primitives.len();
+    terrain.primitives.extend(landform.placed(DVec2::from(placement.to), placement.rotation, placement.scale));
+    Ok((start..terrain.primitives.len()).collect())
+}
+
+/// Saves `P(Ω)` as a landform anchored at the region's anchor (copy; add it to an
+/// [`crate::Atlas`] to keep it).
+///
+/// # Errors
+/// [`GaussianError::InvalidRegion`] for a bad region.
+pub fn copy(terrain: &VectorTerrain, region: &Region, name: &str) -> Result<Landform, GaussianError> {
+    region.validate()?;
+    let selected: Vec<Gaussian> = region.select(terrain).iter().map(|&k| terrain.primitives[k]).collect();
+    Ok(Landform::new(name, &selected, region.anchor()))
+}
+
+/// [`copy`], then [`delete`].
+///
+/// # Errors
+/// As [`copy`].
+pub fn cut(terrain: &mut VectorTerrain, region: &Region, name: &str) -> Result<Landform, GaussianError> {
+    let landform = copy(terrain, region, name)?;
+    delete(terrain, region)?;
+    Ok(landform)
+}
+
+/// Removes `P(Ω)`; returns how many primitives went.
+///
+/// # Errors
+/// [`GaussianError::InvalidRegion`] for a bad region.
+pub fn delete(terrain: &mut VectorTerrain, region: &Region) -> Result<usize, GaussianError> {
+    region.validate()?;
+    let selected = region.select(terrain);
+    delete_indices(terrain, &selected);
+    Ok(selected.len())
+}
+
+fn delete_indices(terrain: &mut VectorTerrain, sorted: &[usize]) {
+    let mut next = sorted.iter().peekable();
+    let mut k = 0;
+    terrain.primitives.retain(|_| {
+        let drop = next.peek() == Some(&&k);
+        if drop {
+            next.next();
+        }
+        k += 1;
+        !drop
+    });
+}
+
+/// Twist (§5.2, after Génevaux et al. 2015): primitives inside Ω turn about the region's anchor
+/// by `φ(c) = angle · |c − anchor| / R · f(c)` (R the farthest boundary point from the anchor,
+/// `f` the inner fall-off over `falloff_radius`), centre and orientation alike. Returns how many
+/// primitives moved.
+///
+/// # Errors
+/// As [`delete`], and [`GaussianError::InvalidOption`] for a non-finite angle or a bad radius.
+pub fn twist(
+    terrain: &mut VectorTerrain,
+    region: &Region,
+    angle: f64,
+    falloff_radius: f64,
+) -> Result<usize, GaussianError> {
+    region.validate()?;
+    check_radius("fall-off radius", falloff_radius)?;
+    if !angle.is_finite() {
+        return Err(GaussianError::InvalidOption { name: "angle", value: angle, reason: "must be finite" });
+    }
+    let anchor = region.anchor();
+    let reach = match region {
+        Region::Circle { center, radius } => DVec2::from(*center).distance(anchor) + radius,
+        Region::Lasso { points } => points.iter().map(|&p| DVec2::from(p).distance(anchor)).fold(0.0, f64::max),
+    };
+    let mut moved = 0;
+    for g in &mut terrain.primitives {
+        let c = DVec2::from(g.center);
+        let f = region.inner_falloff(c, falloff_radius);
+        if f <= 0.0 {
+            continue;
+        }
+        let phi = angle * (c.distance(anchor) / reach) * f;
+        g.center = (anchor + DVec2::from_angle(phi).rotate(c - anchor)).to_array();
+        g.theta += phi;
+        moved += 1;
+    }
+    Ok(moved)
+}
+
+/// Squeeze (§5.2): primitives inside Ω move by `f(c)·v` (`f` the inner fall-off over
+/// `falloff_radius`) and stretch along `v` by `f(c) − f(c') + 1`, so that primitives pushed
+/// together narrow and those pulled apart widen. Returns how many primitives moved.
+///
+/// # Errors
+/// As [`twist`].
+pub fn squeeze(
+    terrain: &mut VectorTerrain,
+    region: &Region,
+    v: DVec2,
+    falloff_radius: f64,
+) -> Result<usize, GaussianError> {
+    region.validate()?;
+    check_radius("fall-off radius", falloff_radius)?;
+    if !v.is_finite() {
+        return Err(GaussianError::InvalidOption {
+            name: "squeeze vector",
+            value: v.length(),
+            reason: "must be finite",
+        });
+    }
+    let Some(dir) = v.try_normalize() else { return Ok(0) };
+    let mut moved = 0;
+    for g in &mut terrain.primitives {
+        let c = DVec2::from(g.center);
+        let f = region.inner_falloff(c, falloff_radius);
+        if f <= 0.0 {
+            continue;
+        }
+        let moved_to = c + v * f;
+        let f2 = region.inner_falloff(moved_to, falloff_radius);
+        let k = (f - f2 + 1.0).max(0.05);
+        // Scale by k along `dir` about the new centre: M = I + (k − 1)·dir·dirᵀ.
+        let m = DMat2::IDENTITY + DMat2::from_cols(dir * dir.x, dir * dir.y) * (k - 1.0);
+        let amplitude = g.amplitude;
+        *g = g.transformed(m, moved_to - m * c);
+        g.amplitude = amplitude;
+        moved += 1;
+    }
+    Ok(moved)
+}

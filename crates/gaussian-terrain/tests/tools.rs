@@ -1,0 +1,262 @@
+//! Editing tools (§5): region tools keep the terrain continuous and leave primitives outside
+//! their influence bit-for-bit untouched; the skeleton simplifies, moves and rescales with the
+//! graph attenuation.
+
+use glam::DVec2;
+use proptest::prelude::*;
+use relief_gaussian_terrain::{
+    GaussianError, Heightfield, Placement, RasterOptions, Region, Skeleton, StampMode, VectorTerrain, copy, cut,
+    delete, paste, random_terrain, rasterize, squeeze, stamp, twist,
+};
+use relief_heightfield::{Extent, GridSpec};
+
+fn grid() -> GridSpec {
+    GridSpec::from_extent(129, 129, Extent::new(DVec2::ZERO, DVec2::splat(1000.0))).unwrap()
+}
+
+fn terrain() -> VectorTerrain {
+    random_terrain(400, 1000.0, 8.0, 11)
+}
+
+fn raster(t: &VectorTerrain) -> Heightfield {
+    rasterize(t, &grid(), &RasterOptions::default()).unwrap()
+}
+
+/// The largest step between neighbouring samples.
+fn max_step(h: &Heightfield) -> f32 {
+    let (nx, ny) = (h.nx(), h.ny());
+    let mut worst = 0.0f32;
+    for j in 0..ny {
+        for i in 0..nx {
+            if i + 1 < nx {
+                worst = worst.max((h.value(i + 1, j) - h.value(i, j)).abs());
+            }
+            if j + 1 < ny {
+                worst = worst.max((h.value(i, j + 1) - h.value(i, j)).abs());
+            }
+        }
+    }
+    worst
+}
+
+/// Indices of primitives whose centre is farther than `margin` from every point of `region`'s
+/// interior-or-boundary band, i.e. outside any tool's influence.
+fn far_from(t: &VectorTerrain, region: &Region, margin: f64) -> Vec<usize> {
+    (0..t.primitives.len())
+        .filter(|&k| {
+            let c = DVec2::from(t.primitives[k].center);
+            !region.contains(c) && region.boundary_distance(c) > margin
+        })
+        .collect()
+}
+
+fn circle(x: f64, y: f64, r: f64) -> Region {
+    Region::Circle { center: [x, y], radius: r }
+}
+
+#[test]
+fn regions_select_by_centre() {
+    let lasso = Region::Lasso { points: vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]] };
+    assert!(lasso.contains(DVec2::new(5.0, 5.0)));
+    assert!(!lasso.contains(DVec2::new(11.0, 5.0)));
+    assert!((lasso.boundary_distance(DVec2::new(5.0, 3.0)) - 3.0).abs() < 1e-12);
+    assert!((circle(0.0, 0.0, 2.0).boundary_distance(DVec2::new(5.0, 0.0)) - 3.0).abs() < 1e-12);
+    for bad in [
+        circle(0.0, 0.0, 0.0),
+        circle(f64::NAN, 0.0, 1.0),
+        Region::Lasso { points: vec![[0.0, 0.0], [1.0, 1.0]] },
+        Region::Lasso { points: vec![[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]] },
+    ] {
+        assert!(matches!(bad.validate(), Err(GaussianError::InvalidRegion { .. })), "{bad:?}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Stamping moves or copies `P(Ω)`, damps what lies under the destination, keeps every
+    /// primitive beyond the damping radius exactly, and adds no jump.
+    #[test]
+    fn stamps_are_local_and_continuous(
+        x in 250.0..750.0f64, y in 250.0..750.0f64, r in 60.0..200.0f64,
+        tx in 200.0..800.0f64, ty in 200.0..800.0f64, rotation in -3.0..3.0f64,
+        copy_mode in any::<bool>(), damping in 20.0..150.0f64,
+    ) {
+        let before = terrain();
+        let mut after = before.clone();
+        let region = circle(x, y, r);
+        let placement = Placement { to: [tx, ty], rotation, scale: 1.0 };
+        let mode = if copy_mode { StampMode::Copy } else { StampMode::Move };
+        let selected = region.select(&before);
+        let placed = stamp(&mut after, &region, &placement, mode, damping).unwrap();
+        prop_assert_eq!(placed.len(), selected.len());
+        let destination = circle(tx, ty, r);
+        // Untouched: outside the damping band of the destination and not selected (or copied).
+        for k in far_from(&before, &destination, damping) {
+            if mode == StampMode::Copy || !region.contains(DVec2::from(before.primitives[k].center)) {
+                prop_assert!(after.primitives.contains(&before.primitives[k]));
+            }
+        }
+        // A rigid move cannot steepen the terrain beyond the steepest of the two terrains summed
+        // in the overlap band; damping only scales amplitudes down.
+        let (a, b) = (max_step(&raster(&before)), max_step(&raster(&after)));
+        prop_assert!(b <= 2.0 * a + 1e-3, "steepest step {a} → {b}");
+    }
+
+    /// Twist and squeeze change nothing outside Ω: those samples are bit-identical.
+    #[test]
+    fn warps_leave_the_outside_untouched(
+        x in 300.0..700.0f64, y in 300.0..700.0f64, r in 100.0..250.0f64,
+        angle in -2.0..2.0f64, vx in -80.0..80.0f64, vy in -80.0..80.0f64,
+    ) {
+        let before = terrain();
+        let region = circle(x, y, r);
+        for squeezed in [false, true] {
+            let mut after = before.clone();
+            let moved = if squeezed {
+                squeeze(&mut after, &region, DVec2::new(vx, vy), 0.5 * r).unwrap()
+            } else {
+                twist(&mut after, &region, angle, 0.5 * r).unwrap()
+            };
+            prop_assert!(moved <= region.select(&before).len());
+            for (k, (p, q)) in before.primitives.iter().zip(&after.primitives).enumerate() {
+                if !region.contains(DVec2::from(p.center)) {
+                    prop_assert_eq!(p, q, "primitive {} outside Ω changed", k);
+                }
+            }
+            let (a, b) = (max_step(&raster(&before)), max_step(&raster(&after)));
+            prop_assert!(b <= 3.0 * a + 1e-3, "steepest step {a} → {b}");
+        }
+    }
+}
+
+#[test]
+fn copy_cut_paste_and_delete() {
+    let before = terrain();
+    let region = circle(500.0, 500.0, 150.0);
+    let inside = region.select(&before).len();
+    assert!(inside > 5);
+    let landform = copy(&before, &region, "massif").unwrap();
+    assert_eq!(landform.primitives.len(), inside);
+
+    let mut t = before.clone();
+    let cut_out = cut(&mut t, &region, "massif").unwrap();
+    assert_eq!(cut_out, landform);
+    assert_eq!(t.primitives.len(), before.primitives.len() - inside);
+    assert!(region.select(&t).is_empty());
+
+    // Paste it back where it was with no damping reach: the same primitives return.
+    let footprint = Region::Circle { center: [0.0, 0.0], radius: 150.0 };
+    let placement = Placement { to: [500.0, 500.0], rotation: 0.0, scale: 1.0 };
+    paste(&mut t, &landform, &footprint, &placement, 1e-9).unwrap();
+    let h0 = raster(&before);
+    let h1 = raster(&t);
+    let worst = h0.samples().iter().zip(h1.samples()).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+    assert!(worst < 1e-2, "cut + paste back differs by {worst}");
+
+    let mut t = before.clone();
+    assert_eq!(delete(&mut t, &region).unwrap(), inside);
+    assert_eq!(t.primitives.len(), before.primitives.len() - inside);
+    let err = stamp(&mut t, &region, &Placement { to: [0.0, 0.0], rotation: 0.0, scale: -1.0 }, StampMode::Move, 10.0);
+    assert!(matches!(err, Err(GaussianError::InvalidRegion { .. })));
+    let err = stamp(&mut t, &region, &placement, StampMode::Move, f64::NAN);
+    assert!(matches!(err, Err(GaussianError::InvalidOption { .. })));
+}
+
+/// A Y-shaped crest: a trunk from (0, 0) to (0, 100) and two branches, one cell per unit.
+fn crest() -> Skeleton {
+    let mut points = Vec::new();
+    let mut down = Vec::new();
+    for k in 0..=100 {
+        points.push(DVec2::new(0.0, f64::from(k)));
+        down.push(if k == 0 { None } else { Some(k as usize - 1) });
+    }
+    for side in [-1.0, 1.0] {
+        for k in 1..=60 {
+            let n = points.len();
+            points.push(DVec2::new(side * f64::from(k) * 0.7, 100.0 + f64::from(k) * 0.7));
+            down.push(Some(if k == 1 { 100 } else { n - 1 }));
+        }
+    }
+    Skeleton::from_flow(&points, &down).unwrap()
+}
+
+#[test]
+fn skeleton_simplifies_to_evenly_spaced_nodes() {
+    let full = crest();
+    assert_eq!(full.nodes.len(), 221);
+    assert_eq!(full.edges.len(), 220);
+    let simple = full.simplified(10.0);
+    simple.validate().unwrap();
+    assert!(simple.nodes.len() < 40 && simple.nodes.len() >= 10, "{} nodes", simple.nodes.len());
+    for &[a, b] in &simple.edges {
+        let l = DVec2::from(simple.nodes[a]).distance(DVec2::from(simple.nodes[b]));
+        assert!(l >= 10.0, "edge of {l}");
+    }
+    // Still one connected tree.
+    assert_eq!(simple.edges.len(), simple.nodes.len() - 1);
+    let d = simple.graph_distances(0);
+    assert!(d.iter().all(|d| d.is_finite()));
+    let bad = Skeleton::from_flow(&[DVec2::ZERO], &[Some(3)]);
+    assert!(matches!(bad, Err(GaussianError::InvalidSkeleton { .. })));
+}
+
+#[test]
+fn skeleton_moves_attenuate_along_the_graph() {
+    let mut skeleton = crest().simplified(10.0);
+    // Primitives along the crest.
+    let mut t = VectorTerrain::new(
+        skeleton
+            .nodes
+            .iter()
+            .map(|&p| relief_gaussian_terrain::Gaussian::round(DVec2::from(p) + DVec2::new(3.0, 0.0), 8.0, 50.0))
+            .collect(),
+    );
+    let attached = skeleton.attach(&t);
+    assert!(attached.iter().all(|a| a.is_some_and(|a| a.distance <= 3.0 + 1e-9)));
+    let tip = skeleton.nearest_node(DVec2::new(42.0, 142.0)).unwrap();
+    let root = skeleton.nearest_node(DVec2::ZERO).unwrap();
+    let before_nodes = skeleton.nodes.clone();
+    let before = t.clone();
+    let v = DVec2::new(20.0, 5.0);
+    // Reach: half the way down the trunk.
+    let reach = 90.0;
+    let moved = skeleton.move_node(&mut t, &attached, tip, v, Some(reach)).unwrap();
+    assert!(moved > 0);
+    // The tip moves by v, nodes beyond the reach not at all.
+    let tip_moved = DVec2::from(skeleton.nodes[tip]) - DVec2::from(before_nodes[tip]);
+    assert!((tip_moved - v).length() < 1e-9);
+    assert_eq!(skeleton.nodes[root], before_nodes[root]);
+    let dist = crest().simplified(10.0).graph_distances(tip);
+    for (k, d) in dist.iter().enumerate() {
+        if *d >= reach {
+            assert_eq!(skeleton.nodes[k], before_nodes[k], "node {k} at {d} moved");
+        }
+    }
+    // Primitives on edges that did not move are bit-identical; the others followed.
+    let unmoved = t.primitives.iter().zip(&before.primitives).filter(|(a, b)| a == b).count();
+    assert_eq!(unmoved + moved, t.primitives.len());
+
+    // Amplitude: u = 1 doubles the primitives at the node, leaves the far ones.
+    let mut t2 = before.clone();
+    let skeleton2 = crest().simplified(10.0);
+    let attached2 = skeleton2.attach(&t2);
+    skeleton2.scale_amplitude(&mut t2, &attached2, tip, 1.0, Some(reach)).unwrap();
+    let nearest = (0..t2.primitives.len())
+        .min_by(|&a, &b| {
+            let d = |k: usize| DVec2::from(before.primitives[k].center).distance(DVec2::from(skeleton2.nodes[tip]));
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    assert!(t2.primitives[nearest].amplitude > 1.8 * before.primitives[nearest].amplitude);
+    let far = skeleton2.nearest_node(DVec2::ZERO).unwrap();
+    let far_prim = (0..t2.primitives.len())
+        .min_by(|&a, &b| {
+            let d = |k: usize| DVec2::from(before.primitives[k].center).distance(DVec2::from(skeleton2.nodes[far]));
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    assert_eq!(t2.primitives[far_prim], before.primitives[far_prim]);
+    assert!(skeleton2.scale_amplitude(&mut t2, &attached2, tip, -2.0, None).is_err());
+    assert!(skeleton2.scale_amplitude(&mut t2, &attached2, 10_000, 1.0, None).is_err());
+}
