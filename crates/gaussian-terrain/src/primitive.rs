@@ -19,6 +19,7 @@ fn two() -> f64 {
 ///
 /// The reference notes fix the exponent as `½·d^β` (so `β = 2` matches the detail primitives'
 /// `exp(−½d²)`); the paper's typeset `(½d)^β` differs from it only by a rescaled σ.
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Gaussian {

@@ -18,6 +18,7 @@ pub fn smoothstep(x: f64) -> f64 {
 }
 
 /// A selected region Ω of the plane.
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Region {
@@ -157,6 +158,7 @@ impl Region {
 
 /// Where and how a stamp puts the selected landform: turned by `rotation` radians and scaled by
 /// `scale` about the region's anchor, which lands at `to`.
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Placement {
@@ -190,6 +192,7 @@ impl Placement {
 }
 
 /// Whether a stamp moves the selection or pastes a copy of it.
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum StampMode {

@@ -22,6 +22,10 @@ pub struct VectorTerrain {
     pub base: f64,
     /// The primitives, summed in this order.
     pub primitives: Vec<Gaussian>,
+    /// The window the terrain was made for, `[min, max]` corners (vectorization records the
+    /// DEM's extent); renderers default to it. Not a clip: primitives reach beyond it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub domain: Option<[[f64; 2]; 2]>,
     /// Detail primitives (§3.2), added after the Gaussians in this order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub details: Vec<DetailLayer>,
@@ -30,7 +34,7 @@ pub struct VectorTerrain {
 impl VectorTerrain {
     /// A terrain of these primitives (not yet validated).
     pub fn new(primitives: Vec<Gaussian>) -> Self {
-        Self { base: 0.0, primitives, details: Vec::new() }
+        Self { base: 0.0, primitives, domain: None, details: Vec::new() }
     }
 
     /// Number of primitives.
@@ -65,6 +69,11 @@ impl VectorTerrain {
         }
         if !self.base.is_finite() || self.base.abs() > f64::from(f32::MAX) {
             return Err(GaussianError::NotFinite { index: 0, what: "base" });
+        }
+        if let Some([lo, hi]) = self.domain
+            && !(lo.iter().chain(&hi).all(|v| v.is_finite()) && hi[0] > lo[0] && hi[1] > lo[1])
+        {
+            return Err(GaussianError::NotFinite { index: 0, what: "domain (finite, max > min)" });
         }
         self.primitives.iter().enumerate().try_for_each(|(i, g)| g.validate(i))?;
         self.details.iter().enumerate().try_for_each(|(i, d)| d.validate(i))

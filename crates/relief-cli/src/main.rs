@@ -14,9 +14,11 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result, bail};
 use clap::{Args, Parser, Subcommand};
+use glam::DVec2;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::contours::{ContourSet, evenly_spaced_levels, extract_dem, interval_levels};
-use relief::heightfield::{Heightfield, Units};
+use relief::gaussian_terrain::{VectorTerrain, VectorizeOptions};
+use relief::heightfield::{Extent, GridSpec, Heightfield, Units};
 use relief::io::Format;
 use relief::pipeline::{self, MAX_LEVELS};
 use relief::{Progress, Scene};
@@ -127,8 +129,75 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Vectorize a DEM into generalized Gaussian primitives (Perche et al. 2025): a JSON vector
+    /// terrain that `relief rasterize` renders at any size.
+    Vectorize {
+        /// The DEM.
+        dem: PathBuf,
+        /// Most Gaussian primitives.
+        #[arg(long, default_value_t = 10_000)]
+        primitives: usize,
+        /// Output vector terrain (JSON).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Optimisation steps.
+        #[arg(long, default_value_t = 200)]
+        iterations: usize,
+        /// Samples along the longer side of the grid the fit runs on.
+        #[arg(long, default_value_t = 512)]
+        resolution: usize,
+        /// Stop after this many seconds (the result then depends on the machine's speed).
+        #[arg(long, value_name = "SECONDS")]
+        time_limit: Option<f64>,
+        /// Add error-map detail primitives at this Poisson spacing in DEM cells (2 restores the DEM
+        /// to within f32 rounding; the JSON then carries the error map).
+        #[arg(long, value_name = "CELLS")]
+        details: Option<f64>,
+        /// Seed of the initial placement.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+    },
+    /// Rasterize a vector terrain (JSON from `relief vectorize`) at any size.
+    Rasterize {
+        /// The vector terrain.
+        terrain: PathBuf,
+        /// Samples: `W` (square) or `WxH`.
+        #[arg(long, value_parser = parse_size)]
+        size: (usize, usize),
+        /// Output heightfield; the extension picks the format.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// World window `MINX,MINY,MAXX,MAXY` (default: the terrain's recorded domain, e.g. the
+        /// vectorized DEM's extent, else the primitives' supports).
+        #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
+        window: Option<[f64; 4]>,
+    },
     /// Print the JSON Schema of scene files.
     Schema,
+}
+
+fn parse_size(s: &str) -> Result<(usize, usize), String> {
+    let parse = |v: &str| v.trim().parse::<usize>().map_err(|e| format!("{v:?}: {e}"));
+    let (w, h) = match s.split_once(['x', 'X']) {
+        Some((w, h)) => (parse(w)?, parse(h)?),
+        None => {
+            let n = parse(s)?;
+            (n, n)
+        }
+    };
+    if w < 2 || h < 2 || w > pipeline::MAX_RESOLUTION || h > pipeline::MAX_RESOLUTION {
+        return Err(format!("{w} x {h}: each side must be in 2..={}", pipeline::MAX_RESOLUTION));
+    }
+    Ok((w, h))
+}
+
+fn parse_window(s: &str) -> Result<[f64; 4], String> {
+    let v: Vec<f64> =
+        s.split(',').map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}"))).collect::<Result<_, _>>()?;
+    match v[..] {
+        [a, b, c, d] if [a, b, c, d].iter().all(|x| x.is_finite()) && c > a && d > b => Ok([a, b, c, d]),
+        _ => Err("give MINX,MINY,MAXX,MAXY with MAXX > MINX and MAXY > MINY".into()),
+    }
 }
 
 #[derive(Debug, Args)]
@@ -238,7 +307,86 @@ fn run(cli: &Cli) -> Result<()> {
             println!("{}", Scene::json_schema());
             Ok(())
         }
+        Command::Vectorize { dem, primitives, output, iterations, resolution, time_limit, details, seed } => {
+            let time_budget = match time_limit {
+                Some(t) if t.is_finite() && *t >= 0.0 => Some(Duration::from_secs_f64(*t)),
+                Some(t) => bail!("--time-limit {t}: give a number of seconds ≥ 0"),
+                None => None,
+            };
+            let options = VectorizeOptions {
+                primitives: *primitives,
+                iterations: *iterations,
+                resolution: *resolution,
+                time_budget,
+                detail_spacing: *details,
+                seed: *seed,
+                ..VectorizeOptions::default()
+            };
+            vectorize(&mut ui, dem, output, &options)
+        }
+        Command::Rasterize { terrain, size, output, window } => rasterize(&mut ui, terrain, *size, output, *window),
     }
+}
+
+fn vectorize(ui: &mut Ui, dem: &Path, output: &Path, options: &VectorizeOptions) -> Result<()> {
+    let heightfield = ui.step("read", || relief::io::read(dem))?;
+    let target = if ui.draw { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+    let bar = ProgressBar::with_draw_target(Some(options.iterations as u64), target);
+    bar.set_style(
+        ProgressStyle::with_template("vectorize {bar:30} {pos}/{len} {msg} {elapsed}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let fit = relief::gaussian_terrain::vectorize(&heightfield, options, |p| {
+        bar.set_position(p.iteration as u64);
+        bar.set_message(format!("{} primitives, loss {:.2e}", p.primitives, p.loss.total));
+        std::ops::ControlFlow::Continue(())
+    })
+    .with_context(|| format!("vectorizing {}", dem.display()))?;
+    bar.finish_and_clear();
+    let json = serde_json::to_string(&fit.terrain).context("encoding the vector terrain")?;
+    ui.step("write", || relief::io::write_atomic(output, json.as_bytes()))?;
+    let r = &fit.report;
+    ui.say(format_args!(
+        "{} primitives after {} steps ({}) in {:.1} s: mean error {:.3} ({:.2e} of the relief's half-range){}",
+        r.primitives,
+        r.iterations,
+        r.stopped_by,
+        r.seconds,
+        r.l1,
+        r.l1_normalized,
+        if options.detail_spacing.is_some() {
+            format!(", {:.2e} with details", r.l1_with_details)
+        } else {
+            String::new()
+        }
+    ));
+    ui.say(format_args!("  {}", output.display()));
+    Ok(())
+}
+
+fn rasterize(
+    ui: &mut Ui,
+    path: &Path,
+    (nx, ny): (usize, usize),
+    output: &Path,
+    window: Option<[f64; 4]>,
+) -> Result<()> {
+    Format::from_extension(output).with_context(|| format!("{}: unknown output extension", output.display()))?;
+    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let terrain: VectorTerrain =
+        serde_json::from_str(&text).with_context(|| format!("{}: not a vector terrain", path.display()))?;
+    terrain.validate().with_context(|| path.display().to_string())?;
+    let extent = match window {
+        Some([a, b, c, d]) => Extent::new(DVec2::new(a, b), DVec2::new(c, d)),
+        None => relief::vector::default_extent(&terrain),
+    };
+    let grid = GridSpec::from_extent(nx, ny, extent)?;
+    let heightfield = ui.step("rasterize", || {
+        relief::gaussian_terrain::rasterize(&terrain, &grid, &relief::gaussian_terrain::RasterOptions::default())
+    })?;
+    ui.step("write", || relief::io::write(output, &heightfield))?;
+    ui.say(format_args!("{} primitives -> {} ({nx} x {ny})", terrain.len(), output.display()));
+    Ok(())
 }
 
 fn run_scene(scene: &Scene, base: &Path, out: &Path, ui: &mut Ui) -> Result<()> {

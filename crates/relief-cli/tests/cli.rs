@@ -96,6 +96,8 @@ fn check_outputs(dir: &Path, histogram: Option<&Histogram>, depressions: bool) {
     if let Some(histogram) = histogram {
         let ks = histogram.ks_distance(&land);
         assert!(ks < 0.08, "{}: raster KS {ks}", dir.display());
+    } else if summary["gaussian"].is_object() {
+        assert!(summary["gaussian"]["primitives"].as_u64().unwrap() > 0);
     } else if summary["island"].is_object() {
         // Island: sea exactly 0, land above the sea level.
         assert!(summary["island"]["area"].as_f64().unwrap() > 0.0);
@@ -141,13 +143,15 @@ fn every_fixture_scene_generates_checked_outputs() {
             Generator::Diffusion(_) => ("diffuse", true),
             // Hills and perturbations leave hollows (a crater, dents) on an island.
             Generator::Island(_) => ("generate", true),
+            // Sums of Gaussians have hollows between primitives.
+            Generator::Gaussian(_) => ("generate", true),
         };
         let stdout = ok(&[command, path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
         assert!(stdout.contains("contours on"), "{stdout}");
         check_outputs(&out, scene_histogram(&path).as_ref(), depressions);
         count += 1;
     }
-    assert!(count >= 11);
+    assert!(count >= 13);
 }
 
 #[test]

@@ -51,6 +51,7 @@
 pub use relief_contours as contours;
 pub use relief_diffusion_multigrid as diffusion;
 pub use relief_eden_growth as eden_growth;
+pub use relief_gaussian_terrain as gaussian_terrain;
 pub use relief_heightfield as heightfield;
 pub use relief_heightfield_io as io;
 pub use relief_hydrology as hydrology;
@@ -63,6 +64,7 @@ mod error;
 pub mod export;
 pub mod pipeline;
 pub mod scene;
+pub mod vector;
 
 pub use error::ReliefError;
 pub use pipeline::{Progress, Summary, Terrain};

@@ -23,6 +23,7 @@ use crate::eden_growth::{
     EdenError, FbmProbability, Graph, GraphOptions, LabelMap, ProbabilityMap, RasterProbability, Region, RegionTree,
     Sampling, Uniform, grow,
 };
+use crate::gaussian_terrain::{RasterOptions, rasterize};
 use crate::heightfield::noise::Fbm;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
 use crate::hydrology::{self, D8, Field, HydrologyError, Outlets, StreamPower, Thermal};
@@ -30,10 +31,11 @@ use crate::io::{Format, ReadOptions};
 use crate::island::{Island, IslandError};
 use crate::poisson_sampling::{Polygon, Rect};
 use crate::scene::{
-    ContoursGenerator, DiffusionGenerator, Edit, Generator, HistogramSource, IslandGenerator, Levels, Outputs,
-    PostProcess, Probability, ReconstructionMode, Rectangle, Scene, SolverSpec,
+    ContoursGenerator, DiffusionGenerator, Edit, GaussianGenerator, Generator, HistogramSource, IslandGenerator,
+    Levels, Outputs, PostProcess, Probability, ReconstructionMode, Rectangle, Scene, SolverSpec,
 };
 use crate::tin::PointLocator;
+use crate::vector;
 use crate::warp::{PathOptions, PathWarp, Profile, SlopeModulation, Warp, WarpError, warp_polyline, warp_raster};
 use rayon::prelude::*;
 
@@ -178,10 +180,20 @@ pub struct Summary {
     /// The island's final shape (island generator only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub island: Option<IslandSummary>,
+    /// The vector terrain after its tools (gaussian generator only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gaussian: Option<GaussianSummary>,
     /// Closed basins and stream order of the final heightfield.
     pub drainage: DrainageSummary,
     /// Time per step, in order (they vary from run to run, unlike everything else).
     pub timings_ms: Vec<Timing>,
+}
+
+/// What a gaussian scene ended with.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GaussianSummary {
+    /// Gaussian primitives after the tools.
+    pub primitives: usize,
 }
 
 /// What an island scene ended with.
@@ -234,6 +246,7 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
         Generator::Contours(generator) => generate_contours(scene, generator, base_dir, &mut timer),
         Generator::Diffusion(generator) => generate_diffusion(scene, generator, &mut timer),
         Generator::Island(generator) => generate_island(scene, generator, &mut timer),
+        Generator::Gaussian(generator) => generate_gaussian(scene, generator, base_dir, &mut timer),
     }
 }
 
@@ -321,6 +334,7 @@ fn generate_contours(
         }),
         diffusion: None,
         island: None,
+        gaussian: None,
         drainage,
         timings_ms: std::mem::take(&mut timer.timings),
     };
@@ -357,7 +371,7 @@ fn generate_diffusion(
     let report = terrain.report;
     let (lo, _) = terrain.heightfield.min_max().unwrap_or((0.0, 0.0));
     let sea_level = generator.sea_level.unwrap_or(f64::from(lo) - 1.0);
-    let extras = Extras { diffusion: Some(report), island: None };
+    let extras = Extras { diffusion: Some(report), island: None, gaussian: None };
     raster_terrain(scene, terrain.heightfield, sea_level, &generator.levels, DIFFUSION, extras, timer)
 }
 
@@ -365,6 +379,7 @@ fn generate_diffusion(
 struct Extras {
     diffusion: Option<SolveReport>,
     island: Option<IslandSummary>,
+    gaussian: Option<GaussianSummary>,
 }
 
 /// The shared end of the raster generators (diffusion, island): post-processing and drainage
@@ -408,6 +423,7 @@ fn raster_terrain(
         histogram_match: None,
         diffusion: extras.diffusion,
         island: extras.island,
+        gaussian: extras.gaussian,
         drainage,
         timings_ms: std::mem::take(&mut timer.timings),
     };
@@ -434,10 +450,36 @@ fn generate_island(scene: &Scene, generator: &IslandGenerator, timer: &mut Timer
         hills: built.hills().len(),
         perturbations: built.filters().len(),
     };
-    let extras = Extras { diffusion: None, island: Some(summary) };
+    let extras = Extras { diffusion: None, island: Some(summary), gaussian: None };
     // Sea is exactly 0 and land at least `land_floor`: half the floor parts them.
     let sea_level = 0.5 * generator.settings.land_floor;
     raster_terrain(scene, built.heightfield(), sea_level, &generator.levels, ISLAND, extras, timer)
+}
+
+const GAUSSIAN: &str = "generator.gaussian";
+
+/// A vector terrain (Perche et al. 2025): the source, the tools in order, then the raster.
+fn generate_gaussian(
+    scene: &Scene,
+    generator: &GaussianGenerator,
+    base_dir: &Path,
+    timer: &mut Timer<'_>,
+) -> Result<Terrain, ReliefError> {
+    let mut terrain =
+        timer.step("source", || vector::load_source(&generator.source, base_dir, &format!("{GAUSSIAN}.source")))?;
+    let extent = match &scene.domain {
+        Some(d) => rectangle(d, "domain")?,
+        None => vector::default_extent(&terrain),
+    };
+    let grid = raster_grid(scene, extent)?;
+    timer.step("tools", || vector::apply_operations(&mut terrain, generator, &grid, base_dir, GAUSSIAN))?;
+    let heightfield = timer.step("rasterize", || {
+        rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| ReliefError::scene(GAUSSIAN, e))
+    })?;
+    let (lo, _) = heightfield.min_max().unwrap_or((0.0, 0.0));
+    let extras =
+        Extras { diffusion: None, island: None, gaussian: Some(GaussianSummary { primitives: terrain.len() }) };
+    raster_terrain(scene, heightfield, f64::from(lo) - 1.0, &generator.levels, GAUSSIAN, extras, timer)
 }
 
 /// An island error as a scene error at the JSON path it comes from.

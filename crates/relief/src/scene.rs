@@ -66,6 +66,162 @@ pub enum Generator {
     /// A sketched island (Puig-Centelles et al.): a circular coast over a cone, then coastline
     /// strokes, hills and filters replayed in order.
     Island(IslandGenerator),
+    /// A vector terrain of generalized Gaussian primitives (Perche et al. 2025): primitives from
+    /// the scene, a saved terrain or a vectorized DEM, then landform and crest tools in order.
+    Gaussian(GaussianGenerator),
+}
+
+/// A vector terrain and the tool operations applied to it. The domain defaults to the
+/// primitives' supports (after the operations); the raster is `reconstruction.resolution`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GaussianGenerator {
+    /// Where the primitives come from.
+    pub source: GaussianSource,
+    /// Tool operations, applied in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operations: Vec<GaussianOperation>,
+    /// How the crest skeleton of the crest operations is extracted.
+    #[serde(default)]
+    pub skeleton: SkeletonSpec,
+    /// Contours drawn from the result (default 20 evenly spaced levels).
+    #[serde(default = "default_diffusion_levels")]
+    pub levels: Levels,
+}
+
+/// The starting primitives of a `gaussian` generator.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum GaussianSource {
+    /// Primitives written in the scene.
+    Primitives {
+        /// The primitives.
+        primitives: Vec<relief_gaussian_terrain::Gaussian>,
+        /// Constant elevation under them (default 0).
+        #[serde(default)]
+        base: f64,
+    },
+    /// A vector terrain saved as JSON (`relief vectorize` writes them).
+    Terrain {
+        /// The file, relative to the scene.
+        #[schemars(with = "String")]
+        path: PathBuf,
+    },
+    /// A DEM (any format `relief` reads) vectorized first.
+    Dem {
+        /// The file, relative to the scene.
+        #[schemars(with = "String")]
+        path: PathBuf,
+        /// Most primitives (default 2000).
+        #[serde(default = "default_dem_primitives")]
+        primitives: usize,
+        /// Optimisation steps (default 200).
+        #[serde(default = "default_dem_iterations")]
+        iterations: usize,
+        /// Working-grid resolution (default 256).
+        #[serde(default = "default_dem_resolution")]
+        resolution: usize,
+    },
+}
+
+fn default_dem_primitives() -> usize {
+    2000
+}
+fn default_dem_iterations() -> usize {
+    200
+}
+fn default_dem_resolution() -> usize {
+    256
+}
+
+/// One tool operation on a vector terrain (§5).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "op", rename_all = "snake_case", deny_unknown_fields)]
+pub enum GaussianOperation {
+    /// Move (or copy) the primitives centred in `region` to `placement`, damping the primitives
+    /// under the destination within `damping` of its border (∞: vanish them all).
+    Stamp {
+        /// The selection.
+        region: relief_gaussian_terrain::Region,
+        /// Where the region's anchor goes, turned and scaled.
+        placement: relief_gaussian_terrain::Placement,
+        /// Move (default) or copy.
+        #[serde(default)]
+        mode: relief_gaussian_terrain::StampMode,
+        /// Damping radius, world units.
+        damping: f64,
+    },
+    /// Paste a landform from an atlas file with a circular footprint of radius `footprint`.
+    Paste {
+        /// The atlas JSON, relative to the scene.
+        #[schemars(with = "String")]
+        atlas: PathBuf,
+        /// The landform's name.
+        landform: String,
+        /// Footprint radius around the landform's anchor, world units.
+        footprint: f64,
+        /// Where the anchor goes, turned and scaled.
+        placement: relief_gaussian_terrain::Placement,
+        /// Damping radius, world units.
+        damping: f64,
+    },
+    /// Delete the primitives centred in `region`.
+    Delete {
+        /// The selection.
+        region: relief_gaussian_terrain::Region,
+    },
+    /// Twist the primitives in `region` about its anchor by up to `angle` radians.
+    Twist {
+        /// The region.
+        region: relief_gaussian_terrain::Region,
+        /// Rotation at the region's rim before fall-off, radians.
+        angle: f64,
+        /// Fall-off width inside the border, world units.
+        falloff: f64,
+    },
+    /// Squeeze: move the primitives in `region` by `by`, faded towards the border.
+    Squeeze {
+        /// The region.
+        region: relief_gaussian_terrain::Region,
+        /// Translation `[x, y]`.
+        by: [f64; 2],
+        /// Fall-off width inside the border, world units.
+        falloff: f64,
+    },
+    /// Move the crest skeleton's node nearest `near` by `by`; the rest of the crest follows
+    /// with the graph attenuation.
+    MoveCrest {
+        /// A point near the node.
+        near: [f64; 2],
+        /// Translation `[x, y]`.
+        by: [f64; 2],
+        /// Graph distance the change reaches (default: the whole graph).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reach: Option<f64>,
+    },
+    /// Scale the amplitude around the crest node nearest `near`: `a' = a(α·factor + 1)`.
+    RaiseCrest {
+        /// A point near the node.
+        near: [f64; 2],
+        /// `u ≥ −1`: 1 doubles the crest there, −1 flattens it.
+        factor: f64,
+        /// Graph distance the change reaches (default: the whole graph).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reach: Option<f64>,
+    },
+}
+
+/// Crest skeleton extraction (§5.1).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SkeletonSpec {
+    /// Flow accumulation (cells, on the inverted DEM) that makes a crest cell (default: 0.2 %
+    /// of the raster's cells).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_cells: Option<u32>,
+    /// Node spacing after edge collapse, world units (default: 3 % of the domain's longer side).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<f64>,
 }
 
 /// Parameters and editing history of a sketched island. The domain defaults to a 1000 × 1000
