@@ -3,10 +3,11 @@
 //! `random_terrain`): on average 16 supports cover each point, β mixed in [1.2, 4].
 
 use std::hint::black_box;
+use std::ops::ControlFlow;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec2;
-use relief_gaussian_terrain::{RasterOptions, random_terrain, rasterize};
+use relief_gaussian_terrain::{RasterOptions, VectorizeOptions, fbm_dem, random_terrain, rasterize, vectorize};
 use relief_heightfield::{Extent, GridSpec};
 
 fn bench(c: &mut Criterion) {
@@ -20,6 +21,13 @@ fn bench(c: &mut Criterion) {
             b.iter(|| black_box(rasterize(t, &grid, &RasterOptions::default()).expect("raster")));
         });
     }
+    // A short fit: initialisation and 20 Adam steps on 256² with 2 000 primitives (the full
+    // 512² / 1024² fits are single timed runs: `cargo xtask bench` runs `vectorize_timing`).
+    let dem = fbm_dem(256, 7).expect("dem");
+    let options = VectorizeOptions { primitives: 2000, iterations: 20, ..VectorizeOptions::default() };
+    group.bench_function("vectorize/256/2k-20-steps", |b| {
+        b.iter(|| black_box(vectorize(&dem, &options, |_| ControlFlow::Continue(())).expect("fit")));
+    });
     group.finish();
 }
 

@@ -178,12 +178,11 @@ enum Command {
 
 fn parse_size(s: &str) -> Result<(usize, usize), String> {
     let parse = |v: &str| v.trim().parse::<usize>().map_err(|e| format!("{v:?}: {e}"));
-    let (w, h) = match s.split_once(['x', 'X']) {
-        Some((w, h)) => (parse(w)?, parse(h)?),
-        None => {
-            let n = parse(s)?;
-            (n, n)
-        }
+    let (w, h) = if let Some((w, h)) = s.split_once(['x', 'X']) {
+        (parse(w)?, parse(h)?)
+    } else {
+        let n = parse(s)?;
+        (n, n)
     };
     if w < 2 || h < 2 || w > pipeline::MAX_RESOLUTION || h > pipeline::MAX_RESOLUTION {
         return Err(format!("{w} x {h}: each side must be in 2..={}", pipeline::MAX_RESOLUTION));

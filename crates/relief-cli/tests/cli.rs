@@ -141,10 +141,9 @@ fn every_fixture_scene_generates_checked_outputs() {
         let (command, depressions) = match &scene.generator {
             Generator::Contours(g) => ("generate", g.regions.iter().any(|r| r.depression)),
             Generator::Diffusion(_) => ("diffuse", true),
-            // Hills and perturbations leave hollows (a crater, dents) on an island.
-            Generator::Island(_) => ("generate", true),
-            // Sums of Gaussians have hollows between primitives.
-            Generator::Gaussian(_) => ("generate", true),
+            // Hills and perturbations leave hollows (a crater, dents) on an island; sums of
+            // Gaussians have hollows between primitives.
+            Generator::Island(_) | Generator::Gaussian(_) => ("generate", true),
         };
         let stdout = ok(&[command, path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
         assert!(stdout.contains("contours on"), "{stdout}");
@@ -320,4 +319,41 @@ fn usage_errors_exit_with_code_two() {
     fails(&["contours", "fixtures/dem/jacksboro.asc", "--interval", "10", "--levels", "3"], 2);
     fails(&["demo", "--threads", "0"], 2);
     fails(&["frobnicate"], 2);
+}
+
+#[test]
+fn vectorize_then_rasterize_a_real_dem() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dem = root().join("fixtures/dem/jacksboro.asc");
+    let json = tmp.path().join("jacksboro.json");
+    let stdout = ok(&[
+        "vectorize",
+        dem.to_str().unwrap(),
+        "--primitives",
+        "150",
+        "--iterations",
+        "20",
+        "--resolution",
+        "96",
+        "-o",
+        json.to_str().unwrap(),
+    ]);
+    assert!(stdout.contains("primitives after 20 steps"), "{stdout}");
+    let terrain: relief::gaussian_terrain::VectorTerrain =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(!terrain.primitives.is_empty() && terrain.primitives.len() <= 150);
+    // Rendered at another size over the DEM's extent (recorded in the JSON), the relief matches.
+    let exr = tmp.path().join("jacksboro.exr");
+    ok(&["rasterize", json.to_str().unwrap(), "--size", "120x100", "-o", exr.to_str().unwrap()]);
+    let source = relief::io::read(&dem).unwrap();
+    let out = relief::io::read(&exr).unwrap();
+    assert_eq!((out.nx(), out.ny()), (120, 100));
+    let ((a, b), (c, d)) = (source.min_max().unwrap(), out.min_max().unwrap());
+    assert!((a - c).abs() < 0.15 * (b - a) && (b - d).abs() < 0.15 * (b - a), "{a}..{b} vs {c}..{d}");
+    // Bad sizes are usage errors; a broken terrain file is a one-line failure.
+    fails(&["rasterize", json.to_str().unwrap(), "--size", "1x5", "-o", exr.to_str().unwrap()], 2);
+    let bad = tmp.path().join("bad.json");
+    std::fs::write(&bad, r#"{"primitives":[{"center":[0,0],"sigma":[-1,1],"amplitude":1}]}"#).unwrap();
+    let err = fails(&["rasterize", bad.to_str().unwrap(), "--size", "64", "-o", exr.to_str().unwrap()], 1);
+    assert!(err.contains("sigma.x"), "{err}");
 }
