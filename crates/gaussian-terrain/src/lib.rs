@@ -2,7 +2,8 @@
 //! elevation is a sum of generalized Gaussian primitives `g(p) = a·exp(−½·d(p)^β)`,
 //! `d = ‖A⁻¹(p − c)‖`, `A = R(θ)S(σx, σy)` (§3.2), independent of any resolution.
 //!
-//! - [`Gaussian`], [`VectorTerrain`] (serde) and an [`Atlas`] of saved [`Landform`]s (§5.2).
+//! - [`Gaussian`], [`VectorTerrain`] (serde; a base elevation, the primitives, detail layers) and
+//!   an [`Atlas`] of saved [`Landform`]s (§5.2).
 //!   Loading checks shapes only; [`VectorTerrain::validate`] names NaN, `σ ≤ 0` or `β ≤ 0` by
 //!   primitive index, and caps the count at [`MAX_PRIMITIVES`].
 //! - [`rasterize`] (§6.1): any resolution and window of the plane (a [`GridSpec`]), primitives
@@ -10,6 +11,24 @@
 //!   the bytes are the same for any thread count. Each primitive's support is chosen so its
 //!   truncated tail is below `tolerance·|a|` (the paper's fixed 3σ leaves a 1.1 % step for
 //!   `β = 2` and far more for small `β`). [`rasterize_exact`] is the untruncated f64 reference.
+//!
+//! - [`vectorize`] (§4): a DEM becomes primitives by multi-level initialisation (the paper's
+//!   five scales, amplitudes from the smoothed residual), then Adam on the analytic gradient of
+//!   `α₁ℓ₁ + α₂ℓ_grad + (1−α₁−α₂)(1−SSIM)` with clone / split / prune, a progress callback that
+//!   can cancel, and iteration, time and loss budgets. The paper's LPIPS term needs pre-trained
+//!   VGG weights a terrain library cannot ship, so a gradient-domain ℓ₁ (slope differences) takes
+//!   its place: it weighs the same crests and breaks of slope and has an exact gradient.
+//!   [`LossTerms`] report ℓ₁ in the paper's normalization (relief spanning 2) to compare with its
+//!   Table 3.
+//! - [`DetailLayer`] (§3.2): detail primitives at Poisson-disc centres (`relief-poisson-sampling`,
+//!   so placement is seeded and blue-noise) with procedural-noise or error-map amplitude; an
+//!   error-map layer restores the vectorized DEM to f32 rounding.
+//! - Landform tools (§5.2): [`Region`] (circle, lasso), [`stamp`] with damping, [`copy`],
+//!   [`cut`], [`paste`], [`delete`], [`twist`], [`squeeze`]. Crest tools (§5.1): [`Skeleton`]
+//!   (edge collapse, attachment, [`Skeleton::move_node`], [`Skeleton::scale_amplitude`]); its
+//!   crest cells come from hydrology's flow routing on the inverted DEM, which the `relief`
+//!   facade supplies (`relief::vector::crest_skeleton`) because hydrology sits above this crate.
+//!   [`Gaussian::transformed`] re-splits a primitive under any linear map (Appendix A).
 //!
 //! The inner loops use branch-free f32 `exp`/`log2` polynomials (module `fastmath`, tested
 //! against the standard library) so that the compiler vectorizes them.
