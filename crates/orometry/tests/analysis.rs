@@ -1,0 +1,258 @@
+//! Prominence, key saddles, isolation and the divide tree on hand-built DEMs with known answers,
+//! and the invariants of prominence on random DEMs against a brute-force flood from each peak.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use glam::DVec2;
+use proptest::prelude::*;
+use relief_heightfield::{Extent, GridSpec, Heightfield};
+use relief_orometry::{AnalysisOptions, Orometry, OrometryError, analyze};
+
+fn grid(nx: usize, ny: usize) -> GridSpec {
+    GridSpec::from_extent(nx, ny, Extent::new(DVec2::ZERO, DVec2::new((nx - 1) as f64, (ny - 1) as f64))).unwrap()
+}
+
+fn run(dem: &Heightfield) -> Orometry {
+    analyze(dem, &AnalysisOptions::default()).unwrap()
+}
+
+fn peak_at(o: &Orometry, cell: [usize; 2]) -> &relief_orometry::Peak {
+    o.peaks.iter().find(|p| p.cell == cell).unwrap_or_else(|| panic!("no peak at {cell:?}"))
+}
+
+#[test]
+fn two_cones_joined_by_a_col() {
+    let dem = Heightfield::from_fn(grid(61, 21), |p| {
+        let a = 100.0 - 6.0 * p.distance(DVec2::new(15.0, 10.0));
+        let b = 80.0 - 4.0 * p.distance(DVec2::new(45.0, 10.0));
+        a.max(b).max(0.0) as f32
+    })
+    .unwrap();
+    let o = run(&dem);
+    assert_eq!(o.peaks.len(), 2);
+    let (a, b) = (peak_at(&o, [15, 10]), peak_at(&o, [45, 10]));
+    // The col is where the cones meet on the axis: 100 − 6x' = 80 − 4(30 − x') → x' = 4 from... the
+    // ground along the axis is the upper envelope; its lowest point between the peaks.
+    let col = (0..=60).map(|i| dem.value(i, 10)).skip(15).take(31).fold(f32::INFINITY, f32::min);
+    assert!((b.prominence - f64::from(80.0 - col)).abs() < 1e-4, "{} vs {}", b.prominence, 80.0 - col);
+    let s = &o.saddles[b.key_saddle.unwrap()];
+    assert_eq!(s.elevation, f64::from(col));
+    assert!(s.cell[0] > 15 && s.cell[0] < 45 && s.cell[1] == 10, "{:?}", s.cell);
+    assert_eq!(s.peaks, [1, 0]);
+    assert!((b.dominance - b.prominence / 80.0).abs() < 1e-12);
+    // The highest: prominence above the lowest outlet (the map's border at 0).
+    assert_eq!(a.prominence, 100.0);
+    assert!(a.key_saddle.is_none() && a.isolation.is_none());
+    // b's nearest higher ground is on a's flank, due west: 100 − 6d > 80 ⇒ d < 3.33, so x = 18.
+    let iso = b.isolation.unwrap();
+    assert!((iso.distance - 27.0).abs() < 1e-9 && (iso.azimuth - 270.0).abs() < 1e-9, "{iso:?}");
+    assert_eq!((a.relative_prominence, b.relevance), (1.0, (b.prominence / 100.0 * 0.8).sqrt()));
+}
+
+#[test]
+fn a_flat_topped_plateau_is_one_peak_at_its_first_cell() {
+    let dem = Heightfield::from_fn(grid(20, 20), |p| {
+        let d = (p - DVec2::new(10.0, 10.0)).abs().max_element();
+        if d <= 2.0 { 50.0 } else { (50.0 - 5.0 * (d - 2.0)) as f32 }
+    })
+    .unwrap();
+    let o = run(&dem);
+    assert_eq!(o.peaks.len(), 1, "{:?}", o.peaks.iter().map(|p| p.cell).collect::<Vec<_>>());
+    assert_eq!(o.peaks[0].cell, [8, 8]);
+    // Flats that touch higher ground make no zero-prominence peaks either.
+    let step = Heightfield::from_fn(grid(12, 12), |p| if p.x < 6.0 { 10.0 } else { 20.0 }).unwrap();
+    let o = run(&step);
+    assert_eq!(o.peaks.len(), 1);
+    assert_eq!(o.peaks[0].cell, [6, 0]);
+}
+
+#[test]
+fn nested_peaks_and_the_divide_tree() {
+    // A main summit with a shoulder summit on its flank, and a third summit across a deep col.
+    let dem = Heightfield::from_fn(grid(80, 30), |p| {
+        let main = 300.0 - 8.0 * p.distance(DVec2::new(20.0, 15.0));
+        let shoulder = 240.0 - 10.0 * p.distance(DVec2::new(30.0, 15.0));
+        let far = 200.0 - 6.0 * p.distance(DVec2::new(62.0, 15.0));
+        main.max(shoulder).max(far).max(0.0) as f32
+    })
+    .unwrap();
+    let o = run(&dem);
+    assert_eq!(o.peaks.len(), 3);
+    let (main, shoulder, far) = (peak_at(&o, [20, 15]), peak_at(&o, [30, 15]), peak_at(&o, [62, 15]));
+    assert!(shoulder.prominence < 40.0 && shoulder.prominence > 0.0);
+    assert!(far.prominence >= 95.0, "{}", far.prominence);
+    assert_eq!(shoulder.parent, Some(0));
+    // Pruned above the shoulder's prominence: two peaks left, the far one still linked to the top.
+    let pruned = o.pruned(50.0);
+    assert_eq!(pruned.peaks.len(), 2);
+    assert_eq!(pruned.saddles.len(), 1);
+    assert_eq!(pruned.peaks[1].cell, far.cell);
+    assert_eq!(pruned.peaks[1].parent, Some(0));
+    // The top's prominence is its height above the lowest border cell.
+    let border = (0..80)
+        .flat_map(|i| [dem.value(i, 0), dem.value(i, 29)])
+        .chain((0..30).flat_map(|j| [dem.value(0, j), dem.value(79, j)]));
+    assert_eq!(main.prominence, 300.0 - f64::from(border.fold(f32::INFINITY, f32::min)));
+}
+
+#[test]
+fn the_sea_and_the_map_edge() {
+    // An island rising from a sea at 0 with its top on the map's edge.
+    let dem = Heightfield::from_fn(grid(40, 30), |p| {
+        let top = 120.0 - 5.0 * p.distance(DVec2::new(0.0, 15.0));
+        let inner = 90.0 - 6.0 * p.distance(DVec2::new(20.0, 15.0));
+        top.max(inner).max(-10.0) as f32
+    })
+    .unwrap();
+    let options = AnalysisOptions { sea_level: Some(0.0), ..AnalysisOptions::default() };
+    let o = analyze(&dem, &options).unwrap();
+    let top = peak_at(&o, [0, 15]);
+    // Touching the sea, the top's prominence is its height above it.
+    assert_eq!(top.prominence, 120.0);
+    assert!(top.edge_effect || top.key_saddle.is_none());
+    let inner = peak_at(&o, [20, 15]);
+    assert!(!inner.edge_effect, "its key saddle is inland");
+    // All sea: a typed error.
+    let sea = Heightfield::filled(grid(5, 5), -3.0).unwrap();
+    assert_eq!(analyze(&sea, &options).unwrap_err(), OrometryError::NoLand { cells: 25 });
+    let none = Heightfield::filled(grid(3, 3), f32::NAN).unwrap();
+    assert!(matches!(analyze(&none, &AnalysisOptions::default()), Err(OrometryError::NoLand { .. })));
+    let bad = AnalysisOptions { min_prominence: -1.0, ..AnalysisOptions::default() };
+    assert!(matches!(analyze(&dem, &bad), Err(OrometryError::InvalidOption { .. })));
+}
+
+#[test]
+fn tiny_and_flat_dems_have_documented_results() {
+    let one = Heightfield::filled(grid(2, 2), 7.0).unwrap();
+    // A flat map is one land mass: its top at the first cell, with no relief above the outlet.
+    let o = run(&one);
+    assert_eq!(o.peaks.len(), 1);
+    assert_eq!((o.peaks[0].cell, o.peaks[0].prominence), ([0, 0], 0.0));
+    let line =
+        Heightfield::from_fn(GridSpec::new(1, 9, DVec2::ZERO, DVec2::ONE).unwrap(), |p| (p.y * (8.0 - p.y)) as f32)
+            .unwrap();
+    let o = run(&line);
+    assert_eq!(o.peaks.len(), 1);
+    assert_eq!(o.peaks[0].cell, [0, 4]);
+    assert_eq!(o.peaks[0].prominence, 16.0);
+    // No-data is an outlet, like the border.
+    let mut holed = Heightfield::from_fn(grid(9, 9), |p| (20.0 - p.distance(DVec2::splat(4.0))) as f32).unwrap();
+    holed.samples_mut()[0] = f32::NAN;
+    let o = run(&holed);
+    assert_eq!(o.peaks.len(), 1);
+}
+
+/// Prominence by brute force: flood from the peak, highest first, until a cell higher in the
+/// strict order (elevation, then earlier index) is reached; the lowest elevation flooded on the
+/// way is the key saddle. `None` for the highest cell.
+fn brute_prominence(z: &[f32], nx: usize, ny: usize, peak: usize) -> Option<f32> {
+    let higher = |a: usize, b: usize| z[a] > z[b] || (z[a] == z[b] && a < b);
+    let mut seen = vec![false; z.len()];
+    let mut heap = BinaryHeap::new();
+    let key = |k: usize| (ordered(z[k]), Reverse(k));
+    heap.push((key(peak), peak));
+    seen[peak] = true;
+    let mut low = z[peak];
+    while let Some((_, k)) = heap.pop() {
+        low = low.min(z[k]);
+        if higher(k, peak) {
+            return Some(z[peak] - low);
+        }
+        let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+        for dj in -1..=1 {
+            for di in -1..=1 {
+                let (a, b) = (i + di, j + dj);
+                if a >= 0 && b >= 0 && a < nx as i64 && b < ny as i64 {
+                    let w = b as usize * nx + a as usize;
+                    if !seen[w] {
+                        seen[w] = true;
+                        heap.push((key(w), w));
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
+fn ordered(v: f32) -> i64 {
+    (f64::from(v) * 1e6) as i64
+}
+
+fn random_dem() -> impl Strategy<Value = (usize, usize, Vec<f32>)> {
+    (3usize..14, 3usize..12).prop_flat_map(|(nx, ny)| {
+        // Quantized to 8 levels, so ties and flats are common.
+        (Just(nx), Just(ny), proptest::collection::vec((0u8..8).prop_map(|v| f32::from(v) * 10.0), nx * ny))
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn prominence_matches_a_brute_force_flood((nx, ny, z) in random_dem()) {
+        let dem = Heightfield::from_samples(grid(nx, ny), z.clone()).unwrap();
+        let o = run(&dem);
+        let min = z.iter().copied().fold(f32::INFINITY, f32::min);
+        let border_min = (0..nx * ny)
+            .filter(|k| k % nx == 0 || k / nx == 0 || k % nx == nx - 1 || k / nx == ny - 1)
+            .map(|k| z[k])
+            .fold(f32::INFINITY, f32::min);
+        let tops: Vec<_> = o.peaks.iter().filter(|p| p.key_saddle.is_none()).collect();
+        // One land mass: exactly one peak without a key saddle, above the lowest outlet.
+        prop_assert_eq!(tops.len(), 1);
+        for p in &o.peaks {
+            let k = p.cell[1] * nx + p.cell[0];
+            prop_assert!(p.prominence > 0.0 || p.key_saddle.is_none());
+            prop_assert!(p.prominence <= p.elevation - f64::from(min));
+            if let Some(s) = p.key_saddle {
+                let saddle = &o.saddles[s];
+                prop_assert!(saddle.elevation < p.elevation);
+                let want = brute_prominence(&z, nx, ny, k).unwrap();
+                prop_assert_eq!(p.prominence, f64::from(want));
+            } else {
+                prop_assert_eq!(p.prominence, f64::from(z[k] - border_min));
+                prop_assert!(p.isolation.is_none());
+            }
+        }
+        // Every cell whose brute-force prominence is positive is a peak.
+        for k in 0..nx * ny {
+            if brute_prominence(&z, nx, ny, k).is_some_and(|p| p > 0.0) {
+                prop_assert!(o.peaks.iter().any(|p| p.cell == [k % nx, k / nx]), "cell {k} missing");
+            }
+        }
+    }
+
+    /// Raising one cell by `d` lowers no other peak's prominence by more than `d`, as long as the
+    /// raised cell stays below that peak: saddles on every path rise by at most `d`. (A cell
+    /// raised above a peak becomes higher ground itself, which changes what prominence measures.)
+    #[test]
+    fn raising_a_cell_costs_others_at_most_the_raise((nx, ny, z) in random_dem(), pick in any::<prop::sample::Index>(), d in 1u8..30) {
+        let before = run(&Heightfield::from_samples(grid(nx, ny), z.clone()).unwrap());
+        let k = pick.index(nx * ny);
+        let mut raised = z.clone();
+        raised[k] += f32::from(d);
+        let after = run(&Heightfield::from_samples(grid(nx, ny), raised).unwrap());
+        for p in &before.peaks {
+            let pk = p.cell[1] * nx + p.cell[0];
+            let raised_above = f64::from(z[k]) + f64::from(d) > p.elevation
+                || (f64::from(z[k]) + f64::from(d) == p.elevation && k < pk);
+            if pk == k || raised_above {
+                continue;
+            }
+            if let Some(q) = after.peaks.iter().find(|q| q.cell == p.cell) {
+                prop_assert!(q.prominence >= p.prominence - f64::from(d), "{:?}: {} → {}", p.cell, p.prominence, q.prominence);
+            }
+        }
+    }
+
+    #[test]
+    fn results_do_not_depend_on_the_thread_count((nx, ny, z) in random_dem()) {
+        let dem = Heightfield::from_samples(grid(nx, ny), z).unwrap();
+        let at = |threads: usize| {
+            rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(|| run(&dem))
+        };
+        prop_assert_eq!(at(1), at(2));
+    }
+}
