@@ -227,4 +227,5 @@ pub(crate) const REFERENCES: &[(&str, Reference)] = &[
     ("gaussian_terrain/rasterize/1024/60k", Reference::Fixed { label: "target (issue #8)", seconds: 0.25 }),
     ("gaussian_terrain/rasterize/4096/60k", Reference::Fixed { label: "paper, RTX 3090 (§6.1)", seconds: 0.388 }),
     ("gaussian_terrain/rasterize/4096/60k", Reference::Fixed { label: "target (issue #8)", seconds: 4.0 }),
+    ("orometry/analyze/3601", Reference::Fixed { label: "target (issue #9)", seconds: 3.0 }),
 ];

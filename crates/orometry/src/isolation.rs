@@ -76,6 +76,16 @@ impl Ord for Block {
     }
 }
 
+/// Half-width of the window scanned before the pyramid search.
+const LOCAL: usize = 6;
+
+fn found(dem: &Heightfield, cell: [usize; 2], i: usize, j: usize, d2: f64) -> Isolation {
+    let grid = dem.grid();
+    let to = grid.position(i, j);
+    let v = (to - grid.position(cell[0], cell[1])) * grid.metres_per_unit(cell[1]);
+    Isolation { distance: d2.sqrt(), azimuth: v.x.atan2(v.y).to_degrees().rem_euclid(360.0), to: to.to_array() }
+}
+
 /// The isolation of the sample `cell` at height `h`; `None` when nothing on the map is higher.
 pub(crate) fn isolation(pyramid: &Pyramid, dem: &Heightfield, cell: [usize; 2], h: f32) -> Option<Isolation> {
     let grid = dem.grid();
@@ -90,6 +100,27 @@ pub(crate) fn isolation(pyramid: &Pyramid, dem: &Heightfield, cell: [usize; 2], 
         let dy = (j0 - pj).max(pj - j1).max(0.0) * m.y;
         dx * dx + dy * dy
     };
+    // Most minor peaks have higher ground within a few cells: scan that window first. A hit at
+    // distance d is final when no cell outside the window can be nearer (d ≤ the window's reach).
+    let (nx, ny, base) = (&pyramid.levels[0].0, &pyramid.levels[0].1, &pyramid.levels[0].2);
+    let reach = LOCAL as f64 * m.x.min(m.y);
+    let mut best: Option<(f64, usize, usize)> = None;
+    for j in cell[1].saturating_sub(LOCAL)..=(cell[1] + LOCAL).min(ny - 1) {
+        for i in cell[0].saturating_sub(LOCAL)..=(cell[0] + LOCAL).min(nx - 1) {
+            if base[j * nx + i] > h {
+                let (dx, dy) = ((i as f64 - pi) * m.x, (j as f64 - pj) * m.y);
+                let d2 = dx * dx + dy * dy;
+                if best.is_none_or(|(b, bj, bi)| d2 < b || (d2 == b && (j, i) < (bj, bi))) {
+                    best = Some((d2, j, i));
+                }
+            }
+        }
+    }
+    if let Some((d2, j, i)) = best
+        && d2.sqrt() <= reach
+    {
+        return Some(found(dem, cell, i, j, d2));
+    }
     let top = pyramid.levels.len() - 1;
     let mut heap = BinaryHeap::new();
     heap.push(Block { d2: box_d2(top, 0, 0), level: top, bi: 0, bj: 0 });
@@ -99,13 +130,7 @@ pub(crate) fn isolation(pyramid: &Pyramid, dem: &Heightfield, cell: [usize; 2], 
             continue;
         }
         if level == 0 {
-            let to = grid.position(bi, bj);
-            let v = (to - grid.position(cell[0], cell[1])) * grid.metres_per_unit(cell[1]);
-            return Some(Isolation {
-                distance: d2.sqrt(),
-                azimuth: v.x.atan2(v.y).to_degrees().rem_euclid(360.0),
-                to: to.to_array(),
-            });
+            return Some(found(dem, cell, bi, bj, d2));
         }
         let (cw, ch, _) = &pyramid.levels[level - 1];
         for (ci, cj) in [(2 * bi, 2 * bj), (2 * bi + 1, 2 * bj), (2 * bi, 2 * bj + 1), (2 * bi + 1, 2 * bj + 1)] {

@@ -216,6 +216,17 @@ proptest! {
                 prop_assert!(p.isolation.is_none());
             }
         }
+        // Isolation: the nearest strictly higher sample, by brute force.
+        for p in &o.peaks {
+            let nearest = (0..nx * ny)
+                .filter(|&w| f64::from(z[w]) > p.elevation)
+                .map(|w| DVec2::new((w % nx) as f64, (w / nx) as f64).distance(DVec2::new(p.cell[0] as f64, p.cell[1] as f64)))
+                .fold(f64::INFINITY, f64::min);
+            match p.isolation {
+                Some(iso) => prop_assert!((iso.distance - nearest).abs() < 1e-9, "{} vs {nearest}", iso.distance),
+                None => prop_assert!(nearest.is_infinite()),
+            }
+        }
         // Every cell whose brute-force prominence is positive is a peak.
         for k in 0..nx * ny {
             if brute_prominence(&z, nx, ny, k).is_some_and(|p| p > 0.0) {
