@@ -152,6 +152,12 @@ impl Gaussian {
     }
 }
 
+/// The linear map that scales by `k` along the unit vector `dir` and keeps the perpendicular:
+/// `I + (k − 1)·dir·dirᵀ`.
+pub(crate) fn stretch_along(dir: DVec2, k: f64) -> DMat2 {
+    DMat2::IDENTITY + DMat2::from_cols(dir * dir.x, dir * dir.y) * (k - 1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

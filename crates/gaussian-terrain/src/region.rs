@@ -6,9 +6,11 @@
 //! `s(x) = 3x² − 2x³` on `[0, 1]`. A tool only ever changes the primitives its fall-off reaches;
 //! every other primitive keeps its exact bits.
 
-use glam::{DMat2, DVec2};
+use glam::DVec2;
+use relief_poisson_sampling::segment_distance_sq;
 use serde::{Deserialize, Serialize};
 
+use crate::primitive::stretch_along;
 use crate::{Gaussian, GaussianError, Landform, VectorTerrain};
 
 /// The compactly supported step `s` of §5: smoothstep, 0 below 0 and 1 above 1.
@@ -106,17 +108,9 @@ impl Region {
             Region::Lasso { points } => {
                 let n = points.len();
                 (0..n)
-                    .map(|k| {
-                        let (a, b) = (DVec2::from(points[k]), DVec2::from(points[(k + 1) % n]));
-                        let d = b - a;
-                        let t = if d.length_squared() > 0.0 {
-                            ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
-                        } else {
-                            0.0
-                        };
-                        p.distance(a + d * t)
-                    })
+                    .map(|k| segment_distance_sq(p, DVec2::from(points[k]), DVec2::from(points[(k + 1) % n])))
                     .fold(f64::INFINITY, f64::min)
+                    .sqrt()
             }
         }
     }
@@ -393,11 +387,9 @@ pub fn squeeze(
         let moved_to = c + v * f;
         let f2 = region.inner_falloff(moved_to, falloff_radius);
         let k = (f - f2 + 1.0).max(0.05);
-        // Scale by k along `dir` about the new centre: M = I + (k − 1)·dir·dirᵀ.
-        let m = DMat2::IDENTITY + DMat2::from_cols(dir * dir.x, dir * dir.y) * (k - 1.0);
-        let amplitude = g.amplitude;
+        // Scale by k along `dir` about the new centre.
+        let m = stretch_along(dir, k);
         *g = g.transformed(m, moved_to - m * c);
-        g.amplitude = amplitude;
         moved += 1;
     }
     Ok(moved)

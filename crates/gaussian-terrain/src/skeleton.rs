@@ -13,6 +13,7 @@ use std::collections::BinaryHeap;
 use glam::{DMat2, DVec2};
 use serde::{Deserialize, Serialize};
 
+use crate::primitive::stretch_along;
 use crate::region::smoothstep;
 use crate::{GaussianError, VectorTerrain};
 
@@ -303,13 +304,11 @@ impl Skeleton {
                 let turn = DMat2::from_angle(e0.angle_to(e1));
                 let dir = e0.normalize();
                 let k = e1.length() / e0.length();
-                turn * (DMat2::IDENTITY + DMat2::from_cols(dir * dir.x, dir * dir.y) * (k - 1.0))
+                turn * stretch_along(dir, k)
             } else {
                 DMat2::IDENTITY
             };
-            let amplitude = g.amplitude;
             *g = g.transformed(m, pi1 - m * pi0);
-            g.amplitude = amplitude;
             moved += 1;
         }
         Ok(moved)

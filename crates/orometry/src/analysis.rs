@@ -251,6 +251,23 @@ pub fn analyze(dem: &Heightfield, options: &AnalysisOptions) -> Result<Orometry,
     Ok(assemble(dem, options, &raw, &prominence))
 }
 
+/// For peaks listed parents first, with `parents[k]` before `k`: each kept peak's new index,
+/// each peak's nearest kept ancestor (its parent, or the parent's, … when those are dropped),
+/// and the number kept.
+fn relink(parents: impl Iterator<Item = Option<usize>>, keep: &[bool]) -> (Vec<usize>, Vec<Option<usize>>, usize) {
+    let mut index = vec![usize::MAX; keep.len()];
+    let mut linked: Vec<Option<usize>> = vec![None; keep.len()];
+    let mut kept = 0;
+    for (k, parent) in parents.enumerate() {
+        linked[k] = parent.and_then(|q| if keep[q] { Some(q) } else { linked[q] });
+        if keep[k] {
+            index[k] = kept;
+            kept += 1;
+        }
+    }
+    (index, linked, kept)
+}
+
 /// Drops the peaks of zero prominence or below the threshold (land-mass tops stay, so the tree
 /// keeps its roots), re-links their children to the nearest kept ancestor, and fills in the
 /// derived measures.
@@ -264,16 +281,7 @@ fn assemble(dem: &Heightfield, options: &AnalysisOptions, raw: &[RawPeak], promi
         .zip(prominence)
         .map(|(p, &pi)| p.saddle.is_none() || (pi > 0.0 && pi >= options.min_prominence))
         .collect();
-    let mut index = vec![usize::MAX; raw.len()];
-    let mut linked: Vec<Option<usize>> = vec![None; raw.len()];
-    let mut kept = 0;
-    for (k, p) in raw.iter().enumerate() {
-        linked[k] = p.parent.map(|q| q as usize).and_then(|q| if keep[q] { Some(q) } else { linked[q] });
-        if keep[k] {
-            index[k] = kept;
-            kept += 1;
-        }
-    }
+    let (index, linked, kept) = relink(raw.iter().map(|p| p.parent.map(|q| q as usize)), &keep);
     let cell_of = |c: u32| {
         let (i, j) = (c as usize % nx, c as usize / nx);
         ([i, j], grid.position(i, j).to_array())
@@ -336,16 +344,7 @@ impl Orometry {
     pub fn pruned(&self, min_prominence: f64) -> Orometry {
         let keep: Vec<bool> =
             self.peaks.iter().map(|p| p.key_saddle.is_none() || p.prominence >= min_prominence).collect();
-        let mut index = vec![usize::MAX; self.peaks.len()];
-        let mut linked: Vec<Option<usize>> = vec![None; self.peaks.len()];
-        let mut kept = 0;
-        for (k, p) in self.peaks.iter().enumerate() {
-            linked[k] = p.parent.and_then(|q| if keep[q] { Some(q) } else { linked[q] });
-            if keep[k] {
-                index[k] = kept;
-                kept += 1;
-            }
-        }
+        let (index, linked, kept) = relink(self.peaks.iter().map(|p| p.parent), &keep);
         let mut peaks = Vec::with_capacity(kept);
         let mut saddles = Vec::new();
         for (k, p) in self.peaks.iter().enumerate().filter(|(k, _)| keep[*k]) {

@@ -55,13 +55,7 @@ pub(crate) fn load_source(source: &GaussianSource, base_dir: &Path, at: &str) ->
         GaussianSource::Primitives { primitives, base } => {
             VectorTerrain { base: *base, primitives: primitives.clone(), domain: None, details: Vec::new() }
         }
-        GaussianSource::Terrain { path } => {
-            let path = base_dir.join(path);
-            let text = std::fs::read_to_string(&path)
-                .map_err(|e| ReliefError::scene(format!("{at}.path"), format!("{}: {e}", path.display())))?;
-            serde_json::from_str(&text)
-                .map_err(|e| ReliefError::scene(format!("{at}.path"), format!("{}: {e}", path.display())))?
-        }
+        GaussianSource::Terrain { path } => read_json(&base_dir.join(path), &format!("{at}.path"))?,
         GaussianSource::Dem { path, primitives, iterations, resolution } => {
             let path = base_dir.join(path);
             let dem = relief_heightfield_io::read(&path)
@@ -79,6 +73,13 @@ pub(crate) fn load_source(source: &GaussianSource, base_dir: &Path, at: &str) ->
     };
     terrain.validate().map_err(|e| ReliefError::scene(at.to_string(), e))?;
     Ok(terrain)
+}
+
+/// A JSON file of the scene, its read and parse errors named at the scene path `at`.
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path, at: &str) -> Result<T, ReliefError> {
+    let fail = |e: &dyn std::fmt::Display| ReliefError::scene(at.to_string(), format!("{}: {e}", path.display()));
+    let text = std::fs::read_to_string(path).map_err(|e| fail(&e))?;
+    serde_json::from_str(&text).map_err(|e| fail(&e))
 }
 
 /// The default domain of a vector terrain: its recorded domain, else its primitives' supports,
@@ -116,11 +117,7 @@ pub(crate) fn apply_operations(
                 stamp(terrain, region, placement, *mode, *damping).map_err(wrap)?;
             }
             GaussianOperation::Paste { atlas, landform, footprint, placement, damping } => {
-                let path = base_dir.join(atlas);
-                let text = std::fs::read_to_string(&path)
-                    .map_err(|e| ReliefError::scene(format!("{here}.atlas"), format!("{}: {e}", path.display())))?;
-                let atlas: Atlas = serde_json::from_str(&text)
-                    .map_err(|e| ReliefError::scene(format!("{here}.atlas"), format!("{}: {e}", path.display())))?;
+                let atlas: Atlas = read_json(&base_dir.join(atlas), &format!("{here}.atlas"))?;
                 atlas.validate().map_err(wrap)?;
                 let landform = atlas.get(landform).map_err(wrap)?;
                 let footprint = Region::Circle { center: [0.0, 0.0], radius: *footprint };
