@@ -1,5 +1,8 @@
 //! Typed errors of the orometric analysis.
 
+use relief_heightfield::HeightfieldError;
+use relief_hydrology::HydrologyError;
+use relief_tin::TinError;
 use thiserror::Error;
 
 /// What went wrong while analysing a DEM.
@@ -30,4 +33,60 @@ pub enum OrometryError {
         /// The rule it breaks.
         reason: &'static str,
     },
+    /// A descriptor's histogram or domain facts are malformed.
+    #[error("descriptor feature {feature}: {reason}")]
+    InvalidDescriptor {
+        /// The feature (or `domain`).
+        feature: &'static str,
+        /// What is wrong with it.
+        reason: &'static str,
+    },
+    /// A control map does not cover the synthesis domain.
+    #[error(
+        "control map {name} covers [{found:?}] but the domain is [{expected:?}] (x0, y0, x1, y1); resample it to the domain"
+    )]
+    ControlMapExtent {
+        /// `peak_density` or `elevation`.
+        name: &'static str,
+        /// The domain.
+        expected: [f64; 4],
+        /// The map's extent.
+        found: [f64; 4],
+    },
+    /// A control map holds a value it may not.
+    #[error("control map {name}: {reason}")]
+    InvalidControlMap {
+        /// `peak_density` or `elevation`.
+        name: &'static str,
+        /// What is wrong.
+        reason: &'static str,
+    },
+    /// A divide tree refers to a peak or saddle that does not exist, or breaks a rule.
+    #[error("divide tree: {0}")]
+    InvalidTree(String),
+    /// A pinned peak cannot be honoured.
+    #[error("pinned peak {index}: {reason}")]
+    InvalidPinnedPeak {
+        /// Index in the pinned list.
+        index: usize,
+        /// Why.
+        reason: &'static str,
+    },
+    /// More peaks were asked for than the synthesis places.
+    #[error("{peaks} peaks asked for; the synthesis places at most {limit}")]
+    TooManyPeaks {
+        /// Asked for.
+        peaks: usize,
+        /// The cap.
+        limit: usize,
+    },
+    /// The grid could not be built.
+    #[error(transparent)]
+    Grid(#[from] HeightfieldError),
+    /// The triangulation failed.
+    #[error(transparent)]
+    Tin(#[from] TinError),
+    /// Erosion or filling failed.
+    #[error(transparent)]
+    Hydrology(#[from] HydrologyError),
 }

@@ -34,9 +34,52 @@
 //! ```
 
 mod analysis;
+mod descriptor;
 mod error;
+mod generate;
 mod isolation;
+mod terrain;
+mod tree;
 
 pub use analysis::{AnalysisOptions, MAX_CELLS, Orometry, Peak, Saddle, analyze};
+pub use descriptor::{
+    DOMINANCE_GROUP_EDGES, Descriptor, DescriptorDistance, DomainStats, FEATURES, Histogram, classify,
+};
 pub use error::OrometryError;
+pub use generate::{ControlMaps, MAX_PEAKS, TreeOptions, generate_tree};
 pub use isolation::Isolation;
+pub use terrain::{TerrainOptions, terrain_from_tree};
+pub use tree::{DivideTree, TreeOrometry, TreePeak, TreeSaddle};
+
+use relief_heightfield::{GridSpec, Heightfield};
+use serde::{Deserialize, Serialize};
+
+/// Options of the whole synthesis: the divide tree (§5), then the terrain (§6).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SynthesisOptions {
+    /// Divide tree generation.
+    pub tree: TreeOptions,
+    /// Terrain generation.
+    pub terrain: TerrainOptions,
+}
+
+/// Synthesizes a terrain on `grid` whose orometry follows `descriptor`: [`generate_tree`] over the
+/// grid's extent, then [`terrain_from_tree`] with the descriptor's lowest elevation as the base.
+/// Returns the divide tree and the heightfield.
+///
+/// # Errors
+/// Those of [`generate_tree`] and [`terrain_from_tree`].
+pub fn synthesize(
+    descriptor: &Descriptor,
+    grid: &GridSpec,
+    controls: &ControlMaps,
+    pinned: &[TreePeak],
+    options: &SynthesisOptions,
+    mut progress: impl FnMut(&str, f64),
+) -> Result<(DivideTree, Heightfield), OrometryError> {
+    let tree = generate_tree(descriptor, grid.extent(), controls, pinned, &options.tree)?;
+    progress("divide tree", 1.0);
+    let hf = terrain_from_tree(&tree, descriptor.domain.min_elevation, grid, &options.terrain, progress)?;
+    Ok((tree, hf))
+}

@@ -65,6 +65,18 @@ pub enum TinError {
         /// What is wrong.
         reason: String,
     },
+    /// A constraint edge given to [`crate::Tin::constrained`] names a missing or repeated vertex.
+    #[error("constraint {constraint} joins vertices {a} and {b}: {reason}")]
+    InvalidConstraint {
+        /// Index of the constraint.
+        constraint: usize,
+        /// First vertex.
+        a: u32,
+        /// Second vertex.
+        b: u32,
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// The triangles do not form a manifold, consistently oriented mesh around a vertex.
     #[error("triangles around vertex {vertex} do not form a single fan (non-manifold or inconsistent orientation)")]
     NonManifoldVertex {

@@ -3,7 +3,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
+use spade::{ConstrainedDelaunayTriangulation, DelaunayTriangulation, HasPosition, Point2, Triangulation};
 
 use crate::TinError;
 use crate::predicates::{incircle, orient};
@@ -122,6 +122,48 @@ impl Tin {
         drop(dt);
         let (adjacency_offsets, adjacency, boundary) = mesh_fans(points.len(), &triangles, &triangle_neighbors);
         Ok(Self { points, triangles, triangle_neighbors, adjacency_offsets, adjacency, boundary, convex: true })
+    }
+
+    /// The constrained Delaunay triangulation of `points` in which each `constraints` edge
+    /// `[a, b]` (vertex indices) is kept as a mesh edge, split where it passes through other
+    /// vertices (orometry synthesis keeps ridges and rivers this way, §6.2). A constraint that
+    /// crosses an earlier one is skipped; the second value counts those. The result is Delaunay
+    /// away from the constraints only, so [`Tin::is_delaunay`] may be false.
+    ///
+    /// # Errors
+    /// The errors of [`Tin::new`], or [`TinError::InvalidConstraint`] for a constraint naming a
+    /// missing vertex or the same vertex twice.
+    pub fn constrained(points: Vec<DVec2>, constraints: &[[u32; 2]]) -> Result<(Self, usize), TinError> {
+        validate_points(&points)?;
+        for (constraint, &[a, b]) in constraints.iter().enumerate() {
+            let reason = if a as usize >= points.len() || b as usize >= points.len() {
+                "no such vertex"
+            } else if a == b {
+                "an edge needs two distinct vertices"
+            } else {
+                continue;
+            };
+            return Err(TinError::InvalidConstraint { constraint, a, b, reason });
+        }
+        let nodes: Vec<Node> =
+            points.iter().enumerate().map(|(i, p)| Node { position: Point2::new(p.x, p.y), index: i as u32 }).collect();
+        let edges = constraints.iter().map(|&[a, b]| [a as usize, b as usize]).collect();
+        let mut skipped = 0;
+        let cdt = ConstrainedDelaunayTriangulation::<Node>::try_bulk_load_cdt(nodes, edges, |_| skipped += 1)
+            .map_err(|e| TinError::Invariant(format!("spade rejected validated input: {e:?}")))?;
+        if cdt.num_vertices() < points.len() {
+            let (first, second) = find_duplicate(&points).unwrap_or((0, 0));
+            let p = points[first];
+            return Err(TinError::DuplicatePoint { first, second, x: p.x, y: p.y });
+        }
+        if cdt.num_inner_faces() == 0 {
+            return Err(TinError::Collinear { count: points.len() });
+        }
+        let (triangles, triangle_neighbors) = spade_triangles(&cdt);
+        drop(cdt);
+        let (adjacency_offsets, adjacency, boundary) = mesh_fans(points.len(), &triangles, &triangle_neighbors);
+        let tin = Self { points, triangles, triangle_neighbors, adjacency_offsets, adjacency, boundary, convex: true };
+        Ok((tin, skipped))
     }
 
     /// A TIN from explicit counter-clockwise triangles over `points` (e.g. a constrained or
@@ -450,7 +492,13 @@ impl HasPosition for Node {
 
 /// Triangles (spade's inner-face order, corners as input indices) and their neighbours, read
 /// straight from spade's half-edge structure in parallel.
-fn spade_triangles(dt: &DelaunayTriangulation<Node>) -> (Vec<[u32; 3]>, Vec<[u32; 3]>) {
+fn spade_triangles<T>(dt: &T) -> (Vec<[u32; 3]>, Vec<[u32; 3]>)
+where
+    T: Triangulation<Vertex = Node> + Sync,
+    T::DirectedEdge: Sync,
+    T::UndirectedEdge: Sync,
+    T::Face: Sync,
+{
     let faces: Vec<_> = dt.inner_faces().collect();
     // Spade numbers faces with the outer face first; after a bulk load the inner faces are
     // 1..=T, so triangle t is face t + 1. Map explicitly if that ever changes.

@@ -268,3 +268,31 @@ fn vertices_joining_several_fans_are_not_manifold() {
     let err = Tin::from_parts(points, vec![[0, 1, 2], [0, 1, 2]]).unwrap_err();
     assert_eq!(err, TinError::NonManifoldVertex { vertex: 0 });
 }
+
+#[test]
+fn constrained_triangulation_keeps_its_constraints_and_skips_crossings() {
+    use glam::DVec2;
+    use relief_tin::{Tin, TinError};
+    // A square of points with a long diagonal constraint that plain Delaunay would not contain,
+    // and a second constraint crossing it.
+    let mut points = Vec::new();
+    for j in 0..5 {
+        for i in 0..5 {
+            points.push(DVec2::new(f64::from(i), f64::from(j) + 0.01 * f64::from(i)));
+        }
+    }
+    let (tin, skipped) = Tin::constrained(points.clone(), &[[0, 24], [4, 20]]).unwrap();
+    tin.check_invariants().unwrap();
+    assert_eq!(skipped, 1, "the crossing constraint is skipped");
+    // Exactly one of the two diagonals survives as a mesh edge (which one spade keeps is unspecified).
+    let edges: std::collections::HashSet<(u32, u32)> = tin.edges().map(|(a, b)| (a.min(b), a.max(b))).collect();
+    assert!(edges.contains(&(0, 24)) ^ edges.contains(&(4, 20)), "neither or both diagonals are in the mesh");
+    // Without constraints neither long diagonal is a Delaunay edge.
+    let plain = Tin::new(points.clone()).unwrap();
+    assert!(!plain.edges().any(|(a, b)| (a.min(b), a.max(b)) == (0, 24) || (a.min(b), a.max(b)) == (4, 20)));
+    assert!(matches!(
+        Tin::constrained(points.clone(), &[[0, 99]]),
+        Err(TinError::InvalidConstraint { constraint: 0, .. })
+    ));
+    assert!(matches!(Tin::constrained(points, &[[3, 3]]), Err(TinError::InvalidConstraint { .. })));
+}

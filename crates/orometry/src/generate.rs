@@ -1,0 +1,596 @@
+//! Divide tree generation from a descriptor (§5): peaks by dart throwing, ridges as a weighted
+//! minimum spanning tree of the peaks' Delaunay triangulation, multi-pass placement, and saddle
+//! elevations by optimal assignment alternating dominance and prominence targets.
+//!
+//! Choices where the paper is silent, each documented on its option:
+//! - passes are filled from the highest peaks down (elevation stands in for the prominence bin,
+//!   since prominence is only known once saddles exist); each pass holds twice the peaks of the
+//!   previous one;
+//! - ridges of earlier passes keep half their MST weight in later passes, so the primary spine
+//!   survives as new peaks arrive;
+//! - "diffusing the ridges into `C_P`" multiplies the density by `0.2 + 0.8·exp(−(d/s)²)`, `d`
+//!   the distance to the earlier ridges and `s` the pass's mean peak spacing;
+//! - a dart that is never accepted falls back to the best of its candidates, so generation always
+//!   finishes in `peaks × dart_attempts` draws;
+//! - the assignment is a sparse forward auction with ε-scaling (Bertsekas): each peak bids on the
+//!   24 targets nearest its current value plus its rank-matched target, which guarantees a
+//!   perfect matching exists.
+
+use glam::DVec2;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use relief_heightfield::{Extent, GridSpec, Heightfield, distance_transform_seeded};
+use relief_tin::Tin;
+use serde::{Deserialize, Serialize};
+
+use crate::descriptor::Histogram;
+use crate::tree::{DivideTree, TreePeak, TreeSaddle};
+use crate::{Descriptor, OrometryError};
+
+/// The most peaks a synthesis places.
+pub const MAX_PEAKS: usize = 200_000;
+
+/// User maps that steer peak placement (§5.1, §7.2). Each must span the synthesis domain; its
+/// resolution is free (values are sampled bilinearly).
+#[derive(Debug, Clone, Default)]
+pub struct ControlMaps {
+    /// `C_P`: relative peak density, ≥ 0 (0 keeps peaks out, e.g. seas and valley floors).
+    pub peak_density: Option<Heightfield>,
+    /// `C_H`: coarse elevation, metres; peaks prefer places where it is close to their height.
+    pub elevation: Option<Heightfield>,
+}
+
+/// How to generate a divide tree.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TreeOptions {
+    /// Peaks to place, pinned ones included (default: the descriptor's density × the domain's area).
+    pub peaks: Option<usize>,
+    /// Ridge exponent `ρ` of Eq. 1: 0 favours short ridges, 2 high ones (default 1).
+    pub rho: f64,
+    /// Multi-pass placement passes (default 4; 1 places every peak at once).
+    pub passes: usize,
+    /// Saddle-elevation rounds, alternating dominance and prominence targets (default 4).
+    pub saddle_rounds: usize,
+    /// Darts thrown per peak before taking the best candidate (default 64).
+    pub dart_attempts: usize,
+    /// Peaks keep at least this far apart, metres (default 200, the meshing distance λ).
+    pub min_spacing_m: f64,
+    /// Seed of every random choice.
+    pub seed: u64,
+}
+
+impl Default for TreeOptions {
+    fn default() -> Self {
+        Self { peaks: None, rho: 1.0, passes: 4, saddle_rounds: 4, dart_attempts: 64, min_spacing_m: 200.0, seed: 0 }
+    }
+}
+
+fn invalid(name: &'static str, value: f64, reason: &'static str) -> OrometryError {
+    OrometryError::InvalidOption { name, value, reason }
+}
+
+impl TreeOptions {
+    fn validate(&self) -> Result<(), OrometryError> {
+        if !(self.rho.is_finite() && (0.0..=8.0).contains(&self.rho)) {
+            return Err(invalid("rho", self.rho, "must be in [0, 8]"));
+        }
+        if !(1..=16).contains(&self.passes) {
+            return Err(invalid("passes", self.passes as f64, "must be in 1..=16"));
+        }
+        if self.saddle_rounds > 64 {
+            return Err(invalid("saddle_rounds", self.saddle_rounds as f64, "must be at most 64"));
+        }
+        if !(1..=100_000).contains(&self.dart_attempts) {
+            return Err(invalid("dart_attempts", self.dart_attempts as f64, "must be in 1..=100000"));
+        }
+        if !(self.min_spacing_m.is_finite() && self.min_spacing_m >= 0.0) {
+            return Err(invalid("min_spacing_m", self.min_spacing_m, "must be finite and ≥ 0"));
+        }
+        Ok(())
+    }
+}
+
+/// A validated control map.
+struct Control<'a> {
+    map: Option<&'a Heightfield>,
+}
+
+impl Control<'_> {
+    fn at(&self, p: DVec2) -> Option<f64> {
+        self.map.and_then(|m| m.sample_bilinear_clamped(p)).map(f64::from)
+    }
+}
+
+fn extent_array(e: &Extent) -> [f64; 4] {
+    [e.min.x, e.min.y, e.max.x, e.max.y]
+}
+
+/// Checks that `map` spans `extent` (within half a cell of the map) and holds only allowed values.
+pub(crate) fn check_control(
+    name: &'static str,
+    map: Option<&Heightfield>,
+    extent: &Extent,
+    non_negative: bool,
+) -> Result<(), OrometryError> {
+    let Some(map) = map else { return Ok(()) };
+    let e = map.extent();
+    let tol = map.grid().cell_size() * 0.5 + DVec2::splat(1e-9 * extent.size().max_element());
+    if (e.min - extent.min).abs().cmpgt(tol).any() || (e.max - extent.max).abs().cmpgt(tol).any() {
+        return Err(OrometryError::ControlMapExtent { name, expected: extent_array(extent), found: extent_array(&e) });
+    }
+    if map.has_no_data() {
+        return Err(OrometryError::InvalidControlMap { name, reason: "holds no-data samples" });
+    }
+    if non_negative && map.samples().iter().any(|&v| v < 0.0) {
+        return Err(OrometryError::InvalidControlMap { name, reason: "densities must be ≥ 0" });
+    }
+    if non_negative && map.samples().iter().all(|&v| v == 0.0) {
+        return Err(OrometryError::InvalidControlMap { name, reason: "is zero everywhere: no peak can be placed" });
+    }
+    Ok(())
+}
+
+/// Buckets of placed peaks for nearest-neighbour queries.
+struct PointGrid {
+    origin: DVec2,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    buckets: Vec<Vec<u32>>,
+}
+
+impl PointGrid {
+    fn new(extent: &Extent, expected: usize) -> Self {
+        let size = extent.size().max(DVec2::splat(1e-9));
+        let cell = (size.x * size.y / expected.max(1) as f64).sqrt().max(size.max_element() / 1024.0);
+        let nx = (size.x / cell).ceil() as usize + 1;
+        let ny = (size.y / cell).ceil() as usize + 1;
+        Self { origin: extent.min, cell, nx, ny, buckets: vec![Vec::new(); nx * ny] }
+    }
+
+    fn cell_of(&self, p: DVec2) -> (usize, usize) {
+        let g = ((p - self.origin) / self.cell).floor();
+        (g.x.clamp(0.0, (self.nx - 1) as f64) as usize, g.y.clamp(0.0, (self.ny - 1) as f64) as usize)
+    }
+
+    fn insert(&mut self, k: u32, p: DVec2) {
+        let (i, j) = self.cell_of(p);
+        self.buckets[j * self.nx + i].push(k);
+    }
+
+    /// The nearest stored point to `p` and its distance.
+    fn nearest(&self, p: DVec2, points: &[DVec2]) -> Option<(u32, f64)> {
+        let (ci, cj) = self.cell_of(p);
+        let mut best: Option<(u32, f64)> = None;
+        let max_ring = self.nx.max(self.ny);
+        for ring in 0..=max_ring {
+            // Every point in ring r is at least (r − 1)·cell away.
+            if let Some((_, d)) = best
+                && d < (ring as f64 - 1.0) * self.cell
+            {
+                break;
+            }
+            let (i0, i1) = (ci as isize - ring as isize, ci as isize + ring as isize);
+            let (j0, j1) = (cj as isize - ring as isize, cj as isize + ring as isize);
+            for j in j0..=j1 {
+                if j < 0 || j >= self.ny as isize {
+                    continue;
+                }
+                let step = if j == j0 || j == j1 { 1 } else { (i1 - i0).max(1) };
+                let mut i = i0;
+                while i <= i1 {
+                    if i >= 0 && i < self.nx as isize {
+                        for &k in &self.buckets[j as usize * self.nx + i as usize] {
+                            let d = points[k as usize].distance(p);
+                            if best.is_none_or(|(bk, bd)| d < bd || (d == bd && k < bk)) {
+                                best = Some((k, d));
+                            }
+                        }
+                    }
+                    i += step;
+                }
+            }
+        }
+        best
+    }
+}
+
+/// `n` stratified samples of a histogram's inverse CDF (one per equal-probability stratum, jittered
+/// inside it), in random order.
+fn stratified(h: &Histogram, n: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
+    let mut v: Vec<f64> =
+        (0..n).map(|k| h.quantile((k as f64 + rng.random::<f64>()) / n as f64).unwrap_or(0.0)).collect();
+    for k in (1..v.len()).rev() {
+        v.swap(k, rng.random_range(0..=k));
+    }
+    v
+}
+
+/// Generates a divide tree over `extent` whose orometry follows `descriptor` (§5).
+///
+/// Pinned peaks keep their positions and elevations and count towards the total. Positions are in
+/// the extent's units, taken as metres.
+///
+/// # Errors
+/// [`OrometryError::InvalidDescriptor`] for a malformed descriptor or one with an empty
+/// elevation histogram, [`OrometryError::InvalidOption`] for bad options or an extent with no area,
+/// [`OrometryError::TooManyPeaks`], control-map errors ([`OrometryError::ControlMapExtent`],
+/// [`OrometryError::InvalidControlMap`]) and [`OrometryError::InvalidPinnedPeak`].
+#[allow(clippy::too_many_lines)] // one pass per §5 step, in the paper's order
+pub fn generate_tree(
+    descriptor: &Descriptor,
+    extent: Extent,
+    controls: &ControlMaps,
+    pinned: &[TreePeak],
+    options: &TreeOptions,
+) -> Result<DivideTree, OrometryError> {
+    options.validate()?;
+    descriptor.validate()?;
+    let size = extent.size();
+    if !(size.x > 0.0 && size.y > 0.0 && size.is_finite() && extent.min.is_finite()) {
+        return Err(invalid("extent", size.x.min(size.y), "must be finite with a positive area"));
+    }
+    check_control("peak_density", controls.peak_density.as_ref(), &extent, true)?;
+    check_control("elevation", controls.elevation.as_ref(), &extent, false)?;
+    let d = &descriptor.domain;
+    let base = d.min_elevation;
+    for (index, p) in pinned.iter().enumerate() {
+        if !(p.position.is_finite() && p.elevation.is_finite()) {
+            return Err(OrometryError::InvalidPinnedPeak { index, reason: "position and elevation must be finite" });
+        }
+        if !extent.contains(p.position) {
+            return Err(OrometryError::InvalidPinnedPeak { index, reason: "lies outside the domain" });
+        }
+        if p.elevation <= base {
+            return Err(OrometryError::InvalidPinnedPeak {
+                index,
+                reason: "is not above the descriptor's lowest elevation (the base)",
+            });
+        }
+    }
+    let area_km2 = size.x * size.y / 1e6;
+    let n = options.peaks.unwrap_or_else(|| (descriptor.density_per_km2 * area_km2).round() as usize).max(pinned.len());
+    if n > MAX_PEAKS {
+        return Err(OrometryError::TooManyPeaks { peaks: n, limit: MAX_PEAKS });
+    }
+    if n == 0 {
+        return Err(invalid("peaks", 0.0, "no peaks to place: the descriptor has none and none were asked for"));
+    }
+    if descriptor.normalized_elevation.is_empty() && n > pinned.len() {
+        return Err(OrometryError::InvalidDescriptor {
+            feature: "normalized_elevation",
+            reason: "is empty, so there are no peak elevations to sample",
+        });
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
+    let span = d.max_elevation - d.min_elevation;
+
+    // Elevations, highest first; pinned peaks take their place in the order.
+    let mut peaks: Vec<(f64, Option<DVec2>)> = stratified(&descriptor.normalized_elevation, n - pinned.len(), &mut rng)
+        .into_iter()
+        .map(|u| (base + u * span, None))
+        .chain(pinned.iter().map(|p| (p.elevation, Some(p.position))))
+        .collect();
+    peaks.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.is_none().cmp(&b.1.is_none())));
+
+    // Pass sizes 1 : 2 : 4 : ...
+    let passes = options.passes.min(n);
+    let unit = n as f64 / ((1u64 << passes) - 1) as f64;
+    let mut ends: Vec<usize> =
+        (1..=passes).map(|p| ((((1u64 << p) - 1) as f64 * unit).round() as usize).min(n)).collect();
+    ends[passes - 1] = n;
+
+    let c_p = Control { map: controls.peak_density.as_ref() };
+    let c_h = Control { map: controls.elevation.as_ref() };
+    let (cp_max, sigma_h) = {
+        let cp_max = controls.peak_density.as_ref().and_then(Heightfield::min_max).map_or(1.0, |(_, hi)| f64::from(hi));
+        let sigma = controls
+            .elevation
+            .as_ref()
+            .and_then(Heightfield::min_max)
+            .map_or(1.0, |(lo, hi)| (f64::from(hi - lo) / 20.0).max(1e-6));
+        (cp_max, sigma)
+    };
+    let radius = d.radius_m;
+    let mut positions: Vec<DVec2> = Vec::with_capacity(n);
+    let mut grid = PointGrid::new(&extent, n);
+    let mut ridges: Vec<[u32; 2]> = Vec::new();
+    let mut start = 0;
+    for &end in &ends {
+        let ridge_field = (start > 0).then(|| RidgeField::new(&extent, &positions, &ridges));
+        let spacing = (size.x * size.y / end as f64).sqrt();
+        for &(h, pin) in &peaks[start..end] {
+            let p = if let Some(p) = pin {
+                p
+            } else {
+                let mut best = (f64::NEG_INFINITY, extent.min + size * 0.5);
+                let mut chosen = None;
+                for _ in 0..options.dart_attempts {
+                    let c = extent.min + DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * size;
+                    let mut prob = c_p.at(c).map_or(1.0, |v| v / cp_max);
+                    if let Some(ch) = c_h.at(c) {
+                        let x = (ch - h) / sigma_h;
+                        prob *= (-0.5 * x * x).exp();
+                    }
+                    if let Some((k, dist)) = grid.nearest(c, &positions) {
+                        if dist < options.min_spacing_m {
+                            continue;
+                        }
+                        let az = crate::descriptor::azimuth(positions[k as usize] - c).to_degrees();
+                        prob *= descriptor.isolation_distance.relative_density(dist / radius).max(0.02);
+                        prob *= descriptor.isolation_direction.relative_density(az).max(0.02);
+                    }
+                    if let Some(f) = &ridge_field {
+                        prob *= 0.2 + 0.8 * (-(f.distance(c) / spacing).powi(2)).exp();
+                    }
+                    if prob > best.0 {
+                        best = (prob, c);
+                    }
+                    if rng.random::<f64>() < prob {
+                        chosen = Some(c);
+                        break;
+                    }
+                }
+                chosen.unwrap_or(best.1)
+            };
+            grid.insert(positions.len() as u32, p);
+            positions.push(p);
+        }
+        let heights: Vec<f64> = peaks[..end].iter().map(|p| p.0).collect();
+        ridges = spanning_ridges(&positions, &heights, base, options.rho, &ridges);
+        start = end;
+    }
+
+    // One saddle per ridge, split at a random point and nudged sideways.
+    let mut tree = DivideTree {
+        peaks: positions
+            .iter()
+            .zip(&peaks)
+            .map(|(&position, &(elevation, _))| TreePeak { position, elevation })
+            .collect(),
+        saddles: Vec::with_capacity(ridges.len()),
+    };
+    for &[a, b] in &ridges {
+        let (pa, pb) = (positions[a as usize], positions[b as usize]);
+        let t = rng.random_range(0.3..0.7);
+        let side = rng.random_range(-0.1..0.1);
+        let dir = pb - pa;
+        let position = (pa + dir * t + dir.perp() * side).clamp(extent.min, extent.max);
+        let top = tree.peaks[a as usize].elevation.min(tree.peaks[b as usize].elevation);
+        let elevation = base + (top - base) * rng.random_range(0.5..0.9);
+        tree.saddles.push(TreeSaddle { position, elevation, peaks: [a, b] });
+    }
+    for round in 0..options.saddle_rounds {
+        assign_saddles(&mut tree, descriptor, base, round % 2 == 0, &mut rng);
+    }
+    Ok(tree)
+}
+
+/// Distance to earlier ridges on a coarse raster (for the multi-pass density bias).
+struct RidgeField {
+    grid: GridSpec,
+    dist: Vec<f64>,
+}
+
+impl RidgeField {
+    fn new(extent: &Extent, positions: &[DVec2], ridges: &[[u32; 2]]) -> Self {
+        let size = extent.size();
+        let cells = 128.0 / size.max_element();
+        let (nx, ny) = (((size.x * cells).ceil() as usize).max(2), ((size.y * cells).ceil() as usize).max(2));
+        let grid = GridSpec::from_extent(nx, ny, *extent).expect("a validated extent makes a valid grid");
+        let mut sq = vec![f64::INFINITY; nx * ny];
+        let step = grid.cell_size().min_element() * 0.5;
+        for &[a, b] in ridges {
+            let (pa, pb) = (positions[a as usize], positions[b as usize]);
+            let k = (pa.distance(pb) / step).ceil().max(1.0) as usize;
+            for t in 0..=k {
+                if let Some((i, j)) = grid.nearest_sample(pa.lerp(pb, t as f64 / k as f64)) {
+                    sq[grid.index(i, j)] = 0.0;
+                }
+            }
+        }
+        if sq.iter().all(|v| v.is_infinite()) {
+            sq.fill(0.0);
+        } else {
+            distance_transform_seeded(nx, ny, grid.cell_size(), &mut sq, None);
+        }
+        Self { grid, dist: sq.into_iter().map(f64::sqrt).collect() }
+    }
+
+    fn distance(&self, p: DVec2) -> f64 {
+        self.grid.nearest_sample(p).map_or(0.0, |(i, j)| self.dist[self.grid.index(i, j)])
+    }
+}
+
+/// Ridges: the minimum spanning tree of the peaks' Delaunay triangulation under Eq. 1's weights
+/// `‖Pᵢ − Pⱼ‖ / min(hᵢ − base, hⱼ − base)^ρ`; edges in `previous` weigh half.
+fn spanning_ridges(positions: &[DVec2], heights: &[f64], base: f64, rho: f64, previous: &[[u32; 2]]) -> Vec<[u32; 2]> {
+    let n = positions.len();
+    if n < 2 {
+        return Vec::new();
+    }
+    let mut edges: Vec<(u32, u32)> = match Tin::new(positions.to_vec()) {
+        Ok(tin) => tin.edges().collect(),
+        // Collinear or duplicated positions: every pair (only happens for tiny or degenerate sets).
+        Err(_) => (0..n as u32).flat_map(|a| (a + 1..n as u32).map(move |b| (a, b))).collect(),
+    };
+    let prev: std::collections::HashSet<(u32, u32)> = previous.iter().map(|&[a, b]| (a.min(b), a.max(b))).collect();
+    let weight = |a: u32, b: u32| {
+        let lift = (heights[a as usize].min(heights[b as usize]) - base).max(1.0);
+        let w = positions[a as usize].distance(positions[b as usize]) / lift.powf(rho);
+        if prev.contains(&(a.min(b), a.max(b))) { 0.5 * w } else { w }
+    };
+    let mut weighted: Vec<(f64, u32, u32)> = edges.drain(..).map(|(a, b)| (weight(a, b), a.min(b), a.max(b))).collect();
+    weighted.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    let find = |parent: &mut Vec<u32>, mut x: u32| {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    };
+    let mut out = Vec::with_capacity(n - 1);
+    for (_, a, b) in weighted {
+        let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+        if ra != rb {
+            parent[ra as usize] = rb;
+            out.push([a, b]);
+        }
+    }
+    out
+}
+
+/// Per person: current value, the saddle shift per unit of target change, bounds, ridge length.
+struct Person {
+    current: f64,
+    scale: f64,
+    saddle: usize,
+    lo_shift: f64,
+    hi_shift: f64,
+    length: f64,
+}
+
+/// Targets each peak bids on, on either side of its current value.
+const WINDOW: usize = 12;
+
+/// One round of §5.4: sample targets (dominance or prominence), assign them to the peaks with key
+/// saddles by minimum total cost, and move those saddles.
+fn assign_saddles(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, dominance: bool, rng: &mut ChaCha8Rng) {
+    let oro = tree.orometry(base);
+    let people: Vec<usize> = (0..tree.peaks.len()).filter(|&k| oro.key_saddle[k].is_some()).collect();
+    let m = people.len();
+    let hist = if dominance { &descriptor.dominance } else { &descriptor.prominence };
+    if m == 0 || hist.is_empty() {
+        return;
+    }
+    let mut targets = stratified(hist, m, rng);
+    targets.sort_by(f64::total_cmp);
+    let datum = descriptor.domain.datum;
+    let dom = oro.dominance(tree, datum);
+    let persons: Vec<Person> = people
+        .iter()
+        .map(|&k| {
+            let s = oro.key_saddle[k].unwrap_or(0) as usize;
+            let saddle = &tree.saddles[s];
+            let [a, b] = saddle.peaks;
+            let (pa, pb) = (&tree.peaks[a as usize], &tree.peaks[b as usize]);
+            let h_max = pa.elevation.min(pb.elevation);
+            let lift = tree.peaks[k].elevation - datum;
+            let (current, scale) = if dominance { (dom[k], lift) } else { (oro.prominence[k], 1.0) };
+            // h' = h(K) − scale·(target − current) must stay in [base, h_max].
+            Person {
+                current,
+                scale,
+                saddle: s,
+                lo_shift: saddle.elevation - h_max,
+                hi_shift: saddle.elevation - base,
+                length: pa.position.distance(pb.position).max(1e-6),
+            }
+        })
+        .collect();
+    // The descriptor only knows bins: a target in the peak's current bin needs no move, so a
+    // round never undoes what the other round matched within a bin.
+    let bin = |v: f64| hist.edges[1..hist.edges.len() - 1].partition_point(|&e| e <= v);
+    let shift = |p: &Person, t: f64| if bin(t) == bin(p.current) { 0.0 } else { p.scale * (t - p.current) };
+    // Raw cost s²/L and, for an infeasible target, how far (metres) the saddle would leave its range.
+    let cost = |p: &Person, t: f64| {
+        let s = shift(p, t);
+        let gap = if s < p.lo_shift {
+            p.lo_shift - s
+        } else if s > p.hi_shift {
+            s - p.hi_shift
+        } else {
+            0.0
+        };
+        (s * s / p.length, gap)
+    };
+    // Candidates: targets nearest each person's current value, plus the rank-matched one.
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&a, &b| persons[a].current.total_cmp(&persons[b].current).then(a.cmp(&b)));
+    let mut rank = vec![0; m];
+    for (r, &p) in order.iter().enumerate() {
+        rank[p] = r;
+    }
+    let raw: Vec<Vec<(u32, f64, f64)>> = persons
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let at = targets.partition_point(|&t| t < p.current);
+            let lo = at.saturating_sub(WINDOW);
+            let hi = (at + WINDOW).min(m);
+            let mut c: Vec<usize> = (lo..hi).collect();
+            if !(lo..hi).contains(&rank[i]) {
+                c.push(rank[i]);
+            }
+            c.into_iter()
+                .map(|j| {
+                    let (v, gap) = cost(p, targets[j]);
+                    (j as u32, v, gap)
+                })
+                .collect()
+        })
+        .collect();
+    // Feasible costs scale to [0, 1]; infeasible ones cost 2 + a growing share of 1, so any
+    // feasible assignment beats any infeasible one and nearer misses beat farther ones.
+    let scale = raw.iter().flatten().filter(|c| c.2 == 0.0).map(|c| c.1).fold(0.0_f64, f64::max).max(1e-300);
+    let candidates: Vec<Vec<(u32, f64)>> = raw
+        .iter()
+        .map(|c| {
+            c.iter().map(|&(j, v, gap)| (j, if gap > 0.0 { 2.0 + gap / (gap + 1.0) } else { v / scale })).collect()
+        })
+        .collect();
+    let assignment = auction(&candidates, m);
+    for (i, p) in persons.iter().enumerate() {
+        let t = targets[assignment[i] as usize];
+        let s = shift(p, t).clamp(p.lo_shift, p.hi_shift);
+        let saddle = &mut tree.saddles[p.saddle];
+        saddle.elevation -= s;
+    }
+}
+
+/// Forward auction with ε-scaling for a sparse assignment problem: person `i` may take object `j`
+/// for `cost` when `(j, cost)` is in `candidates[i]`; a perfect matching must exist. Returns each
+/// person's object; the total cost is within `m·ε_final` of the optimum. Costs should be of order 1.
+pub(crate) fn auction(candidates: &[Vec<(u32, f64)>], objects: usize) -> Vec<u32> {
+    let m = candidates.len();
+    let benefit: Vec<Vec<(u32, f64)>> = candidates.iter().map(|c| c.iter().map(|&(j, v)| (j, -v)).collect()).collect();
+    let mut price = vec![0.0_f64; objects];
+    let mut owner = vec![u32::MAX; objects];
+    let mut assigned = vec![u32::MAX; m];
+    let final_eps = 1e-4 / (m as f64 + 1.0);
+    let mut eps = 0.25;
+    loop {
+        owner.fill(u32::MAX);
+        assigned.fill(u32::MAX);
+        let mut queue: Vec<u32> = (0..m as u32).rev().collect();
+        while let Some(i) = queue.pop() {
+            let (mut best, mut second, mut pick) = (f64::NEG_INFINITY, f64::NEG_INFINITY, u32::MAX);
+            for &(j, b) in &benefit[i as usize] {
+                let v = b - price[j as usize];
+                if v > best || (v == best && j < pick) {
+                    second = best;
+                    best = v;
+                    pick = j;
+                } else if v > second {
+                    second = v;
+                }
+            }
+            let increment = if second.is_finite() { best - second } else { 1.0 };
+            price[pick as usize] += increment + eps;
+            let previous = owner[pick as usize];
+            owner[pick as usize] = i;
+            assigned[i as usize] = pick;
+            if previous != u32::MAX {
+                assigned[previous as usize] = u32::MAX;
+                queue.push(previous);
+            }
+        }
+        if eps <= final_eps {
+            break;
+        }
+        eps = (eps / 5.0).max(final_eps);
+    }
+    assigned
+}
