@@ -41,6 +41,7 @@ pub struct ControlMaps {
 }
 
 /// How to generate a divide tree.
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TreeOptions {

@@ -44,6 +44,7 @@ use crate::OrometryError;
 use crate::tree::DivideTree;
 
 /// How to turn a divide tree into a heightfield.
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TerrainOptions {

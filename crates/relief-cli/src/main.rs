@@ -125,6 +125,22 @@ enum Command {
         /// row's latitude.
         #[arg(long)]
         degrees: bool,
+        /// Orometry: keep peaks at least this prominent, metres.
+        #[arg(long, default_value_t = 0.0, value_name = "METRES")]
+        min_prominence: f64,
+        /// Write the peaks (highest first) as CSV here.
+        #[arg(long, value_name = "FILE")]
+        peaks: Option<PathBuf>,
+        /// Write the divide tree (peaks, key saddles, ridges) as GeoJSON here.
+        #[arg(long, value_name = "FILE")]
+        divide_tree: Option<PathBuf>,
+        /// Write the orometric descriptor (Table 1 histograms) as JSON here.
+        #[arg(long, value_name = "FILE")]
+        descriptor: Option<PathBuf>,
+        /// Classify the DEM against reference descriptors (JSON files written by --descriptor;
+        /// the file name is the label): prints the nearest.
+        #[arg(long, value_name = "FILE", num_args = 1..)]
+        classify: Vec<PathBuf>,
         /// Print JSON instead of text.
         #[arg(long)]
         json: bool,
@@ -279,10 +295,29 @@ fn run(cli: &Cli) -> Result<()> {
             println!("{}", if *json { info_json(path, &dem) } else { info_text(path, &dem) });
             Ok(())
         }
-        Command::Analyze { dem: path, compare, sea_level, filled, degrees, json } => {
+        Command::Analyze {
+            dem: path,
+            compare,
+            sea_level,
+            filled,
+            degrees,
+            min_prominence,
+            peaks,
+            divide_tree,
+            descriptor,
+            classify,
+            json,
+        } => {
             let read = relief::io::ReadOptions::default();
             let read = if *degrees { read.with_units(Units::Degrees) } else { read };
-            analyze(&mut ui, &read, path, compare.as_deref(), *sea_level, filled.as_deref(), *json)
+            let orometry = OrometryOutputs {
+                min_prominence: *min_prominence,
+                peaks: peaks.as_deref(),
+                divide_tree: divide_tree.as_deref(),
+                descriptor: descriptor.as_deref(),
+                classify,
+            };
+            analyze(&mut ui, &read, path, compare.as_deref(), *sea_level, filled.as_deref(), &orometry, *json)
         }
         Command::Preview { dem: path, output, contours, sea_level, max_size } => {
             let dem = ui.step("read", || relief::io::read(path))?;
@@ -508,7 +543,53 @@ fn info_text(path: &Path, dem: &Heightfield) -> String {
     )
 }
 
-/// `relief analyze`: closed basins, descriptors, an optional comparison and filled output.
+/// The orometry part of `relief analyze`.
+struct OrometryOutputs<'a> {
+    min_prominence: f64,
+    peaks: Option<&'a Path>,
+    divide_tree: Option<&'a Path>,
+    descriptor: Option<&'a Path>,
+    classify: &'a [PathBuf],
+}
+
+/// Orometry of `dem`: the analysis, its files, and the nearest reference descriptor.
+fn analyze_orometry(
+    ui: &mut Ui,
+    dem: &Heightfield,
+    sea_level: Option<f32>,
+    out: &OrometryOutputs<'_>,
+) -> anyhow::Result<(relief::orometry::Orometry, relief::orometry::Descriptor, Option<(String, f64)>)> {
+    use relief::orometry::{AnalysisOptions, Descriptor, DivideTree, classify};
+    let options = AnalysisOptions { sea_level, min_prominence: out.min_prominence };
+    let (oro, descriptor) = ui.step("orometry", || Descriptor::of(dem, &options))?;
+    let geographic = dem.grid().units() == Units::Degrees;
+    if let Some(p) = out.peaks {
+        ui.step("write", || relief::io::write_atomic(p, relief::export::peaks_csv(&oro, geographic).as_bytes()))?;
+    }
+    if let Some(p) = out.divide_tree {
+        let tree = DivideTree::from_orometry(&oro);
+        let text = relief::export::divide_tree_geojson(&tree, Some(&oro));
+        ui.step("write", || relief::io::write_atomic(p, text.as_bytes()))?;
+    }
+    if let Some(p) = out.descriptor {
+        let text = serde_json::to_string_pretty(&descriptor)?;
+        ui.step("write", || relief::io::write_atomic(p, text.as_bytes()))?;
+    }
+    let mut references = Vec::with_capacity(out.classify.len());
+    for p in out.classify {
+        let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+        let d: Descriptor =
+            serde_json::from_str(&text).with_context(|| format!("{} is not a descriptor", p.display()))?;
+        d.validate().with_context(|| format!("{}", p.display()))?;
+        let label = p.file_stem().map_or_else(|| p.display().to_string(), |s| s.to_string_lossy().into_owned());
+        references.push((label, d));
+    }
+    let nearest = classify(&descriptor, references.iter().map(|r| &r.1))?.map(|(k, d)| (references[k].0.clone(), d));
+    Ok((oro, descriptor, nearest))
+}
+
+/// `relief analyze`: closed basins, descriptors, orometry, an optional comparison and filled output.
+#[allow(clippy::too_many_arguments)] // one per command-line option group
 fn analyze(
     ui: &mut Ui,
     read: &relief::io::ReadOptions,
@@ -516,10 +597,12 @@ fn analyze(
     compare: Option<&Path>,
     sea_level: Option<f32>,
     filled: Option<&Path>,
+    orometry: &OrometryOutputs<'_>,
     json: bool,
 ) -> anyhow::Result<()> {
     use relief::hydrology::{DescriptorOptions, Descriptors, Outlets, depressions};
     let dem = ui.step("read", || relief::io::read_with(path, read))?;
+    let (oro, oro_descriptor, nearest) = analyze_orometry(ui, &dem, sea_level, orometry)?;
     let outlets = sea_level.map_or_else(Outlets::new, |s| Outlets::new().with_sea_level(s));
     let options = DescriptorOptions { outlets, ..DescriptorOptions::default() };
     let closed = ui.step("depressions", || depressions(&dem, outlets))?;
@@ -547,6 +630,13 @@ fn analyze(
             "descriptors": descriptors,
             "compared_with": compare,
             "distance": distance,
+            "orometry": {
+                "peaks": oro.peaks.len(),
+                "min_prominence": orometry.min_prominence,
+                "highest": oro.peaks.first(),
+                "descriptor": oro_descriptor,
+                "nearest": nearest.as_ref().map(|(label, d)| serde_json::json!({ "label": label, "mean_emd": d })),
+            },
         });
         println!("{}", serde_json::to_string_pretty(&value)?);
         return Ok(());
@@ -574,6 +664,22 @@ fn analyze(
     println!("  max Strahler    {} (streams from {:.4e} m²)", descriptors.max_strahler, descriptors.stream_area_m2);
     println!("  median slope    {:.2}°", median(&descriptors.slope_deg));
     println!("  median log10 A  {:.3} (drainage area in m², Freeman MFD)", median(&descriptors.log10_drainage_area));
+    println!("  peaks           {} (prominence ≥ {} m)", oro.peaks.len(), orometry.min_prominence);
+    let mut by_prominence: Vec<&relief::orometry::Peak> = oro.peaks.iter().collect();
+    by_prominence.sort_by(|a, b| b.prominence.total_cmp(&a.prominence));
+    for p in by_prominence.iter().take(5) {
+        println!(
+            "    {:>9.1} m  prominence {:>8.1} m  at ({}, {}){}",
+            p.elevation,
+            p.prominence,
+            p.position[0],
+            p.position[1],
+            if p.edge_effect { "  (edge effect)" } else { "" }
+        );
+    }
+    if let Some((label, d)) = &nearest {
+        println!("  nearest type    {label} (mean EMD {d:.4})");
+    }
     if let (Some(d), Some(p)) = (distance, compare) {
         println!("compared with {} (earth mover's distances)", p.display());
         println!("  elevation       {:.3}", d.elevation);

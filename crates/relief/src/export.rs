@@ -1,4 +1,5 @@
-//! Contour sets as GeoJSON and SVG, and contour overlays on previews.
+//! Contour sets as GeoJSON and SVG, contour overlays on previews, and divide trees as GeoJSON and
+//! peak lists as CSV.
 
 use std::fmt::Write as _;
 
@@ -8,6 +9,7 @@ use serde_json::json;
 use crate::contours::ContourSet;
 use crate::heightfield::{Extent, Heightfield};
 use crate::io::{RgbImage, ShadeOptions, shaded_relief};
+use crate::orometry::{DivideTree, Orometry};
 
 /// The contours as a GeoJSON `FeatureCollection` of `LineString`s (closed ones repeat their first
 /// point), each with properties `id`, `elevation`, `level`, `closed` and `parent` (the id of the
@@ -31,6 +33,88 @@ pub fn contours_geojson(set: &ContourSet) -> String {
         .collect();
     let collection = json!({ "type": "FeatureCollection", "features": features });
     serde_json::to_string(&collection).unwrap_or_default()
+}
+
+/// A divide tree as a GeoJSON `FeatureCollection`: peaks and saddles as `Point`s (property
+/// `kind`: `peak` or `saddle`) and each ridge pair as a `LineString` peak → saddle → peak (`kind`:
+/// `ridge`). Coordinates are the grid's world coordinates, so a geographic DEM gives
+/// longitude/latitude. With the analysis the tree came from, peaks carry its measures
+/// (prominence, dominance, isolation, ...), and ridges name the peak they are the key saddle of.
+pub fn divide_tree_geojson(tree: &DivideTree, analysis: Option<&Orometry>) -> String {
+    let mut features = Vec::with_capacity(tree.peaks.len() + 2 * tree.saddles.len());
+    for (k, p) in tree.peaks.iter().enumerate() {
+        let mut props = json!({ "kind": "peak", "id": k, "elevation": p.elevation });
+        if let Some(a) = analysis.and_then(|a| a.peaks.get(k)) {
+            let extra = json!({
+                "prominence": a.prominence,
+                "dominance": a.dominance,
+                "relative_prominence": a.relative_prominence,
+                "relevance": a.relevance,
+                "isolation_m": a.isolation.map(|i| i.distance),
+                "isolation_azimuth": a.isolation.map(|i| i.azimuth),
+                "key_saddle": a.key_saddle,
+                "parent": a.parent,
+                "edge_effect": a.edge_effect,
+            });
+            if let (Some(props), Some(extra)) = (props.as_object_mut(), extra.as_object()) {
+                props.extend(extra.clone());
+            }
+        }
+        features.push(json!({
+            "type": "Feature",
+            "properties": props,
+            "geometry": { "type": "Point", "coordinates": [p.position.x, p.position.y] },
+        }));
+    }
+    for (k, s) in tree.saddles.iter().enumerate() {
+        let [a, b] = s.peaks.map(|p| tree.peaks[p as usize].position);
+        features.push(json!({
+            "type": "Feature",
+            "properties": { "kind": "saddle", "id": k, "elevation": s.elevation, "peaks": s.peaks },
+            "geometry": { "type": "Point", "coordinates": [s.position.x, s.position.y] },
+        }));
+        features.push(json!({
+            "type": "Feature",
+            "properties": { "kind": "ridge", "saddle": k, "peaks": s.peaks },
+            "geometry": { "type": "LineString", "coordinates": [[a.x, a.y], [s.position.x, s.position.y], [b.x, b.y]] },
+        }));
+    }
+    serde_json::to_string(&json!({ "type": "FeatureCollection", "features": features })).unwrap_or_default()
+}
+
+/// The analysed peaks as CSV, highest first: position (`lon,lat` for geographic grids, else
+/// `x,y`), elevation, prominence, the key saddle's position and elevation, the parent peak's id,
+/// dominance, relative prominence, relevance, isolation distance (m) and azimuth (°), and the
+/// edge-effect flag. Empty fields mean "none" (the highest peak has no key saddle or isolation).
+pub fn peaks_csv(analysis: &Orometry, geographic: bool) -> String {
+    let (x, y) = if geographic { ("lon", "lat") } else { ("x", "y") };
+    let mut out = format!(
+        "id,{x},{y},elevation,prominence,saddle_{x},saddle_{y},saddle_elevation,parent,dominance,\
+         relative_prominence,relevance,isolation_m,isolation_azimuth,edge_effect\n"
+    );
+    let opt = |v: Option<f64>| v.map_or_else(String::new, |v| v.to_string());
+    for (k, p) in analysis.peaks.iter().enumerate() {
+        let saddle = p.key_saddle.map(|s| &analysis.saddles[s]);
+        let _ = writeln!(
+            out,
+            "{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            p.position[0],
+            p.position[1],
+            p.elevation,
+            p.prominence,
+            opt(saddle.map(|s| s.position[0])),
+            opt(saddle.map(|s| s.position[1])),
+            opt(saddle.map(|s| s.elevation)),
+            p.parent.map_or_else(String::new, |q| q.to_string()),
+            p.dominance,
+            p.relative_prominence,
+            p.relevance,
+            opt(p.isolation.map(|i| i.distance)),
+            opt(p.isolation.map(|i| i.azimuth)),
+            p.edge_effect,
+        );
+    }
+    out
 }
 
 /// A colour for a relative elevation `t` in [0, 1]: the hypsometric ramp of the previews, darkened

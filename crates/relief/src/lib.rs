@@ -56,6 +56,7 @@ pub use relief_heightfield as heightfield;
 pub use relief_heightfield_io as io;
 pub use relief_hydrology as hydrology;
 pub use relief_island as island;
+pub use relief_orometry as orometry;
 pub use relief_poisson_sampling as poisson_sampling;
 pub use relief_tin as tin;
 pub use relief_warp as warp;
