@@ -244,6 +244,7 @@ fn main() -> ExitCode {
     }
 }
 
+#[allow(clippy::too_many_lines)] // one arm per subcommand
 fn run(cli: &Cli) -> Result<()> {
     if let Some(n) = cli.threads {
         rayon::ThreadPoolBuilder::new().num_threads(n.into()).build_global().context("starting the thread pool")?;
@@ -552,13 +553,16 @@ struct OrometryOutputs<'a> {
     classify: &'a [PathBuf],
 }
 
+/// The analysis, the descriptor, and the nearest reference (label, mean EMD).
+type OrometryResult = (relief::orometry::Orometry, relief::orometry::Descriptor, Option<(String, f64)>);
+
 /// Orometry of `dem`: the analysis, its files, and the nearest reference descriptor.
 fn analyze_orometry(
     ui: &mut Ui,
     dem: &Heightfield,
     sea_level: Option<f32>,
     out: &OrometryOutputs<'_>,
-) -> anyhow::Result<(relief::orometry::Orometry, relief::orometry::Descriptor, Option<(String, f64)>)> {
+) -> anyhow::Result<OrometryResult> {
     use relief::orometry::{AnalysisOptions, Descriptor, DivideTree, classify};
     let options = AnalysisOptions { sea_level, min_prominence: out.min_prominence };
     let (oro, descriptor) = ui.step("orometry", || Descriptor::of(dem, &options))?;

@@ -32,7 +32,8 @@ use crate::island::{Island, IslandError};
 use crate::poisson_sampling::{Polygon, Rect};
 use crate::scene::{
     ContoursGenerator, DiffusionGenerator, Edit, GaussianGenerator, Generator, HistogramSource, IslandGenerator,
-    Levels, Outputs, PostProcess, Probability, ReconstructionMode, Rectangle, Scene, SolverSpec,
+    Levels, OrometryGenerator, OrometrySource, Outputs, PostProcess, Probability, ReconstructionMode, Rectangle, Scene,
+    SolverSpec, TreeEdit,
 };
 use crate::tin::PointLocator;
 use crate::vector;
@@ -183,10 +184,31 @@ pub struct Summary {
     /// The vector terrain after its tools (gaussian generator only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gaussian: Option<GaussianSummary>,
+    /// The divide tree and its match to the target (orometry generator only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orometry: Option<OrometrySummary>,
     /// Closed basins and stream order of the final heightfield.
     pub drainage: DrainageSummary,
     /// Time per step, in order (they vary from run to run, unlike everything else).
     pub timings_ms: Vec<Timing>,
+}
+
+/// What an orometry scene ended with.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OrometrySummary {
+    /// Peaks in the divide tree (after edits).
+    pub peaks: usize,
+    /// Saddles in the divide tree.
+    pub saddles: usize,
+    /// Earth mover's distance between the tree's prominence histogram and the target's.
+    pub prominence_emd: f64,
+    /// Largest bin difference between the tree's prominence histogram and the target's.
+    pub prominence_max_bin_error: f64,
+    /// Largest bin difference between the tree's dominance histogram and the target's.
+    pub dominance_max_bin_error: f64,
+    /// The tree itself (written by `outputs.divide_tree`, not into the summary).
+    #[serde(skip)]
+    pub tree: crate::orometry::DivideTree,
 }
 
 /// What a gaussian scene ended with.
@@ -247,6 +269,7 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
         Generator::Diffusion(generator) => generate_diffusion(scene, generator, &mut timer),
         Generator::Island(generator) => generate_island(scene, generator, &mut timer),
         Generator::Gaussian(generator) => generate_gaussian(scene, generator, base_dir, &mut timer),
+        Generator::Orometry(generator) => generate_orometry(scene, generator, base_dir, &mut timer),
     }
 }
 
@@ -335,6 +358,7 @@ fn generate_contours(
         diffusion: None,
         island: None,
         gaussian: None,
+        orometry: None,
         drainage,
         timings_ms: std::mem::take(&mut timer.timings),
     };
@@ -371,15 +395,17 @@ fn generate_diffusion(
     let report = terrain.report;
     let (lo, _) = terrain.heightfield.min_max().unwrap_or((0.0, 0.0));
     let sea_level = generator.sea_level.unwrap_or(f64::from(lo) - 1.0);
-    let extras = Extras { diffusion: Some(report), island: None, gaussian: None };
+    let extras = Extras { diffusion: Some(report), ..Extras::default() };
     raster_terrain(scene, terrain.heightfield, sea_level, &generator.levels, DIFFUSION, extras, timer)
 }
 
 /// What a raster generator adds to the summary.
+#[derive(Default)]
 struct Extras {
     diffusion: Option<SolveReport>,
     island: Option<IslandSummary>,
     gaussian: Option<GaussianSummary>,
+    orometry: Option<OrometrySummary>,
 }
 
 /// The shared end of the raster generators (diffusion, island): post-processing and drainage
@@ -424,6 +450,7 @@ fn raster_terrain(
         diffusion: extras.diffusion,
         island: extras.island,
         gaussian: extras.gaussian,
+        orometry: extras.orometry,
         drainage,
         timings_ms: std::mem::take(&mut timer.timings),
     };
@@ -450,7 +477,7 @@ fn generate_island(scene: &Scene, generator: &IslandGenerator, timer: &mut Timer
         hills: built.hills().len(),
         perturbations: built.filters().len(),
     };
-    let extras = Extras { diffusion: None, island: Some(summary), gaussian: None };
+    let extras = Extras { island: Some(summary), ..Extras::default() };
     // Sea is exactly 0 and land at least `land_floor`: half the floor parts them.
     let sea_level = 0.5 * generator.settings.land_floor;
     raster_terrain(scene, built.heightfield(), sea_level, &generator.levels, ISLAND, extras, timer)
@@ -477,9 +504,117 @@ fn generate_gaussian(
         rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| ReliefError::scene(GAUSSIAN, e))
     })?;
     let (lo, _) = heightfield.min_max().unwrap_or((0.0, 0.0));
-    let extras =
-        Extras { diffusion: None, island: None, gaussian: Some(GaussianSummary { primitives: terrain.len() }) };
+    let extras = Extras { gaussian: Some(GaussianSummary { primitives: terrain.len() }), ..Extras::default() };
     raster_terrain(scene, heightfield, f64::from(lo) - 1.0, &generator.levels, GAUSSIAN, extras, timer)
+}
+
+const OROMETRY: &str = "generator.orometry";
+
+/// Reads a control map and stretches it over `extent` (its own georeferencing is ignored: maps
+/// are usually images).
+fn control_map(
+    path: Option<&PathBuf>,
+    base_dir: &Path,
+    extent: Extent,
+    at: &str,
+) -> Result<Option<Heightfield>, ReliefError> {
+    let Some(path) = path else { return Ok(None) };
+    let map = crate::io::read(base_dir.join(path)).map_err(|e| ReliefError::scene(at, e))?;
+    let grid = GridSpec::from_extent(map.nx(), map.ny(), extent).map_err(|e| ReliefError::scene(at, e))?;
+    Heightfield::from_samples(grid, map.into_samples()).map(Some).map_err(|e| ReliefError::scene(at, e))
+}
+
+/// Applies one divide tree edit.
+fn edit_tree(tree: &mut crate::orometry::DivideTree, edit: &TreeEdit) -> Result<(), crate::orometry::OrometryError> {
+    use crate::orometry::TreePeak;
+    match *edit {
+        TreeEdit::InsertPeak { position, elevation, connect_to, saddle, saddle_elevation } => tree
+            .insert_peak(
+                TreePeak { position: DVec2::from(position), elevation },
+                connect_to,
+                (DVec2::from(saddle), saddle_elevation),
+            )
+            .map(|_| ()),
+        TreeEdit::MovePeak { peak, position, elevation } => tree.move_peak(peak, DVec2::from(position), elevation),
+        TreeEdit::MoveSaddle { saddle, position, elevation } => {
+            tree.move_saddle(saddle, DVec2::from(position), elevation)
+        }
+        TreeEdit::DeletePeak { peak } => tree.delete_peak(peak),
+        TreeEdit::DeleteRidge { saddle } => tree.delete_ridge(saddle),
+    }
+}
+
+/// Orometric synthesis (Argudo et al. 2019): target descriptor, divide tree, edits, terrain.
+fn generate_orometry(
+    scene: &Scene,
+    generator: &OrometryGenerator,
+    base_dir: &Path,
+    timer: &mut Timer<'_>,
+) -> Result<Terrain, ReliefError> {
+    use crate::orometry::{
+        AnalysisOptions, ControlMaps, Descriptor, Histogram, TreePeak, generate_tree, terrain_from_tree,
+    };
+    let Some(domain) = &scene.domain else {
+        return Err(ReliefError::scene("domain", "an orometry scene needs a domain in metres"));
+    };
+    let extent = rectangle(domain, "domain")?;
+    let grid = raster_grid(scene, extent)?;
+    let target = timer.step("inputs", || -> Result<Descriptor, ReliefError> {
+        let at = format!("{OROMETRY}.source");
+        let descriptor = match &generator.source {
+            OrometrySource::Dem { path, min_prominence, sea_level } => {
+                let dem = crate::io::read(base_dir.join(path)).map_err(|e| ReliefError::scene(&at, e))?;
+                let options = AnalysisOptions { sea_level: *sea_level, min_prominence: *min_prominence };
+                Descriptor::of(&dem, &options).map_err(|e| ReliefError::scene(&at, e))?.1
+            }
+            OrometrySource::Descriptor { path } => {
+                let d: Descriptor = vector::read_json(&base_dir.join(path), &at)?;
+                d.validate().map_err(|e| ReliefError::scene(&at, e))?;
+                d
+            }
+        };
+        Ok(descriptor)
+    })?;
+    let controls = ControlMaps {
+        peak_density: control_map(
+            generator.peak_density.as_ref(),
+            base_dir,
+            extent,
+            &format!("{OROMETRY}.peak_density"),
+        )?,
+        elevation: control_map(generator.elevation.as_ref(), base_dir, extent, &format!("{OROMETRY}.elevation"))?,
+    };
+    let pinned: Vec<TreePeak> = generator
+        .pinned
+        .iter()
+        .map(|p| TreePeak { position: DVec2::from(p.position), elevation: p.elevation })
+        .collect();
+    let tree_options = crate::orometry::TreeOptions { seed: scene.seed, ..generator.tree.clone() };
+    let mut tree = timer.step("divide tree", || {
+        generate_tree(&target, extent, &controls, &pinned, &tree_options).map_err(|e| ReliefError::scene(OROMETRY, e))
+    })?;
+    for (i, edit) in generator.edits.iter().enumerate() {
+        edit_tree(&mut tree, edit).map_err(|e| ReliefError::scene(format!("{OROMETRY}.edits[{i}]"), e))?;
+    }
+    let base = target.domain.min_elevation;
+    let terrain_options =
+        crate::orometry::TerrainOptions { seed: growth_seed(scene.seed), ..generator.terrain.clone() };
+    let heightfield = timer.step("terrain", || {
+        terrain_from_tree(&tree, base, &grid, &terrain_options, |_, _| {}).map_err(|e| ReliefError::scene(OROMETRY, e))
+    })?;
+    let oro = tree.orometry(base);
+    let prominence = Histogram::uniform(0.0, 2000.0, 20).filled(oro.prominence.iter().copied());
+    let dominance = Histogram::uniform(0.0, 1.0, 20).filled(oro.dominance(&tree, target.domain.datum));
+    let summary = OrometrySummary {
+        peaks: tree.peaks.len(),
+        saddles: tree.saddles.len(),
+        prominence_emd: prominence.emd(&target.prominence).unwrap_or(f64::NAN),
+        prominence_max_bin_error: prominence.max_bin_error(&target.prominence).unwrap_or(f64::NAN),
+        dominance_max_bin_error: dominance.max_bin_error(&target.dominance).unwrap_or(f64::NAN),
+        tree,
+    };
+    let extras = Extras { orometry: Some(summary), ..Extras::default() };
+    raster_terrain(scene, heightfield, base - 1.0, &generator.levels, OROMETRY, extras, timer)
 }
 
 /// An island error as a scene error at the JSON path it comes from.
@@ -603,6 +738,11 @@ pub fn write_outputs(
             let path = out_dir.join(p);
             let svg = crate::export::contours_svg(&terrain.contours, &extent, SVG_WIDTH);
             crate::io::write_atomic(&path, svg.as_bytes())?;
+            written.push(path);
+        }
+        if let (Some(p), Some(o)) = (&outputs.divide_tree, &terrain.summary.orometry) {
+            let path = out_dir.join(p);
+            crate::io::write_atomic(&path, crate::export::divide_tree_geojson(&o.tree, None).as_bytes())?;
             written.push(path);
         }
         if let Some(p) = &outputs.preview {

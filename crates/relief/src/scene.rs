@@ -69,6 +69,130 @@ pub enum Generator {
     /// A vector terrain of generalized Gaussian primitives (Perche et al. 2025): primitives from
     /// the scene, a saved terrain or a vectorized DEM, then landform and crest tools in order.
     Gaussian(GaussianGenerator),
+    /// Orometric synthesis (Argudo et al. 2019): a divide tree generated from the orometry of a
+    /// reference DEM (or a saved descriptor), optionally steered by control maps and pinned peaks
+    /// and edited, then turned into terrain. Needs a `domain` in metres; seeds come from the
+    /// scene's `seed`.
+    Orometry(OrometryGenerator),
+}
+
+/// An orometric synthesis (§5–6).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OrometryGenerator {
+    /// Where the target orometry comes from.
+    pub source: OrometrySource,
+    /// Peak density control map `C_P` (any format `relief` reads; stretched over the domain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<String>")]
+    pub peak_density: Option<PathBuf>,
+    /// Coarse elevation control map `C_H` in metres (stretched over the domain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<String>")]
+    pub elevation: Option<PathBuf>,
+    /// Peaks placed before synthesis, kept at their positions and heights.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pinned: Vec<PinnedPeak>,
+    /// Divide tree generation (§5); its seed is replaced by the scene's.
+    #[serde(default)]
+    pub tree: relief_orometry::TreeOptions,
+    /// Terrain generation (§6); its seed is replaced by the scene's.
+    #[serde(default)]
+    pub terrain: relief_orometry::TerrainOptions,
+    /// Divide tree edits after generation, applied in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub edits: Vec<TreeEdit>,
+    /// Contours drawn from the result (default 20 evenly spaced levels).
+    #[serde(default = "default_diffusion_levels")]
+    pub levels: Levels,
+}
+
+/// The target orometry of an `orometry` generator.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum OrometrySource {
+    /// A DEM (any format `relief` reads) analysed first.
+    Dem {
+        /// The file, relative to the scene.
+        #[schemars(with = "String")]
+        path: PathBuf,
+        /// Peaks at least this prominent count (default 30 m, the usual summit-list cut).
+        #[serde(default = "default_min_prominence")]
+        min_prominence: f64,
+        /// Ground at or below this is sea.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        sea_level: Option<f32>,
+    },
+    /// A descriptor saved as JSON (`relief analyze --descriptor` writes them).
+    Descriptor {
+        /// The file, relative to the scene.
+        #[schemars(with = "String")]
+        path: PathBuf,
+    },
+}
+
+fn default_min_prominence() -> f64 {
+    30.0
+}
+
+/// A peak placed before synthesis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PinnedPeak {
+    /// Position `[x, y]`, metres.
+    pub position: [f64; 2],
+    /// Elevation, metres.
+    pub elevation: f64,
+}
+
+/// One edit of a generated divide tree (§7.2). Indices refer to the tree as it is when the edit
+/// runs (the summary's tree, then each edit in turn).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "op", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TreeEdit {
+    /// Add a peak joined to `connect_to` through a new saddle.
+    InsertPeak {
+        /// Position `[x, y]`.
+        position: [f64; 2],
+        /// Elevation.
+        elevation: f64,
+        /// The peak its ridge leads to.
+        connect_to: u32,
+        /// The new saddle's position.
+        saddle: [f64; 2],
+        /// The new saddle's elevation (not above either peak).
+        saddle_elevation: f64,
+    },
+    /// Move a peak, optionally changing its elevation.
+    MovePeak {
+        /// The peak.
+        peak: u32,
+        /// New position.
+        position: [f64; 2],
+        /// New elevation.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        elevation: Option<f64>,
+    },
+    /// Move a saddle, optionally changing its elevation.
+    MoveSaddle {
+        /// The saddle.
+        saddle: u32,
+        /// New position.
+        position: [f64; 2],
+        /// New elevation.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        elevation: Option<f64>,
+    },
+    /// Delete a peak; its neighbours stay joined.
+    DeletePeak {
+        /// The peak.
+        peak: u32,
+    },
+    /// Delete a ridge (its saddle), splitting the tree.
+    DeleteRidge {
+        /// The saddle.
+        saddle: u32,
+    },
 }
 
 /// A vector terrain and the tool operations applied to it. The domain defaults to the
@@ -691,6 +815,9 @@ pub struct Outputs {
     /// Shaded-relief preview with the contours drawn on it.
     #[serde(default = "default_preview")]
     pub preview: Option<PathBuf>,
+    /// The divide tree as GeoJSON (orometry generator only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub divide_tree: Option<PathBuf>,
     /// Run summary: parameters, counts, timings, histogram match error.
     #[serde(default = "default_summary")]
     pub summary: Option<PathBuf>,
@@ -723,6 +850,7 @@ impl Default for Outputs {
             contours_geojson: default_geojson(),
             contours_svg: default_svg(),
             preview: default_preview(),
+            divide_tree: None,
             summary: default_summary(),
         }
     }

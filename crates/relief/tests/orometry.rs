@@ -1,0 +1,99 @@
+//! Orometry through the facade: the `orometry` scene kind (pins, edits, drainage, errors named by
+//! JSON path), divide tree GeoJSON and peak CSV exports of a real DEM.
+
+use std::path::{Path, PathBuf};
+
+use relief::orometry::{AnalysisOptions, Descriptor, DivideTree};
+use relief::pipeline::{Progress, generate, run};
+use relief::scene::{Generator, Scene};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+struct Quiet;
+impl Progress for Quiet {
+    fn start(&mut self, _: &'static str) {}
+    fn finish(&mut self, _: &'static str, _: std::time::Duration) {}
+}
+
+fn fixture() -> (Scene, PathBuf) {
+    let path = root().join("fixtures/scenes/orometry-jacksboro.json");
+    let scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    (scene, path.parent().unwrap().to_owned())
+}
+
+#[test]
+fn orometry_scene_keeps_pins_applies_edits_and_drains() {
+    let (scene, base) = fixture();
+    let out = tempfile::tempdir().unwrap();
+    let (terrain, written) = run(&scene, &base, out.path(), &mut Quiet).unwrap();
+    let summary = terrain.summary.orometry.as_ref().unwrap();
+    assert_eq!(summary.peaks, summary.tree.peaks.len());
+    assert_eq!(summary.saddles + 1, summary.peaks, "one tree after inserting a peak");
+    // The pinned summit and the inserted peak are in the tree and on the grid at their heights.
+    let hf = &terrain.heightfield;
+    for (x, y, h) in [(12_000.0, 12_000.0, 1150.0), (2000.0, 2000.0, 700.0)] {
+        let p = glam::DVec2::new(x, y);
+        assert!(summary.tree.peaks.iter().any(|q| q.position == p && q.elevation == h), "({x}, {y})");
+        let (i, j) = hf.grid().nearest_sample(p).unwrap();
+        assert!((f64::from(hf.value(i, j)) - h).abs() < 1e-3, "({x}, {y}): {}", hf.value(i, j));
+    }
+    assert_eq!(terrain.summary.drainage.closed_basins, 0);
+    // The divide tree file holds every peak, saddle and ridge.
+    let geojson = out.path().join("divide_tree.geojson");
+    assert!(written.contains(&geojson));
+    let value: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(geojson).unwrap()).unwrap();
+    let features = value["features"].as_array().unwrap();
+    assert_eq!(features.len(), summary.peaks + 2 * summary.saddles);
+    // Same scene, same bytes.
+    let again = generate(&scene, &base, &mut Quiet).unwrap();
+    assert_eq!(again.heightfield.samples(), terrain.heightfield.samples());
+}
+
+#[test]
+fn orometry_scene_errors_name_their_json_path() {
+    let (scene, base) = fixture();
+    let edit = |text: &str| {
+        let mut s = scene.clone();
+        let Generator::Orometry(g) = &mut s.generator else { panic!("an orometry fixture") };
+        g.edits = serde_json::from_str(text).unwrap();
+        generate(&s, &base, &mut Quiet).unwrap_err().to_string()
+    };
+    let e = edit(r#"[{"op": "delete_peak", "peak": 100000}]"#);
+    assert!(e.contains("generator.orometry.edits[0]"), "{e}");
+    let e = edit(r#"[{"op": "move_saddle", "saddle": 0, "position": [10, 10], "elevation": 99999}]"#);
+    assert!(e.contains("generator.orometry.edits[0]") && e.contains("above"), "{e}");
+    let mut s = scene.clone();
+    s.domain = None;
+    assert!(generate(&s, &base, &mut Quiet).unwrap_err().to_string().contains("domain"));
+    let mut s = scene.clone();
+    let Generator::Orometry(g) = &mut s.generator else { unreachable!() };
+    g.peak_density = Some(PathBuf::from("inputs/missing.png"));
+    assert!(generate(&s, &base, &mut Quiet).unwrap_err().to_string().contains("generator.orometry.peak_density"));
+}
+
+#[test]
+fn a_real_dem_exports_its_divide_tree_and_peaks() {
+    let dem = relief::io::read(root().join("fixtures/dem/jacksboro.asc")).unwrap();
+    let (oro, descriptor) =
+        Descriptor::of(&dem, &AnalysisOptions { min_prominence: 30.0, ..Default::default() }).unwrap();
+    assert!(oro.peaks.len() > 20);
+    assert_eq!(descriptor.peaks, oro.peaks.len());
+    let csv = relief::export::peaks_csv(&oro, true);
+    let lines: Vec<&str> = csv.lines().collect();
+    assert!(lines[0].starts_with("id,lon,lat,elevation,prominence"));
+    assert_eq!(lines.len(), oro.peaks.len() + 1);
+    // Geographic coordinates: the fixture lies around 84° W, 36.5° N.
+    let first: Vec<&str> = lines[1].split(',').collect();
+    let (lon, lat): (f64, f64) = (first[1].parse().unwrap(), first[2].parse().unwrap());
+    assert!((-85.0..-84.0).contains(&lon) && (36.0..37.0).contains(&lat), "{lon}, {lat}");
+    let tree = DivideTree::from_orometry(&oro);
+    let value: serde_json::Value =
+        serde_json::from_str(&relief::export::divide_tree_geojson(&tree, Some(&oro))).unwrap();
+    let features = value["features"].as_array().unwrap();
+    let ridges = features.iter().filter(|f| f["properties"]["kind"] == "ridge").count();
+    assert_eq!(ridges, oro.saddles.len());
+    let top = features.iter().find(|f| f["properties"]["kind"] == "peak").unwrap();
+    assert_eq!(top["properties"]["prominence"].as_f64(), Some(oro.peaks[0].prominence));
+}
