@@ -228,4 +228,9 @@ pub(crate) const REFERENCES: &[(&str, Reference)] = &[
     ("gaussian_terrain/rasterize/4096/60k", Reference::Fixed { label: "paper, RTX 3090 (§6.1)", seconds: 0.388 }),
     ("gaussian_terrain/rasterize/4096/60k", Reference::Fixed { label: "target (issue #8)", seconds: 4.0 }),
     ("orometry/analyze/3601", Reference::Fixed { label: "target (issue #9)", seconds: 3.0 }),
+    (
+        "orometry/synthesize/3000",
+        Reference::Fixed { label: "paper, Core i7 4 GHz, Python + C++ (§7, fastest case)", seconds: 60.0 },
+    ),
+    ("orometry/synthesize/3000", Reference::Fixed { label: "target (issue #9)", seconds: 30.0 }),
 ];

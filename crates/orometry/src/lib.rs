@@ -10,6 +10,15 @@
 //! - Isolation searches a pyramid of block maxima best-first (module `isolation`), opening only
 //!   blocks that hold higher ground.
 //! - [`Orometry::pruned`] cuts the divide tree at a prominence threshold (Fig. 6).
+//! - [`Descriptor`] (§4.2, Table 1) summarizes a domain's peaks in ten histograms;
+//!   [`Descriptor::distance`] compares two (EMD and max bin error) and [`classify`] finds the
+//!   nearest labelled reference.
+//! - Synthesis: [`generate_tree`] builds a [`DivideTree`] that follows a descriptor (§5: dart
+//!   throwing, multi-pass placement, Delaunay MST ridges, saddle heights by optimal assignment),
+//!   [`terrain_from_tree`] turns a tree into a heightfield (§6: dual rivers, refinement, Poisson
+//!   fill, constrained TIN, noise, erosion with uplift compensation), and [`synthesize`] does both.
+//!   [`relief_tin`] triangulates and [`relief_hydrology`] routes and erodes; `rand_chacha` seeds
+//!   every random choice, so a seed gives identical bytes for any thread count.
 //!
 //! # Example
 //! ```
