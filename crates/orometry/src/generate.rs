@@ -306,6 +306,8 @@ pub fn generate_tree(
                 p
             } else {
                 let mut best = (f64::NEG_INFINITY, extent.min + size * 0.5);
+                // If every dart lands too close to a placed peak, the one with the most room wins.
+                let mut roomiest = (f64::NEG_INFINITY, best.1);
                 let mut chosen = None;
                 for _ in 0..options.dart_attempts {
                     let c = extent.min + DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * size;
@@ -315,6 +317,9 @@ pub fn generate_tree(
                         prob *= (-0.5 * x * x).exp();
                     }
                     if let Some((k, dist)) = grid.nearest(c, &positions) {
+                        if dist > roomiest.0 {
+                            roomiest = (dist, c);
+                        }
                         if dist < options.min_spacing_m {
                             continue;
                         }
@@ -333,7 +338,7 @@ pub fn generate_tree(
                         break;
                     }
                 }
-                chosen.unwrap_or(best.1)
+                chosen.unwrap_or(if best.0 > f64::NEG_INFINITY { best.1 } else { roomiest.1 })
             };
             grid.insert(positions.len() as u32, p);
             positions.push(p);

@@ -360,3 +360,17 @@ fn bad_synthesis_input_is_a_typed_error() {
     assert_eq!(hf.value(5, 5), 30.0);
     assert!(hf.samples().iter().all(|&v| (0.0..=30.0).contains(&v)));
 }
+
+#[test]
+fn an_overcrowded_domain_still_gets_distinct_peaks_and_a_spanning_tree() {
+    // 400 peaks in 2 × 2 km cannot keep 200 m apart: darts that all land too close fall back to the
+    // roomiest candidate, never to a duplicate position.
+    let target = target();
+    let extent = Extent::new(DVec2::ZERO, DVec2::splat(2000.0));
+    let options = TreeOptions { peaks: Some(400), dart_attempts: 8, ..TreeOptions::default() };
+    let tree = generate_tree(&target, extent, &ControlMaps::default(), &[], &options).unwrap();
+    let mut seen = std::collections::HashSet::new();
+    assert!(tree.peaks.iter().all(|p| seen.insert((p.position.x.to_bits(), p.position.y.to_bits()))));
+    assert_eq!(tree.saddles.len(), 399);
+    tree.validate().unwrap();
+}
