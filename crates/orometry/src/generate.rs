@@ -24,7 +24,7 @@ use relief_tin::Tin;
 use serde::{Deserialize, Serialize};
 
 use crate::descriptor::Histogram;
-use crate::tree::{DivideTree, TreePeak, TreeSaddle};
+use crate::tree::{DivideTree, TreePeak, TreeSaddle, find};
 use crate::{Descriptor, OrometryError};
 
 /// The most peaks a synthesis places.
@@ -430,13 +430,6 @@ fn spanning_ridges(positions: &[DVec2], heights: &[f64], base: f64, rho: f64, pr
     let mut weighted: Vec<(f64, u32, u32)> = edges.drain(..).map(|(a, b)| (weight(a, b), a.min(b), a.max(b))).collect();
     weighted.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
     let mut parent: Vec<u32> = (0..n as u32).collect();
-    let find = |parent: &mut Vec<u32>, mut x: u32| {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    };
     let mut out = Vec::with_capacity(n - 1);
     for (_, a, b) in weighted {
         let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));

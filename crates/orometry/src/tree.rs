@@ -65,7 +65,8 @@ impl TreeOrometry {
     }
 }
 
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
+/// Union–find root of `x` with path halving.
+pub(crate) fn find(parent: &mut [u32], mut x: u32) -> u32 {
     while parent[x as usize] != x {
         let up = parent[parent[x as usize] as usize];
         parent[x as usize] = up;

@@ -110,18 +110,7 @@ impl Tin {
             points.iter().enumerate().map(|(i, p)| Node { position: Point2::new(p.x, p.y), index: i as u32 }).collect();
         let dt = DelaunayTriangulation::<Node>::bulk_load(nodes)
             .map_err(|e| TinError::Invariant(format!("spade rejected validated input: {e:?}")))?;
-        if dt.num_vertices() < points.len() {
-            let (first, second) = find_duplicate(&points).unwrap_or((0, 0));
-            let p = points[first];
-            return Err(TinError::DuplicatePoint { first, second, x: p.x, y: p.y });
-        }
-        if dt.num_inner_faces() == 0 {
-            return Err(TinError::Collinear { count: points.len() });
-        }
-        let (triangles, triangle_neighbors) = spade_triangles(&dt);
-        drop(dt);
-        let (adjacency_offsets, adjacency, boundary) = mesh_fans(points.len(), &triangles, &triangle_neighbors);
-        Ok(Self { points, triangles, triangle_neighbors, adjacency_offsets, adjacency, boundary, convex: true })
+        Self::from_spade(points, dt)
     }
 
     /// The constrained Delaunay triangulation of `points` in which each `constraints` edge
@@ -151,19 +140,31 @@ impl Tin {
         let mut skipped = 0;
         let cdt = ConstrainedDelaunayTriangulation::<Node>::try_bulk_load_cdt(nodes, edges, |_| skipped += 1)
             .map_err(|e| TinError::Invariant(format!("spade rejected validated input: {e:?}")))?;
-        if cdt.num_vertices() < points.len() {
+        Ok((Self::from_spade(points, cdt)?, skipped))
+    }
+
+    /// Copies a spade triangulation of `points` into flat arrays, after checking that spade kept
+    /// every point (no duplicates) and made at least one triangle (not all collinear).
+    fn from_spade<T>(points: Vec<DVec2>, dt: T) -> Result<Self, TinError>
+    where
+        T: Triangulation<Vertex = Node> + Sync,
+        T::DirectedEdge: Sync,
+        T::UndirectedEdge: Sync,
+        T::Face: Sync,
+    {
+        if dt.num_vertices() < points.len() {
             let (first, second) = find_duplicate(&points).unwrap_or((0, 0));
             let p = points[first];
             return Err(TinError::DuplicatePoint { first, second, x: p.x, y: p.y });
         }
-        if cdt.num_inner_faces() == 0 {
+        if dt.num_inner_faces() == 0 {
             return Err(TinError::Collinear { count: points.len() });
         }
-        let (triangles, triangle_neighbors) = spade_triangles(&cdt);
-        drop(cdt);
+        let (triangles, triangle_neighbors) = spade_triangles(&dt);
+        // Free spade's half-edges before the fans allocate.
+        drop(dt);
         let (adjacency_offsets, adjacency, boundary) = mesh_fans(points.len(), &triangles, &triangle_neighbors);
-        let tin = Self { points, triangles, triangle_neighbors, adjacency_offsets, adjacency, boundary, convex: true };
-        Ok((tin, skipped))
+        Ok(Self { points, triangles, triangle_neighbors, adjacency_offsets, adjacency, boundary, convex: true })
     }
 
     /// A TIN from explicit counter-clockwise triangles over `points` (e.g. a constrained or
