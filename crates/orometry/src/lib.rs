@@ -3,9 +3,10 @@
 //! and elevation, relevance, isolation and the divide tree, with the conventions of summit lists
 //! (Kirmse & de Ferranti 2017) for plateaus, map edges, the sea and no-data (see [`analyze`]).
 //!
-//! - [`analyze`] floods the DEM from the top with a union–find (sort O(N log N), then
-//!   near-linear): every cell that joins two components is a saddle where the lower component's
-//!   peak meets its key saddle. Ties break by row-major index, so results are deterministic and
+//! - [`analyze`] floods the DEM from the top: every cell that joins two components is a saddle
+//!   where the lower component's peak meets its key saddle. It joins ascent basins rather than
+//!   cells, sorting only the cells where basins meet (linear passes plus a sort of a few per cent
+//!   of the map; 3601² in about 1.2 s on 2 cores). Ties break by row-major index, so results are deterministic and
 //!   independent of the thread count.
 //! - Isolation searches a pyramid of block maxima best-first (module `isolation`), opening only
 //!   blocks that hold higher ground.
