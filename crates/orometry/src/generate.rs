@@ -72,6 +72,16 @@ fn invalid(name: &'static str, value: f64, reason: &'static str) -> OrometryErro
 }
 
 impl TreeOptions {
+    /// How many peaks [`generate_tree`] places over `extent` with `pinned` pinned peaks: the
+    /// asked-for count, else the descriptor's density × the domain's area, never fewer than the
+    /// pinned ones. Callers with their own budget check this before generating.
+    #[must_use]
+    pub fn peak_count(&self, descriptor: &Descriptor, extent: Extent, pinned: usize) -> usize {
+        let size = extent.size();
+        let area_km2 = size.x * size.y / 1e6;
+        self.peaks.unwrap_or_else(|| (descriptor.density_per_km2 * area_km2).round() as usize).max(pinned)
+    }
+
     fn validate(&self) -> Result<(), OrometryError> {
         if !(self.rho.is_finite() && (0.0..=8.0).contains(&self.rho)) {
             return Err(invalid("rho", self.rho, "must be in [0, 8]"));
@@ -250,8 +260,7 @@ pub fn generate_tree(
             });
         }
     }
-    let area_km2 = size.x * size.y / 1e6;
-    let n = options.peaks.unwrap_or_else(|| (descriptor.density_per_km2 * area_km2).round() as usize).max(pinned.len());
+    let n = options.peak_count(descriptor, extent, pinned.len());
     if n > MAX_PEAKS {
         return Err(OrometryError::TooManyPeaks { peaks: n, limit: MAX_PEAKS });
     }

@@ -39,6 +39,30 @@ struct Cli {
     /// Worker threads (default: one per core). Outputs are identical for any count.
     #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..=1024))]
     threads: Option<u16>,
+    /// Most raster cells a scene may ask for or a command may read (grids, working grids, input
+    /// DEMs and images; default 2^28).
+    #[arg(long, global = true, value_name = "N")]
+    max_cells: Option<u64>,
+    /// Most growth particles a contour scene may ask for (default 50 million).
+    #[arg(long, global = true, value_name = "N")]
+    max_particles: Option<u64>,
+    /// Most Gaussian primitives a scene may list, load or fit (default 2^22).
+    #[arg(long, global = true, value_name = "N")]
+    max_primitives: Option<u64>,
+    /// Most divide-tree peaks an orometry scene may ask for (default 200 000).
+    #[arg(long, global = true, value_name = "N")]
+    max_peaks: Option<u64>,
+}
+
+impl Cli {
+    /// The resource budget the flags set, defaults elsewhere.
+    fn budget(&self) -> relief::Budget {
+        let d = relief::Budget::default();
+        d.with_max_cells(self.max_cells.unwrap_or(d.max_cells))
+            .with_max_particles(self.max_particles.unwrap_or(d.max_particles))
+            .with_max_primitives(self.max_primitives.unwrap_or(d.max_primitives))
+            .with_max_peaks(self.max_peaks.unwrap_or(d.max_peaks))
+    }
 }
 
 #[derive(Debug, Subcommand)]
@@ -249,7 +273,7 @@ fn run(cli: &Cli) -> Result<()> {
     if let Some(n) = cli.threads {
         rayon::ThreadPoolBuilder::new().num_threads(n.into()).build_global().context("starting the thread pool")?;
     }
-    let mut ui = Ui::new(cli.verbose, cli.quiet);
+    let mut ui = Ui::new(cli.verbose, cli.quiet, cli.budget());
     match &cli.command {
         Command::Demo { out } => {
             let scene = Scene::demo();
@@ -280,7 +304,7 @@ fn run(cli: &Cli) -> Result<()> {
         Command::Convert { input, output } => {
             let format = Format::from_extension(output)
                 .with_context(|| format!("{}: unknown output extension", output.display()))?;
-            let dem = ui.step("read", || relief::io::read(input))?;
+            let dem = ui.read(input)?;
             ui.step("write", || relief::io::write(output, &dem))?;
             ui.say(format_args!(
                 "{} ({} x {}) -> {} ({format:?})",
@@ -292,7 +316,7 @@ fn run(cli: &Cli) -> Result<()> {
             Ok(())
         }
         Command::Info { dem: path, json } => {
-            let dem = relief::io::read(path)?;
+            let dem = ui.read(path)?;
             println!("{}", if *json { info_json(path, &dem) } else { info_text(path, &dem) });
             Ok(())
         }
@@ -309,7 +333,7 @@ fn run(cli: &Cli) -> Result<()> {
             classify,
             json,
         } => {
-            let read = relief::io::ReadOptions::default();
+            let read = ui.read;
             let read = if *degrees { read.with_units(Units::Degrees) } else { read };
             let orometry = OrometryOutputs {
                 min_prominence: *min_prominence,
@@ -321,7 +345,7 @@ fn run(cli: &Cli) -> Result<()> {
             analyze(&mut ui, &read, path, compare.as_deref(), *sea_level, filled.as_deref(), &orometry, *json)
         }
         Command::Preview { dem: path, output, contours, sea_level, max_size } => {
-            let dem = ui.step("read", || relief::io::read(path))?;
+            let dem = ui.read(path)?;
             let dem = match max_size {
                 Some(m) if dem.nx().max(dem.ny()) > *m => {
                     let stride = dem.nx().max(dem.ny()).div_ceil(*m);
@@ -364,7 +388,7 @@ fn run(cli: &Cli) -> Result<()> {
 }
 
 fn vectorize(ui: &mut Ui, dem: &Path, output: &Path, options: &VectorizeOptions) -> Result<()> {
-    let heightfield = ui.step("read", || relief::io::read(dem))?;
+    let heightfield = ui.read(dem)?;
     let target = if ui.draw { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
     let bar = ProgressBar::with_draw_target(Some(options.iterations as u64), target);
     bar.set_style(
@@ -426,7 +450,8 @@ fn rasterize(
 
 fn run_scene(scene: &Scene, base: &Path, out: &Path, ui: &mut Ui) -> Result<()> {
     let start = Instant::now();
-    let (terrain, written) = pipeline::run(scene, base, out, ui)?;
+    let budget = ui.budget;
+    let (terrain, written) = pipeline::run_with(scene, base, out, &budget, ui)?;
     let s = &terrain.summary;
     let source = match (&s.graph, &s.diffusion) {
         (Some(g), _) => format!("{} nodes, ", g.nodes),
@@ -476,7 +501,7 @@ fn run_scene(scene: &Scene, base: &Path, out: &Path, ui: &mut Ui) -> Result<()> 
 const HISTOGRAM_WARNING: f64 = 0.02;
 
 fn contours(args: &ContoursArgs, ui: &mut Ui) -> Result<()> {
-    let dem = ui.step("read", || relief::io::read(&args.dem))?;
+    let dem = ui.read(&args.dem)?;
     let set = ui.step("contours", || dem_contours(&dem, args.interval, args.levels))?;
     let geojson = match (&args.geojson, &args.svg) {
         (None, None) => Some(PathBuf::from(format!(
@@ -613,7 +638,7 @@ fn analyze(
     let descriptors = ui.step("descriptors", || Descriptors::of(&dem, &options))?;
     let other = match compare {
         Some(p) => {
-            let dem = ui.step("read", || relief::io::read(p))?;
+            let dem = ui.read(p)?;
             Some(ui.step("descriptors", || Descriptors::of(&dem, &options))?)
         }
         None => None,
@@ -715,6 +740,10 @@ fn info_json(path: &Path, dem: &Heightfield) -> String {
 
 /// Spinners on stderr, step timings with `-v`, reports on stdout unless `-q`.
 struct Ui {
+    /// What every command reads under: the budget's cell cap.
+    read: relief::io::ReadOptions,
+    /// The budget scenes run under.
+    budget: relief::Budget,
     verbose: bool,
     quiet: bool,
     bar: Option<ProgressBar>,
@@ -722,8 +751,16 @@ struct Ui {
 }
 
 impl Ui {
-    fn new(verbose: bool, quiet: bool) -> Self {
-        Self { verbose, quiet, bar: None, draw: !quiet && std::io::stderr().is_terminal() }
+    fn new(verbose: bool, quiet: bool, budget: relief::Budget) -> Self {
+        let read = relief::io::ReadOptions::default()
+            .with_limits(relief::io::Limits::default().with_max_cells(budget.max_cells));
+        Self { read, budget, verbose, quiet, bar: None, draw: !quiet && std::io::stderr().is_terminal() }
+    }
+
+    /// Reads a heightfield under the cell budget, as a timed step.
+    fn read(&mut self, path: &Path) -> Result<Heightfield, relief::io::IoError> {
+        let read = self.read;
+        self.step("read", || relief::io::read_with(path, &read))
     }
 
     fn say(&self, message: std::fmt::Arguments<'_>) {

@@ -26,6 +26,21 @@ pub enum ReliefError {
         /// The failure.
         source: std::io::Error,
     },
+    /// The scene asks for more than the [`crate::Budget`] allows; `path` is the JSON path of the
+    /// value (or file) that does.
+    #[error(
+        "{path}: {requested} {what} is over the budget of {limit} (raise `Budget::max_{what}`, or `--max-{what}` in the CLI)"
+    )]
+    OverBudget {
+        /// JSON path of the offending value.
+        path: String,
+        /// What is counted: `cells`, `particles`, `primitives` or `peaks`.
+        what: &'static str,
+        /// How many the scene asks for.
+        requested: u64,
+        /// The cap.
+        limit: u64,
+    },
     /// A step of the pipeline failed on valid input (a bug or an exhausted resource).
     #[error("{step}: {message}")]
     Pipeline {

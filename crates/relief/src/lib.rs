@@ -61,12 +61,14 @@ pub use relief_poisson_sampling as poisson_sampling;
 pub use relief_tin as tin;
 pub use relief_warp as warp;
 
+pub mod budget;
 mod error;
 pub mod export;
 pub mod pipeline;
 pub mod scene;
 pub mod vector;
 
+pub use budget::Budget;
 pub use error::ReliefError;
 pub use pipeline::{Progress, Summary, Terrain};
 pub use scene::Scene;

@@ -12,6 +12,7 @@ use glam::DVec2;
 use serde::Serialize;
 
 use crate::ReliefError;
+use crate::budget::{Budget, Env};
 use crate::contours::{
     Contour, ContourSet, ContoursError, Histogram, Interpolation, Ranking, Smoothing, Summit, assign_heights,
     evenly_spaced_levels, extract_dem, extract_tin, interval_levels, reconstruct_interpolated, reconstruct_stairs,
@@ -27,7 +28,7 @@ use crate::gaussian_terrain::{RasterOptions, rasterize};
 use crate::heightfield::noise::Fbm;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
 use crate::hydrology::{self, D8, Field, HydrologyError, Outlets, StreamPower, Thermal};
-use crate::io::{Format, ReadOptions};
+use crate::io::Format;
 use crate::island::{Island, IslandError};
 use crate::poisson_sampling::{Polygon, Rect};
 use crate::scene::{
@@ -263,13 +264,29 @@ pub fn load_scene(path: impl AsRef<Path>) -> Result<Scene, ReliefError> {
 /// [`ReliefError::Scene`] naming the JSON path of any invalid value; [`ReliefError::Io`] when an
 /// input file cannot be read.
 pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> Result<Terrain, ReliefError> {
+    generate_with(scene, base_dir, &Budget::default(), progress)
+}
+
+/// [`generate`] under an explicit [`Budget`]: a scene asking for more cells, particles,
+/// primitives or peaks fails before the work that would allocate them.
+///
+/// # Errors
+/// As [`generate`], and [`ReliefError::OverBudget`].
+pub fn generate_with(
+    scene: &Scene,
+    base_dir: &Path,
+    budget: &Budget,
+    progress: &mut dyn Progress,
+) -> Result<Terrain, ReliefError> {
+    budget.check(scene)?;
+    let env = &Env { dir: base_dir, budget: *budget };
     let mut timer = Timer { progress, timings: Vec::new() };
     match &scene.generator {
-        Generator::Contours(generator) => generate_contours(scene, generator, base_dir, &mut timer),
+        Generator::Contours(generator) => generate_contours(scene, generator, env, &mut timer),
         Generator::Diffusion(generator) => generate_diffusion(scene, generator, &mut timer),
         Generator::Island(generator) => generate_island(scene, generator, &mut timer),
-        Generator::Gaussian(generator) => generate_gaussian(scene, generator, base_dir, &mut timer),
-        Generator::Orometry(generator) => generate_orometry(scene, generator, base_dir, &mut timer),
+        Generator::Gaussian(generator) => generate_gaussian(scene, generator, env, &mut timer),
+        Generator::Orometry(generator) => generate_orometry(scene, generator, env, &mut timer),
     }
 }
 
@@ -277,10 +294,10 @@ pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> 
 fn generate_contours(
     scene: &Scene,
     generator: &ContoursGenerator,
-    base_dir: &Path,
+    env: &Env<'_>,
     timer: &mut Timer<'_>,
 ) -> Result<Terrain, ReliefError> {
-    let inputs = timer.step("inputs", || Inputs::prepare(scene, generator, base_dir))?;
+    let inputs = timer.step("inputs", || Inputs::prepare(scene, generator, env))?;
     let graph = timer.step("graph", || inputs.graph(scene.seed))?;
     let growth = timer.step("growth", || {
         grow(&graph, inputs.probability.as_ref(), growth_seed(scene.seed)).map_err(|e| eden_error(&e))
@@ -489,17 +506,18 @@ const GAUSSIAN: &str = "generator.gaussian";
 fn generate_gaussian(
     scene: &Scene,
     generator: &GaussianGenerator,
-    base_dir: &Path,
+    env: &Env<'_>,
     timer: &mut Timer<'_>,
 ) -> Result<Terrain, ReliefError> {
     let mut terrain =
-        timer.step("source", || vector::load_source(&generator.source, base_dir, &format!("{GAUSSIAN}.source")))?;
+        timer.step("source", || vector::load_source(&generator.source, env, &format!("{GAUSSIAN}.source")))?;
+    env.budget.primitives(terrain.len() as u64, &format!("{GAUSSIAN}.source"))?;
     let extent = match &scene.domain {
         Some(d) => rectangle(d, "domain")?,
         None => vector::default_extent(&terrain),
     };
     let grid = raster_grid(scene, extent)?;
-    timer.step("tools", || vector::apply_operations(&mut terrain, generator, &grid, base_dir, GAUSSIAN))?;
+    timer.step("tools", || vector::apply_operations(&mut terrain, generator, &grid, env, GAUSSIAN))?;
     let heightfield = timer.step("rasterize", || {
         rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| ReliefError::scene(GAUSSIAN, e))
     })?;
@@ -514,12 +532,12 @@ const OROMETRY: &str = "generator.orometry";
 /// are usually images).
 fn control_map(
     path: Option<&PathBuf>,
-    base_dir: &Path,
+    env: &Env<'_>,
     extent: Extent,
     at: &str,
 ) -> Result<Option<Heightfield>, ReliefError> {
     let Some(path) = path else { return Ok(None) };
-    let map = crate::io::read(base_dir.join(path)).map_err(|e| ReliefError::scene(at, e))?;
+    let map = env.read(path).map_err(|e| ReliefError::scene(at, e))?;
     let grid = GridSpec::from_extent(map.nx(), map.ny(), extent).map_err(|e| ReliefError::scene(at, e))?;
     Heightfield::from_samples(grid, map.into_samples()).map(Some).map_err(|e| ReliefError::scene(at, e))
 }
@@ -548,7 +566,7 @@ fn edit_tree(tree: &mut crate::orometry::DivideTree, edit: &TreeEdit) -> Result<
 fn generate_orometry(
     scene: &Scene,
     generator: &OrometryGenerator,
-    base_dir: &Path,
+    env: &Env<'_>,
     timer: &mut Timer<'_>,
 ) -> Result<Terrain, ReliefError> {
     use crate::orometry::{
@@ -563,12 +581,12 @@ fn generate_orometry(
         let at = format!("{OROMETRY}.source");
         let descriptor = match &generator.source {
             OrometrySource::Dem { path, min_prominence, sea_level } => {
-                let dem = crate::io::read(base_dir.join(path)).map_err(|e| ReliefError::scene(&at, e))?;
+                let dem = env.read(path).map_err(|e| ReliefError::scene(&at, e))?;
                 let options = AnalysisOptions { sea_level: *sea_level, min_prominence: *min_prominence };
                 Descriptor::of(&dem, &options).map_err(|e| ReliefError::scene(&at, e))?.1
             }
             OrometrySource::Descriptor { path } => {
-                let d: Descriptor = vector::read_json(&base_dir.join(path), &at)?;
+                let d: Descriptor = vector::read_json(&env.join(path), &at)?;
                 d.validate().map_err(|e| ReliefError::scene(&at, e))?;
                 d
             }
@@ -576,13 +594,8 @@ fn generate_orometry(
         Ok(descriptor)
     })?;
     let controls = ControlMaps {
-        peak_density: control_map(
-            generator.peak_density.as_ref(),
-            base_dir,
-            extent,
-            &format!("{OROMETRY}.peak_density"),
-        )?,
-        elevation: control_map(generator.elevation.as_ref(), base_dir, extent, &format!("{OROMETRY}.elevation"))?,
+        peak_density: control_map(generator.peak_density.as_ref(), env, extent, &format!("{OROMETRY}.peak_density"))?,
+        elevation: control_map(generator.elevation.as_ref(), env, extent, &format!("{OROMETRY}.elevation"))?,
     };
     let pinned: Vec<TreePeak> = generator
         .pinned
@@ -590,6 +603,8 @@ fn generate_orometry(
         .map(|p| TreePeak { position: DVec2::from(p.position), elevation: p.elevation })
         .collect();
     let tree_options = crate::orometry::TreeOptions { seed: scene.seed, ..generator.tree.clone() };
+    let peaks = tree_options.peak_count(&target, extent, pinned.len());
+    env.budget.peaks(peaks as u64, &format!("{OROMETRY}.tree.peaks"))?;
     let mut tree = timer.step("divide tree", || {
         generate_tree(&target, extent, &controls, &pinned, &tree_options).map_err(|e| ReliefError::scene(OROMETRY, e))
     })?;
@@ -777,8 +792,22 @@ pub fn run(
     out_dir: &Path,
     progress: &mut dyn Progress,
 ) -> Result<(Terrain, Vec<PathBuf>), ReliefError> {
+    run_with(scene, base_dir, out_dir, &Budget::default(), progress)
+}
+
+/// [`run`] under an explicit [`Budget`] (see [`generate_with`]).
+///
+/// # Errors
+/// As [`generate_with`] and [`write_outputs`].
+pub fn run_with(
+    scene: &Scene,
+    base_dir: &Path,
+    out_dir: &Path,
+    budget: &Budget,
+    progress: &mut dyn Progress,
+) -> Result<(Terrain, Vec<PathBuf>), ReliefError> {
     check_outputs(&scene.outputs)?;
-    let terrain = generate(scene, base_dir, progress)?;
+    let terrain = generate_with(scene, base_dir, budget, progress)?;
     let written = write_outputs(&terrain, &scene.outputs, out_dir, progress)?;
     Ok((terrain, written))
 }
@@ -803,6 +832,8 @@ struct Inputs {
     /// The warps among the edits, in order (for backward mapping).
     warps: Chain,
     grid: GridSpec,
+    /// The budget's particle cap, which a radius's estimated count is checked against.
+    max_particles: u64,
 }
 
 enum Source {
@@ -816,7 +847,7 @@ enum PreparedEdit {
 }
 
 impl Inputs {
-    fn prepare(scene: &Scene, g: &ContoursGenerator, base_dir: &Path) -> Result<Self, ReliefError> {
+    fn prepare(scene: &Scene, g: &ContoursGenerator, env: &Env<'_>) -> Result<Self, ReliefError> {
         let sampling = match (g.particles, g.radius) {
             (Some(_), Some(_)) => return Err(ReliefError::scene(GENERATOR, "give `particles` or `radius`, not both")),
             (Some(0), None) => return Err(ReliefError::scene(format!("{GENERATOR}.particles"), "must be at least 1")),
@@ -838,8 +869,7 @@ impl Inputs {
             (None, false) => Source::Regions(region_tree(g)?),
             (Some(label), true) => {
                 let at = format!("{GENERATOR}.label_image");
-                let image = crate::io::read_gray_image(base_dir.join(&label.path), &ReadOptions::default())
-                    .map_err(|e| ReliefError::scene(format!("{at}.path"), e))?;
+                let image = env.read_gray(&label.path).map_err(|e| ReliefError::scene(format!("{at}.path"), e))?;
                 let grid = place(image.nx(), image.ny(), &label.extent, &format!("{at}.extent"))?;
                 let labels = LabelMap::from_values(grid, image.samples())
                     .map_err(|e| ReliefError::scene(format!("{at}.path"), e))?
@@ -847,7 +877,7 @@ impl Inputs {
                 Source::Labels(labels)
             }
         };
-        let histogram = histogram(&g.histogram, base_dir)?;
+        let histogram = histogram(&g.histogram, env)?;
         let levels = levels(&g.levels, &histogram, "generator.contours.levels")?;
         let extent = match (&scene.domain, &source) {
             (Some(d), _) => rectangle(d, "domain")?,
@@ -855,13 +885,27 @@ impl Inputs {
             (None, Source::Regions(t)) => default_domain(t.omega().bounds(), scene.reconstruction.resolution),
         };
         let grid = raster_grid(scene, extent)?;
-        let probability = probability(&g.probability, base_dir, &extent, scene.seed)?;
+        let probability = probability(&g.probability, env, &extent, scene.seed)?;
         let (edits, warps) = edits(&scene.edits)?;
-        Ok(Self { source, sampling, histogram, probability, levels, edits, warps, grid })
+        Ok(Self {
+            source,
+            sampling,
+            histogram,
+            probability,
+            levels,
+            edits,
+            warps,
+            grid,
+            max_particles: env.budget.max_particles,
+        })
     }
 
     fn graph(&self, seed: u64) -> Result<Graph, ReliefError> {
-        let options = GraphOptions { sampling: self.sampling, ..GraphOptions::particles(1).with_seed(seed) };
+        let options = GraphOptions {
+            sampling: self.sampling,
+            max_particles: self.max_particles,
+            ..GraphOptions::particles(1).with_seed(seed)
+        };
         let graph = match &self.source {
             Source::Regions(tree) => Graph::from_regions(tree, &options),
             Source::Labels(labels) => Graph::from_labels(labels, &options),
@@ -960,15 +1004,14 @@ fn default_domain(bounds: Rect, [nx, ny]: [usize; 2]) -> Extent {
     Extent::new(centre - half, centre + half)
 }
 
-fn histogram(source: &HistogramSource, base_dir: &Path) -> Result<Histogram, ReliefError> {
+fn histogram(source: &HistogramSource, env: &Env<'_>) -> Result<Histogram, ReliefError> {
     let err = |e: ContoursError| ReliefError::scene(HISTOGRAM, e);
     match source {
         HistogramSource::Bins { edges, weights } => Histogram::from_bins(edges.clone(), weights.clone()).map_err(err),
         HistogramSource::Samples(s) => Histogram::from_samples(s.clone()).map_err(err),
         HistogramSource::Uniform { min, max } => Histogram::uniform(*min, *max).map_err(err),
         HistogramSource::Dem(path) => {
-            let dem =
-                crate::io::read(base_dir.join(path)).map_err(|e| ReliefError::scene(format!("{HISTOGRAM}.dem"), e))?;
+            let dem = env.read(path).map_err(|e| ReliefError::scene(format!("{HISTOGRAM}.dem"), e))?;
             let samples: Vec<f64> = dem.samples().iter().filter(|v| v.is_finite()).map(|&v| f64::from(v)).collect();
             Histogram::from_samples(samples).map_err(|e| ReliefError::scene(format!("{HISTOGRAM}.dem"), e))
         }
@@ -1007,7 +1050,7 @@ fn merge_levels(mut levels: Vec<f64>) -> Vec<f64> {
 
 fn probability(
     p: &Probability,
-    base_dir: &Path,
+    env: &Env<'_>,
     domain: &Extent,
     seed: u64,
 ) -> Result<Box<dyn ProbabilityMap>, ReliefError> {
@@ -1019,8 +1062,7 @@ fn probability(
             Box::new(FbmProbability::new(fbm, *contrast).map_err(err)?)
         }
         Probability::Image { path, extent, exponent } => {
-            let image = crate::io::read_gray_image(base_dir.join(path), &ReadOptions::default())
-                .map_err(|e| ReliefError::scene(format!("{PROBABILITY}.image.path"), e))?;
+            let image = env.read_gray(path).map_err(|e| ReliefError::scene(format!("{PROBABILITY}.image.path"), e))?;
             let grid = match extent {
                 Some(r) => place(image.nx(), image.ny(), r, &format!("{PROBABILITY}.image.extent"))?,
                 None => GridSpec::from_extent(image.nx(), image.ny(), *domain)

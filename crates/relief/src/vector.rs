@@ -14,6 +14,7 @@ use relief_heightfield::{Extent, GridSpec, Heightfield};
 use relief_hydrology::{D8, NO_RECEIVER, Outlets};
 
 use crate::ReliefError;
+use crate::budget::Env;
 use crate::scene::{GaussianGenerator, GaussianOperation, GaussianSource};
 
 /// The crest skeleton of `hf` (§5.1): crest cells are those where the flow accumulation of the
@@ -50,16 +51,14 @@ pub fn crest_skeleton(hf: &Heightfield, min_cells: u32, d0: f64) -> Result<Skele
 }
 
 /// The generator's starting vector terrain.
-pub(crate) fn load_source(source: &GaussianSource, base_dir: &Path, at: &str) -> Result<VectorTerrain, ReliefError> {
+pub(crate) fn load_source(source: &GaussianSource, env: &Env<'_>, at: &str) -> Result<VectorTerrain, ReliefError> {
     let terrain = match source {
         GaussianSource::Primitives { primitives, base } => {
             VectorTerrain { base: *base, primitives: primitives.clone(), domain: None, details: Vec::new() }
         }
-        GaussianSource::Terrain { path } => read_json(&base_dir.join(path), &format!("{at}.path"))?,
+        GaussianSource::Terrain { path } => read_json(&env.join(path), &format!("{at}.path"))?,
         GaussianSource::Dem { path, primitives, iterations, resolution } => {
-            let path = base_dir.join(path);
-            let dem = relief_heightfield_io::read(&path)
-                .map_err(|e| ReliefError::scene(format!("{at}.path"), format!("{}: {e}", path.display())))?;
+            let dem = env.read(path).map_err(|e| ReliefError::scene(format!("{at}.path"), e))?;
             let options = VectorizeOptions {
                 primitives: *primitives,
                 iterations: *iterations,
@@ -105,7 +104,7 @@ pub(crate) fn apply_operations(
     terrain: &mut VectorTerrain,
     generator: &GaussianGenerator,
     grid: &GridSpec,
-    base_dir: &Path,
+    env: &Env<'_>,
     at: &str,
 ) -> Result<(), ReliefError> {
     let mut skeleton: Option<Skeleton> = None;
@@ -117,7 +116,7 @@ pub(crate) fn apply_operations(
                 stamp(terrain, region, placement, *mode, *damping).map_err(wrap)?;
             }
             GaussianOperation::Paste { atlas, landform, footprint, placement, damping } => {
-                let atlas: Atlas = read_json(&base_dir.join(atlas), &format!("{here}.atlas"))?;
+                let atlas: Atlas = read_json(&env.join(atlas), &format!("{here}.atlas"))?;
                 atlas.validate().map_err(wrap)?;
                 let landform = atlas.get(landform).map_err(wrap)?;
                 let footprint = Region::Circle { center: [0.0, 0.0], radius: *footprint };

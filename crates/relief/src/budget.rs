@@ -1,0 +1,154 @@
+//! Resource budgets: caps on what a scene may make the pipeline allocate (raster cells, growth
+//! particles, Gaussian primitives, divide-tree peaks), checked before the work that would
+//! allocate it. Scene files are untrusted input; the budget belongs to whoever runs them (the
+//! CLI's `--max-cells`, `--max-particles`, `--max-primitives` and `--max-peaks`).
+
+use std::path::{Path, PathBuf};
+
+use crate::ReliefError;
+use crate::heightfield::Heightfield;
+use crate::io::{IoError, Limits, ReadOptions};
+use crate::scene::{GaussianSource, Generator, Scene};
+
+/// Caps on what generating one scene may allocate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct Budget {
+    /// Most cells of any raster: the output grid, a working grid, and every DEM or image a scene
+    /// reads (checked against the file's header before decoding). Default 2^28 (16384², 1 GiB of
+    /// f32 samples).
+    pub max_cells: u64,
+    /// Most growth particles (nodes inside Ω), asked for directly or through a Poisson radius.
+    /// Default 50 million.
+    pub max_particles: u64,
+    /// Most Gaussian primitives, listed, loaded or fitted. Default 2^22.
+    pub max_primitives: u64,
+    /// Most peaks of a generated divide tree. Default 200 000.
+    pub max_peaks: u64,
+}
+
+impl Default for Budget {
+    fn default() -> Self {
+        Self { max_cells: 1 << 28, max_particles: 50_000_000, max_primitives: 1 << 22, max_peaks: 200_000 }
+    }
+}
+
+impl Budget {
+    /// The same budget with at most `cells` raster cells.
+    #[must_use]
+    pub fn with_max_cells(mut self, cells: u64) -> Self {
+        self.max_cells = cells;
+        self
+    }
+
+    /// The same budget with at most `particles` growth particles.
+    #[must_use]
+    pub fn with_max_particles(mut self, particles: u64) -> Self {
+        self.max_particles = particles;
+        self
+    }
+
+    /// The same budget with at most `primitives` Gaussian primitives.
+    #[must_use]
+    pub fn with_max_primitives(mut self, primitives: u64) -> Self {
+        self.max_primitives = primitives;
+        self
+    }
+
+    /// The same budget with at most `peaks` divide-tree peaks.
+    #[must_use]
+    pub fn with_max_peaks(mut self, peaks: u64) -> Self {
+        self.max_peaks = peaks;
+        self
+    }
+
+    /// Checks what the scene asks for in so many words: its raster size, particle count,
+    /// primitive count, working-grid size and peak count. What depends on input files (their
+    /// sizes, a radius's particle count, a loaded terrain's primitives, a peak count from a
+    /// descriptor's density) is checked when known, still before the work.
+    ///
+    /// # Errors
+    /// [`ReliefError::OverBudget`] naming the JSON path of the first value over its cap.
+    pub fn check(&self, scene: &Scene) -> Result<(), ReliefError> {
+        let [nx, ny] = scene.reconstruction.resolution;
+        self.cells(cells(nx, ny), "reconstruction.resolution")?;
+        match &scene.generator {
+            Generator::Contours(g) => {
+                if let Some(n) = g.particles {
+                    self.particles(n as u64, "generator.contours.particles")?;
+                }
+            }
+            Generator::Gaussian(g) => match &g.source {
+                GaussianSource::Primitives { primitives, .. } => {
+                    self.primitives(primitives.len() as u64, "generator.gaussian.source.primitives")?;
+                }
+                GaussianSource::Dem { primitives, resolution, .. } => {
+                    self.primitives(*primitives as u64, "generator.gaussian.source.primitives")?;
+                    self.cells(cells(*resolution, *resolution), "generator.gaussian.source.resolution")?;
+                }
+                GaussianSource::Terrain { .. } => {}
+            },
+            Generator::Orometry(g) => {
+                if let Some(n) = g.tree.peaks {
+                    self.peaks(n as u64, "generator.orometry.tree.peaks")?;
+                }
+            }
+            Generator::Diffusion(_) | Generator::Island(_) => {}
+        }
+        Ok(())
+    }
+
+    pub(crate) fn cells(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+        over(requested, self.max_cells, "cells", at)
+    }
+
+    pub(crate) fn particles(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+        over(requested, self.max_particles, "particles", at)
+    }
+
+    pub(crate) fn primitives(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+        over(requested, self.max_primitives, "primitives", at)
+    }
+
+    pub(crate) fn peaks(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+        over(requested, self.max_peaks, "peaks", at)
+    }
+}
+
+fn cells(nx: usize, ny: usize) -> u64 {
+    (nx as u64).saturating_mul(ny as u64)
+}
+
+fn over(requested: u64, limit: u64, what: &'static str, at: &str) -> Result<(), ReliefError> {
+    if requested > limit {
+        return Err(ReliefError::OverBudget { path: at.to_owned(), what, requested, limit });
+    }
+    Ok(())
+}
+
+/// Where a scene's relative paths resolve, and the budget its inputs are read under.
+pub(crate) struct Env<'a> {
+    pub(crate) dir: &'a Path,
+    pub(crate) budget: Budget,
+}
+
+impl Env<'_> {
+    /// `path` resolved against the scene's directory.
+    pub(crate) fn join(&self, path: &Path) -> PathBuf {
+        self.dir.join(path)
+    }
+
+    fn options(&self) -> ReadOptions {
+        ReadOptions::default().with_limits(Limits::default().with_max_cells(self.budget.max_cells))
+    }
+
+    /// Reads a heightfield, refusing one over the cell budget before decoding it.
+    pub(crate) fn read(&self, path: &Path) -> Result<Heightfield, IoError> {
+        crate::io::read_with(self.join(path), &self.options())
+    }
+
+    /// Reads an image as gray levels (see [`crate::io::read_gray_image`]) under the cell budget.
+    pub(crate) fn read_gray(&self, path: &Path) -> Result<Heightfield, IoError> {
+        crate::io::read_gray_image(self.join(path), &self.options())
+    }
+}
