@@ -6,12 +6,15 @@
 //!   issues report. `--report-only` rewrites the report from the medians already under
 //!   `target/criterion` (after a filtered `cargo bench`, say) without running anything but the
 //!   paired TIN measurement.
+//! - `fuzz [SECONDS] [TARGET]...`: runs the cargo-fuzz targets under `fuzz/` (nightly), each for
+//!   SECONDS (default 600); see `fuzz.rs`.
 //! - `gallery`: renders the demo and every fixture scene and writes `docs/gallery.md`.
 //!
 //! Dependency-light on purpose (`anyhow`, `serde_json`): it builds in seconds and never needs the
 //! crates it measures.
 
 mod bench;
+mod fuzz;
 mod gallery;
 mod references;
 
@@ -32,8 +35,15 @@ fn main() -> Result<()> {
             bench::run(&root, flag("--quick"), &packages, flag("--report-only"))
         }
         Some("gallery") => gallery::run(&root),
+        Some("fuzz") => {
+            let seconds = args.get(1).and_then(|a| a.parse::<u64>().ok());
+            let targets: Vec<String> = args.iter().skip(if seconds.is_some() { 2 } else { 1 }).cloned().collect();
+            fuzz::run(&root, seconds.unwrap_or(600), &targets)
+        }
         Some("help" | "--help" | "-h") | None => {
-            println!("usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gallery>");
+            println!(
+                "usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gallery | fuzz [SECONDS] [TARGET]...>"
+            );
             Ok(())
         }
         Some(other) => bail!("unknown command `{other}`; try `cargo xtask help`"),

@@ -90,6 +90,16 @@ pub enum EdenError {
         /// The sampling radius.
         radius: f64,
     },
+    /// A level of a label map holds no graph node at this sampling radius.
+    #[error(
+        "label level {level} holds no graph node at sampling radius {radius}: thicken it in the image or raise the particle count"
+    )]
+    LevelTooSmall {
+        /// The level (depth) in the label map.
+        level: u16,
+        /// The sampling radius.
+        radius: f64,
+    },
     /// A label map is malformed.
     #[error("invalid label map: {reason}")]
     InvalidLabelMap {

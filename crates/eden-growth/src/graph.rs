@@ -97,7 +97,8 @@ impl Graph {
     /// The graph over a label map (the paper's input images).
     ///
     /// # Errors
-    /// As [`Graph::from_regions`].
+    /// As [`Graph::from_regions`], with [`EdenError::LevelTooSmall`] for a label level that holds
+    /// no node.
     pub fn from_labels(labels: &LabelMap, options: &GraphOptions) -> Result<Self, EdenError> {
         let r = radius(labels.omega_area(), options)?;
         let margin = options.margin * r;
@@ -112,7 +113,21 @@ impl Graph {
         let level: Vec<u16> = tin.points().par_iter().map(|&p| labels.level_at(p)).collect();
         let depression = vec![false; level.len()];
         let heights = vec![None; labels.max_level() as usize + 1];
-        Ok(Self::assemble(tin, level, depression, r, heights, labels.allows_depressions()))
+        let graph = Self::assemble(tin, level, depression, r, heights, labels.allows_depressions());
+        // Every level the image has must keep a node, as every region must in `from_regions`: a
+        // level thinner than the sampling radius (a one-pixel line, say) may catch none.
+        let mut nodes = vec![0usize; graph.max_level.max(labels.max_level()) as usize + 1];
+        for &l in &graph.level {
+            nodes[l as usize] += 1;
+        }
+        let mut present = vec![false; nodes.len()];
+        for &d in labels.depths() {
+            present[d as usize] = true;
+        }
+        if let Some(level) = (1..nodes.len()).find(|&l| present[l] && nodes[l] == 0) {
+            return Err(EdenError::LevelTooSmall { level: level as u16, radius: r });
+        }
+        Ok(graph)
     }
 
     fn assemble(

@@ -313,6 +313,11 @@ impl LabelMap {
         self.max_level
     }
 
+    /// Per-pixel depths, row-major.
+    pub(crate) fn depths(&self) -> &[u16] {
+        &self.depth
+    }
+
     /// Area of Ω (pixels of depth ≥ 1 times the cell area).
     pub fn omega_area(&self) -> f64 {
         let c = self.grid.cell_size();

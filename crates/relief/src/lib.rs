@@ -64,6 +64,8 @@ pub use relief_warp as warp;
 pub mod budget;
 mod error;
 pub mod export;
+#[doc(hidden)]
+pub mod harness;
 pub mod pipeline;
 pub mod scene;
 pub mod vector;

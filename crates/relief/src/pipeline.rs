@@ -912,7 +912,9 @@ impl Inputs {
         };
         graph.map_err(|e| {
             let at = match (&e, self.sampling) {
-                (EdenError::RegionTooSmall { .. }, _) if matches!(self.source, Source::Labels(_)) => {
+                (EdenError::RegionTooSmall { .. } | EdenError::LevelTooSmall { .. }, _)
+                    if matches!(self.source, Source::Labels(_)) =>
+                {
                     format!("{GENERATOR}.label_image.path")
                 }
                 (EdenError::RegionTooSmall { region, .. }, _) => format!("{GENERATOR}.regions[{region}].polygon"),
