@@ -43,7 +43,10 @@ pub(crate) fn run(root: &Path, seconds: u64, only: &[String]) -> Result<()> {
         let log = logs.join(format!("{target}.log"));
         println!("fuzzing {target} for {seconds} s (log: {})", log.display());
         let mut cmd = fuzz();
-        cmd.args(["run", "-O", target]).arg(&corpus);
+        // `--no-cfg-fuzzing`: spade checks its whole hull after every insertion under
+        // `cfg(fuzzing)`, which makes triangulating a few thousand points take minutes; our code
+        // has no fuzzing-only paths to enable.
+        cmd.args(["run", "-O", "--no-cfg-fuzzing", target]).arg(&corpus);
         if seeds.is_dir() {
             cmd.arg(&seeds);
         }

@@ -15,11 +15,18 @@ mod scene;
 use relief_heightfield::GridSpec;
 use scene::scene_with;
 
+/// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.
+fn quick() -> bool {
+    std::env::var_os("RELIEF_BENCH_QUICK").is_some()
+}
+
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("diffusion");
     group.sample_size(10);
     let curves = scene_with(600.0);
-    for n in [512usize, 1024, 2048, 4096] {
+    // Quick runs leave out the Jacobi baseline (seconds per solve even at 512²).
+    let (largest, largest_jacobi) = if quick() { (1024, 0) } else { (4096, 2048) };
+    for n in [512usize, 1024, 2048, 4096].into_iter().filter(|&n| n <= largest) {
         let grid = GridSpec::new(n, n, DVec2::ZERO, DVec2::splat(4000.0 / (n - 1) as f64)).expect("grid");
         group.bench_with_input(BenchmarkId::new("rasterize", n), &grid, |b, grid| {
             b.iter(|| black_box(ConstraintMaps::rasterize(&curves, grid).expect("maps")));
@@ -33,7 +40,7 @@ fn bench(c: &mut Criterion) {
                 black_box(x)
             });
         });
-        if n <= 2048 {
+        if n <= largest_jacobi {
             let jacobi =
                 SolveOptions { solver: Solver::JacobiPyramid, max_iterations: Some(5000), ..SolveOptions::default() };
             group.bench_with_input(BenchmarkId::new("jacobi_pyramid", n), &problem, |b, p| {

@@ -10,10 +10,19 @@ use glam::DVec2;
 use relief_gaussian_terrain::{RasterOptions, VectorizeOptions, fbm_dem, random_terrain, rasterize, vectorize};
 use relief_heightfield::{Extent, GridSpec};
 
+/// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.
+fn quick() -> bool {
+    std::env::var_os("RELIEF_BENCH_QUICK").is_some()
+}
+
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("gaussian_terrain");
     group.sample_size(10);
+    let largest = if quick() { 1024 } else { 4096 };
     for (n, count) in [(1024usize, 10_000usize), (1024, 30_000), (1024, 60_000), (4096, 60_000)] {
+        if n > largest {
+            continue;
+        }
         let terrain = random_terrain(count, 1000.0, 16.0, 1);
         let grid = GridSpec::from_extent(n, n, Extent::new(DVec2::ZERO, DVec2::splat(1000.0))).expect("grid");
         let id = BenchmarkId::new("rasterize", format!("{n}/{}k", count / 1000));

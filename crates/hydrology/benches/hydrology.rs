@@ -70,10 +70,16 @@ fn textbook_fill(dem: &Heightfield) -> Vec<f32> {
     z
 }
 
+/// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.
+fn quick() -> bool {
+    std::env::var_os("RELIEF_BENCH_QUICK").is_some()
+}
+
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("hydrology");
     group.sample_size(10);
-    for n in [1024usize, 2048, 4096] {
+    let largest = if quick() { 2048 } else { 4096 };
+    for n in [1024usize, 2048, 4096].into_iter().filter(|&n| n <= largest) {
         let dem = terrain(n);
         group.bench_with_input(BenchmarkId::new("priority_flood", n), &dem, |b, dem| {
             b.iter(|| black_box(fill(dem, Outlets::new()).expect("fill")));

@@ -22,6 +22,11 @@ fn dem(n: usize) -> Heightfield {
     Heightfield::from_fn(grid, |p| (1500.0 + 1200.0 * fbm.sample(p)) as f32).expect("dem")
 }
 
+/// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.
+fn quick() -> bool {
+    std::env::var_os("RELIEF_BENCH_QUICK").is_some()
+}
+
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("orometry");
     group.sample_size(10);
@@ -41,7 +46,8 @@ fn bench(c: &mut Criterion) {
             )
         });
     });
-    for n in [750usize, 3000] {
+    let largest = if quick() { 750 } else { 3000 };
+    for n in [750usize, 3000].into_iter().filter(|&n| n <= largest) {
         let grid =
             GridSpec::from_extent(n, n, Extent::new(DVec2::ZERO, DVec2::splat(30.0 * (n - 1) as f64))).expect("grid");
         group.bench_with_input(BenchmarkId::new("synthesize", n), &grid, |b, grid| {

@@ -18,10 +18,16 @@ fn points(n: usize) -> Vec<DVec2> {
     PoissonDisc::new(r).expect("radius").with_seed(1).sample(&square).expect("points")
 }
 
+/// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.
+fn quick() -> bool {
+    std::env::var_os("RELIEF_BENCH_QUICK").is_some()
+}
+
 fn build(c: &mut Criterion) {
     let mut group = c.benchmark_group("tin");
     group.sample_size(10);
-    for n in [10_000usize, 100_000, 1_000_000] {
+    let largest = if quick() { 100_000 } else { 1_000_000 };
+    for n in [10_000usize, 100_000, 1_000_000].into_iter().filter(|&n| n <= largest) {
         let pts = points(n);
         group.bench_with_input(BenchmarkId::new("spade_bulk_load", n), &pts, |b, pts| {
             b.iter(|| {
