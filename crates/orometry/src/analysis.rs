@@ -211,21 +211,13 @@ fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPe
     let mut raw: Vec<RawPeak> =
         peaks.iter().map(|&kk| RawPeak { cell: cell_of_key(kk), saddle: None, parent: None, edge: false }).collect();
     let mut uf: Vec<u32> = (0..m as u32).collect();
-    let find = |uf: &mut Vec<u32>, mut x: u32| {
-        while uf[x as usize] != x {
-            let up = uf[uf[x as usize] as usize];
-            uf[x as usize] = up;
-            x = up;
-        }
-        x
-    };
     let mut roots: Vec<u32> = Vec::with_capacity(8);
     for group in edges.chunk_by(|a, b| a.0 == b.0) {
         let kk = group[0].0;
         roots.clear();
         for &(_, a, b) in group {
             for l in [a, b] {
-                let r = find(&mut uf, l);
+                let r = crate::tree::find(&mut uf, l);
                 if !roots.contains(&r) {
                     roots.push(r);
                 }
