@@ -21,7 +21,7 @@ pub struct Budget {
     /// Most growth particles (nodes inside Ω), asked for directly or through a Poisson radius.
     /// Default 50 million.
     pub max_particles: u64,
-    /// Most Gaussian primitives, listed, loaded or fitted. Default 2^22.
+    /// Most Gaussian primitives, listed, loaded, fitted or added by the editing tools. Default 2^22.
     pub max_primitives: u64,
     /// Most peaks of a generated divide tree. Default 200 000.
     pub max_peaks: u64,
@@ -64,8 +64,9 @@ impl Budget {
 
     /// Checks what the scene asks for in so many words: its raster size, particle count,
     /// primitive count, working-grid size and peak count. What depends on input files (their
-    /// sizes, a radius's particle count, a loaded terrain's primitives, a peak count from a
-    /// descriptor's density) is checked when known, still before the work.
+    /// sizes, a radius's particle count, a loaded terrain's primitives, primitives a paste or
+    /// stamp adds, a peak count from a descriptor's density) is checked when known: before the
+    /// work, or for a stamp (which at most doubles the terrain) right after it.
     ///
     /// # Errors
     /// [`ReliefError::OverBudget`] naming the JSON path of the first value over its cap.

@@ -119,6 +119,8 @@ pub(crate) fn apply_operations(
                 let atlas: Atlas = read_json(&env.join(atlas), &format!("{here}.atlas"))?;
                 atlas.validate().map_err(wrap)?;
                 let landform = atlas.get(landform).map_err(wrap)?;
+                let pasted = (terrain.len() + landform.primitives.len()) as u64;
+                env.budget.primitives(pasted, &format!("{here}.landform"))?;
                 let footprint = Region::Circle { center: [0.0, 0.0], radius: *footprint };
                 paste(terrain, landform, &footprint, placement, *damping).map_err(wrap)?;
             }
@@ -144,6 +146,8 @@ pub(crate) fn apply_operations(
                 s.scale_amplitude(terrain, &attached, node, *factor, *reach).map_err(wrap)?;
             }
         }
+        // A stamp at most doubles the terrain, so checking after each tool keeps the work bounded.
+        env.budget.primitives(terrain.len() as u64, &here)?;
     }
     Ok(())
 }

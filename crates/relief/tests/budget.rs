@@ -158,3 +158,32 @@ fn the_default_budget_refuses_requests_that_would_exhaust_memory() {
     v["generator"]["orometry"]["tree"] = json!({ "peaks": 1u64 << 33 });
     assert_over(&refused(&v, Budget::default()), "peaks", "generator.orometry.tree.peaks", 1 << 33);
 }
+
+#[test]
+fn primitives_added_by_the_tools_are_capped() {
+    // The listed source fits the cap exactly; the stamp that copies part of it does not.
+    let v = fixture("gaussian-massif.json");
+    let listed = v["generator"]["gaussian"]["source"]["primitives"].as_array().unwrap().len() as u64;
+    match &refused(&v, Budget::default().with_max_primitives(listed)) {
+        ReliefError::OverBudget { path, what: "primitives", requested, limit } => {
+            assert_eq!(path, "generator.gaussian.operations[0]");
+            assert!(*requested > listed && *limit == listed, "{requested} {limit}");
+        }
+        other => panic!("expected OverBudget for primitives, got {other:?}"),
+    }
+
+    // A paste is refused before the landform is placed: source + landform over the cap.
+    let atlas: Value =
+        serde_json::from_str(&std::fs::read_to_string(scenes().join("inputs/gaussian-atlas.json")).unwrap()).unwrap();
+    let volcano = atlas["landforms"].as_array().unwrap().iter().find(|l| l["name"] == "volcano").unwrap();
+    let landform = volcano["primitives"].as_array().unwrap().len() as u64;
+    let mut v = fixture("gaussian-massif.json");
+    let ops = v["generator"]["gaussian"]["operations"].as_array_mut().unwrap();
+    ops.retain(|op| op["op"] == "paste");
+    assert_eq!(ops.len(), 1);
+    let e = refused(&v, Budget::default().with_max_primitives(listed + landform - 1));
+    assert_over(&e, "primitives", "generator.gaussian.operations[0].landform", listed + landform);
+    // One more primitive of budget and the same scene generates.
+    let budget = Budget::default().with_max_primitives(listed + landform);
+    assert!(generate_with(&scene(&v), &scenes(), &budget, &mut Quiet).is_ok());
+}
