@@ -22,11 +22,17 @@ fn island() -> RegionTree {
     RegionTree::new(vec![Region::new(Polygon::from_exterior(coast).expect("coast"))]).expect("regions")
 }
 
+/// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.
+fn quick() -> bool {
+    std::env::var_os("RELIEF_BENCH_QUICK").is_some()
+}
+
 fn bench(c: &mut Criterion) {
     let tree = island();
     let mut group = c.benchmark_group("eden");
     group.sample_size(10);
-    for n in [10_000usize, 20_000, 50_000, 100_000, 500_000, 1_000_000] {
+    let largest = if quick() { 500_000 } else { 1_000_000 };
+    for n in [10_000usize, 20_000, 50_000, 100_000, 500_000, 1_000_000].into_iter().filter(|&n| n <= largest) {
         let graph = Graph::from_regions(&tree, &GraphOptions::particles(n).with_seed(1)).expect("graph");
         group
             .bench_with_input(BenchmarkId::new("growth", n), &graph, |b, g| b.iter(|| black_box(grow(g, &Uniform, 1))));

@@ -78,7 +78,7 @@ fn quick() -> bool {
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("hydrology");
     group.sample_size(10);
-    let largest = if quick() { 2048 } else { 4096 };
+    let largest = if quick() { 1024 } else { 4096 };
     for n in [1024usize, 2048, 4096].into_iter().filter(|&n| n <= largest) {
         let dem = terrain(n);
         group.bench_with_input(BenchmarkId::new("priority_flood", n), &dem, |b, dem| {

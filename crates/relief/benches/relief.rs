@@ -33,6 +33,11 @@ fn reunion() -> LabelMap {
     LabelMap::from_values(grid, image.samples()).expect("label map")
 }
 
+/// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.
+fn quick() -> bool {
+    std::env::var_os("RELIEF_BENCH_QUICK").is_some()
+}
+
 fn table1(c: &mut Criterion) {
     let labels = reunion();
     let mut group = c.benchmark_group("relief_table1");
@@ -66,10 +71,12 @@ fn demo(c: &mut Criterion) {
     let mut group = c.benchmark_group("relief_demo");
     group.sample_size(10);
     group.bench_function("generate", |b| b.iter(|| black_box(relief::pipeline::generate(&scene, root(), &mut ()))));
-    let dir = tempfile::tempdir().expect("temporary directory");
-    group.bench_function("generate_and_write", |b| {
-        b.iter(|| black_box(relief::pipeline::run(&scene, root(), dir.path(), &mut ())));
-    });
+    if !quick() {
+        let dir = tempfile::tempdir().expect("temporary directory");
+        group.bench_function("generate_and_write", |b| {
+            b.iter(|| black_box(relief::pipeline::run(&scene, root(), dir.path(), &mut ())));
+        });
+    }
     group.finish();
 
     let grid = GridSpec::from_extent(4096, 4096, Extent::new(DVec2::ZERO, DVec2::splat(40_960.0))).expect("grid");
