@@ -74,13 +74,16 @@ fn outputs(dir: &Path) -> BTreeMap<String, Vec<u8>> {
 #[test]
 fn every_generator_is_byte_identical_across_thread_counts_and_runs() {
     let ws = workspace();
-    // One fixture per generator kind: contours (with a warp edit), diffusion, island, Gaussian,
-    // orometry.
+    // Every generator kind: contours (with a warp edit), diffusion (two scenes), island (with
+    // seeded perturbation filters), Gaussian (listed primitives with the tools, and a fit from a
+    // DEM), orometry.
     let scenes = [
         "editing-session.json",
         "mountain-ridges.json",
         "volcanic-island.json",
+        "craggy-island.json",
         "gaussian-massif.json",
+        "gaussian-jacksboro.json",
         "orometry-jacksboro.json",
     ];
     for name in scenes {
