@@ -75,6 +75,20 @@ pub enum WarpError {
         /// The modulation radius.
         radius: f64,
     },
+    /// A stroke so long for its radius that it would need more discs than [`crate::MAX_DISCS`].
+    #[error(
+        "a stroke of length {length} at radius {radius} needs {discs:.0} discs, more than {max}: use a larger radius or a shorter stroke"
+    )]
+    TooManyDiscs {
+        /// The stroke's length.
+        length: f64,
+        /// The disc radius.
+        radius: f64,
+        /// Discs it would need.
+        discs: f64,
+        /// The cap.
+        max: usize,
+    },
     /// A subdivision tolerance is not finite and positive.
     #[error("tolerance {tolerance} must be finite and > 0")]
     InvalidTolerance {

@@ -44,7 +44,7 @@ mod warp;
 
 pub use apply::{warp_points, warp_polyline, warp_polylines, warp_raster};
 pub use error::WarpError;
-pub use path::{PathOptions, PathWarp};
+pub use path::{MAX_DISCS, PathOptions, PathWarp};
 pub use profile::Profile;
 pub use slope::SlopeModulation;
 pub use warp::{Composition, Warp};

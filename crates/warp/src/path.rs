@@ -66,13 +66,18 @@ pub(crate) fn clean_stroke(stroke: &[DVec2]) -> Result<(Vec<DVec2>, f64), WarpEr
     Ok((pts, length))
 }
 
+/// Most discs one path warp may have (2^20: a stroke a million radii long). Each disc is visited
+/// for every point it may move, so a stroke near the cap is already minutes of work.
+pub const MAX_DISCS: usize = 1 << 20;
+
 impl PathWarp {
     /// A warp along `stroke` (≥ 2 distinct points).
     ///
     /// # Errors
     /// [`WarpError::DegenerateStroke`], [`WarpError::NonFinite`], [`WarpError::InvalidRadius`],
     /// [`WarpError::InvalidStrength`] (μ outside [0, 1]), [`WarpError::SegmentTooLong`] when a forced
-    /// ε exceeds the bijectivity limit (named in the message).
+    /// ε exceeds the bijectivity limit (named in the message), [`WarpError::TooManyDiscs`] when the
+    /// stroke would need more than [`MAX_DISCS`] discs.
     pub fn new(stroke: &[DVec2], options: &PathOptions) -> Result<Self, WarpError> {
         let (pts, length) = clean_stroke(stroke)?;
         let radius = finite("radius", options.radius)?;
@@ -100,7 +105,12 @@ impl PathWarp {
             // each moving half as far).
             None => 0.5 * profile.max_segment(radius, 1.0),
         };
-        let n = (length / wanted).ceil().max(1.0) as usize;
+        let discs = (length / wanted).ceil().max(1.0);
+        // Also catches an infinite length (finite points ±1e308 apart), which would saturate.
+        if discs.is_nan() || discs > MAX_DISCS as f64 {
+            return Err(WarpError::TooManyDiscs { length, radius, discs, max: MAX_DISCS });
+        }
+        let n = discs as usize;
         let epsilon = length / n as f64;
         let centers = resample(&pts, n);
         let dirs: Vec<DVec2> = centers.windows(2).map(|w| (w[1] - w[0]).normalize_or_zero()).collect();

@@ -3,7 +3,8 @@
 use glam::DVec2;
 use proptest::prelude::*;
 use relief_warp::{
-    Composition, PathOptions, PathWarp, Profile, SlopeModulation, Warp, WarpError, warp_polyline, warp_raster,
+    Composition, MAX_DISCS, PathOptions, PathWarp, Profile, SlopeModulation, Warp, WarpError, warp_polyline,
+    warp_raster,
 };
 
 fn v(points: &[(f64, f64)]) -> Vec<DVec2> {
@@ -165,6 +166,28 @@ fn forced_segments_above_the_bound_are_rejected_with_the_limit() {
     assert!(PathWarp::new(&stroke, &o).is_ok());
     let err = PathWarp::new(&stroke, &PathOptions { segment: Some(14.0), ..PathOptions::new(10.0, 0.5) }).unwrap_err();
     assert!(err.to_string().contains("exceeds the bijectivity limit 12.99"), "{err}");
+}
+
+#[test]
+fn strokes_needing_too_many_discs_are_refused_not_allocated() {
+    // A tiny radius along a long stroke, a forced tiny segment, and a stroke whose length overflows
+    // to infinity: each would ask for billions of discs (or saturate a cast) if attempted.
+    let long = v(&[(0.0, 0.0), (1.0e9, 0.0)]);
+    let huge = v(&[(-1.0e308, 0.0), (1.0e308, 0.0)]);
+    let forced = PathOptions { segment: Some(1.0e-9), ..PathOptions::new(10.0, 1.0) };
+    for (stroke, options) in
+        [(&long, PathOptions::new(1.0e-3, 1.0)), (&long, forced), (&huge, PathOptions::new(1.0, 1.0))]
+    {
+        match PathWarp::new(stroke, &options) {
+            Err(e @ WarpError::TooManyDiscs { max: MAX_DISCS, .. }) => {
+                assert!(e.to_string().contains("larger radius"), "{e}");
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    // Just under the cap is accepted.
+    let radius = 1.0e9 / (0.5 * 0.6495 * (MAX_DISCS - 1000) as f64);
+    assert!(PathWarp::new(&long, &PathOptions::new(radius, 1.0)).is_ok_and(|w| w.discs() <= MAX_DISCS));
 }
 
 #[test]
