@@ -106,11 +106,29 @@ pub enum IoErrorKind {
     /// The header announces more cells than [`crate::Limits::max_cells`] allows.
     #[error("{cells} cells exceed the limit of {limit} (raise Limits::max_cells to read it)")]
     TooLarge {
-        /// Cells the header announces (saturated at `u64::MAX`).
+        /// Cells the header announces (saturated at `u64::MAX`); for a multi-channel OpenEXR file,
+        /// cells × channels, as every channel is decoded.
         cells: u64,
         /// The configured limit.
         limit: u64,
     },
+    /// The file is bigger than any grid within [`crate::Limits::max_cells`] could justify (32 bytes
+    /// per cell plus 1 MiB), checked from its size before it is read.
+    #[error(
+        "the file is {bytes} bytes, more than the {limit} bytes a grid of at most {max_cells} cells needs (raise Limits::max_cells to read it)"
+    )]
+    FileTooLarge {
+        /// The file's size.
+        bytes: u64,
+        /// The byte limit derived from the cell limit.
+        limit: u64,
+        /// The cell limit.
+        max_cells: u64,
+    },
+    /// The path is a directory, device, pipe or socket: only regular files are read, so a scene
+    /// naming `/dev/zero` or a FIFO fails at once instead of reading forever.
+    #[error("not a regular file")]
+    NotAFile,
     /// A valid file this crate does not handle (RGB PNG, multi-band TIFF, …), or a grid a format
     /// cannot hold (a 100×80 grid as `.hgt`).
     #[error("unsupported: {0}")]

@@ -207,7 +207,7 @@ pub fn read(path: impl AsRef<Path>) -> Result<Heightfield, IoError> {
 pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Heightfield, IoError> {
     let path = path.as_ref();
     let at = |kind| IoError::new(path, kind);
-    let bytes = std::fs::read(path).map_err(|e| at(IoErrorKind::Io(e)))?;
+    let bytes = read_input(path, options.limits)?;
     let format =
         options.format.or_else(|| Format::detect(path, &bytes)).ok_or_else(|| at(IoErrorKind::UnknownFormat))?;
     let hf = match format {
@@ -393,11 +393,12 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<(), IoError>
 /// As [`read`].
 pub fn read_gray_image(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Heightfield, IoError> {
     let path = path.as_ref();
-    let at = |kind| IoError::new(path, kind);
-    let bytes = std::fs::read(path).map_err(|e| at(IoErrorKind::Io(e)))?;
+    let bytes = read_input(path, options.limits)?;
     match options.format.or_else(|| Format::detect(path, &bytes)) {
         #[cfg(feature = "png")]
-        Some(Format::Png8 | Format::Png16) => png_gray::decode_luma(&bytes, options.limits).map_err(at),
+        Some(Format::Png8 | Format::Png16) => {
+            png_gray::decode_luma(&bytes, options.limits).map_err(|kind| IoError::new(path, kind))
+        }
         _ => read_with(path, options),
     }
 }
@@ -418,6 +419,28 @@ fn raw_sidecar_path(path: &Path) -> PathBuf {
 }
 
 /// A sidecar's text, `None` if it does not exist; at most `max` bytes are accepted.
+/// A regular file's bytes, refused from its size alone when no grid within `limits` could need
+/// that many (32 bytes per cell, the widest ASCII value with its separator, plus 1 MiB of header).
+fn read_input(path: &Path, limits: Limits) -> Result<Vec<u8>, IoError> {
+    let at = |kind| IoError::new(path, kind);
+    let file = std::fs::File::open(path).map_err(|e| at(IoErrorKind::Io(e)))?;
+    let meta = file.metadata().map_err(|e| at(IoErrorKind::Io(e)))?;
+    if !meta.is_file() {
+        return Err(at(IoErrorKind::NotAFile));
+    }
+    let limit = limits.byte_budget(32, 1 << 20) as u64;
+    if meta.len() > limit {
+        return Err(at(IoErrorKind::FileTooLarge { bytes: meta.len(), limit, max_cells: limits.max_cells }));
+    }
+    let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    // `take`: a file that grows while it is read still stops at the limit.
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(|e| at(IoErrorKind::Io(e)))?;
+    if bytes.len() as u64 > limit {
+        return Err(at(IoErrorKind::FileTooLarge { bytes: bytes.len() as u64, limit, max_cells: limits.max_cells }));
+    }
+    Ok(bytes)
+}
+
 fn read_small_text(path: &Path, max: u64) -> Result<Option<String>, IoError> {
     let at = |kind| IoError::new(path, kind);
     let file = match std::fs::File::open(path) {

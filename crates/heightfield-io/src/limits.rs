@@ -41,10 +41,6 @@ impl Limits {
 
     /// The cell limit as a byte budget for a dependency's own limits: `bytes_per_cell` per cell plus
     /// `slack` for headers and row buffers.
-    #[cfg_attr(
-        not(any(feature = "png", feature = "geotiff")),
-        allow(dead_code, reason = "used by the png and tiff codecs only")
-    )]
     pub(crate) fn byte_budget(self, bytes_per_cell: u64, slack: u64) -> usize {
         let b = self.max_cells.saturating_mul(bytes_per_cell).saturating_add(slack);
         usize::try_from(b).unwrap_or(usize::MAX)

@@ -55,6 +55,10 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
     for header in &meta.headers {
         let size = header.layer_size;
         let cells = limits.check(size.0 as u64, size.1 as u64)?;
+        // Every channel is decoded before the height channel is picked: the samples of all of
+        // them count against the limit.
+        let channels = header.channels.list.len().max(1) as u64;
+        limits.check((size.0 as u64).saturating_mul(channels), size.1 as u64)?;
         if header.compression == Compression::Uncompressed {
             let per_cell: u64 = header.channels.list.iter().map(|c| sample_bytes(c.sample_type)).sum();
             let needed = (cells as u64).saturating_mul(per_cell);

@@ -578,3 +578,46 @@ fn anyhow_like(err: &(dyn std::error::Error + 'static)) -> String {
     }
     out
 }
+
+#[test]
+fn only_regular_files_within_the_byte_budget_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    // A directory, and on Unix a device that never ends: refused before a byte is read.
+    let mut not_files = vec![dir.path().to_path_buf()];
+    if cfg!(unix) {
+        not_files.push(PathBuf::from("/dev/zero"));
+    }
+    for path in &not_files {
+        for result in [read(path), relief_heightfield_io::read_gray_image(path, &ReadOptions::default())] {
+            let err = result.expect_err("not a file");
+            assert!(matches!(err.kind(), IoErrorKind::NotAFile), "{}: {err}", path.display());
+        }
+    }
+    // 32 bytes per cell plus 1 MiB: a 4 MiB file cannot hold a grid of at most 1000 cells.
+    let path = dir.path().join("padded.r32");
+    std::fs::write(&path, vec![0u8; 4 << 20]).unwrap();
+    let err = read_with(&path, &tiny_limits(1000)).unwrap_err();
+    match err.kind() {
+        IoErrorKind::FileTooLarge { bytes, limit, max_cells: 1000 } => {
+            assert_eq!((*bytes, *limit), (4 << 20, 32_000 + (1 << 20)));
+        }
+        other => panic!("{other:?}"),
+    }
+    // Under the default limits the same file is read (a square r32 of 1024²).
+    let hf = read_with(&path, &ReadOptions::default()).unwrap();
+    assert_eq!((hf.nx(), hf.ny()), (1024, 1024));
+}
+
+#[cfg(feature = "exr")]
+#[test]
+fn exr_channels_all_count_against_the_cell_limit() {
+    // Every channel is decoded before the height channel is picked, so a 20×10 RGBA file is 800
+    // samples, not 200.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rgba.exr");
+    exr::prelude::write_rgba_file(&path, 20, 10, |x, y| (x as f32, y as f32, 0.0f32, 1.0f32)).unwrap();
+    let err = read_with(&path, &tiny_limits(799)).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::TooLarge { cells: 800, limit: 799 }), "{err}");
+    let hf = read_with(&path, &tiny_limits(800)).unwrap();
+    assert_eq!((hf.nx(), hf.ny()), (20, 10));
+}
