@@ -161,6 +161,17 @@ impl FeatureCurve {
         self.constraints.iter().any(|c| c.elevation.is_some())
     }
 
+    /// About how many points [`Self::centre_line`] takes at `step` (from the control polygon, which
+    /// bounds each piece's length), in f64 so that absurd curves cannot overflow it.
+    pub(crate) fn samples_at(&self, step: f64) -> f64 {
+        let p = &self.points;
+        if p.len() == 2 {
+            return (p[0].distance(p[1]) / step).ceil() + 1.0;
+        }
+        let hull: f64 = p.windows(2).map(|w| w[0].distance(w[1])).sum();
+        hull / step + 8.0 * (p.len() / 3) as f64 + 1.0
+    }
+
     /// The centre line as points `step` apart or closer (at least 8 per cubic piece).
     fn centre_line(&self, step: f64) -> Vec<DVec2> {
         let p = &self.points;

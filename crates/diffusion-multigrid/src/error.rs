@@ -53,6 +53,19 @@ pub enum DiffusionError {
         /// What it must be.
         reason: &'static str,
     },
+    /// A curve so long for the grid's cell size that sampling it every half cell would take more
+    /// than [`crate::MAX_STATIONS`] stations (a curve far outside the grid, or a typo in its units).
+    #[error(
+        "curve {curve} needs about {stations:.0} samples at half a cell apart, more than {max}: is it in the grid's units?"
+    )]
+    CurveTooLong {
+        /// Index of the curve.
+        curve: usize,
+        /// Samples its control polygon would take.
+        stations: f64,
+        /// The cap.
+        max: usize,
+    },
     /// The raster is too small to diffuse on.
     #[error("grid {nx} x {ny} is too small: diffusion needs at least 2 x 2 samples")]
     GridTooSmall {

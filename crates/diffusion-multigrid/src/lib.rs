@@ -45,3 +45,8 @@ pub use raster::{CellKind, ConstraintMaps};
 pub use relief_heightfield as heightfield;
 pub use solver::{DiffusionProblem, SolveOptions, SolveReport, Solver};
 pub use terrain::{FeatureTerrain, TerrainOptions, generate};
+
+/// Most samples one feature curve may take when rasterized (a station every half cell): 2^23, a
+/// curve thousands of grid widths long. Longer curves are refused with
+/// [`DiffusionError::CurveTooLong`] before any is allocated.
+pub const MAX_STATIONS: usize = 1 << 23;

@@ -65,13 +65,20 @@ impl ConstraintMaps {
     /// average; overlapping slope bands of different curve sides leave a [`CellKind::Hole`].
     ///
     /// # Errors
-    /// The validation errors of [`FeatureCurve::validate`]; [`DiffusionError::GridTooSmall`].
+    /// The validation errors of [`FeatureCurve::validate`]; [`DiffusionError::GridTooSmall`];
+    /// [`DiffusionError::CurveTooLong`] before sampling a curve of more than [`crate::MAX_STATIONS`]
+    /// half-cell steps.
     pub fn rasterize(curves: &[FeatureCurve], grid: &GridSpec) -> Result<Self, DiffusionError> {
         if grid.nx() < 2 || grid.ny() < 2 {
             return Err(DiffusionError::GridTooSmall { nx: grid.nx(), ny: grid.ny() });
         }
+        let step = 0.5 * grid.cell_size().x.min(grid.cell_size().y);
         for (k, c) in curves.iter().enumerate() {
             c.validate(k)?;
+            let stations = c.samples_at(step);
+            if stations.is_nan() || stations > crate::MAX_STATIONS as f64 {
+                return Err(DiffusionError::CurveTooLong { curve: k, stations, max: crate::MAX_STATIONS });
+            }
         }
         let n = grid.len();
         let mut canvas = Canvas {
@@ -84,7 +91,6 @@ impl ConstraintMaps {
             hole: vec![false; n],
         };
         let cell = grid.cell_size();
-        let step = 0.5 * cell.x.min(cell.y);
         let min_r = 0.75 * cell.x.max(cell.y);
         for (id, curve) in curves.iter().enumerate() {
             let stations = curve.stations(step);

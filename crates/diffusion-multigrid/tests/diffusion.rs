@@ -5,8 +5,8 @@
 use glam::DVec2;
 use proptest::prelude::*;
 use relief_diffusion_multigrid::{
-    CellKind, Constraint, ConstraintMaps, DiffusionError, DiffusionProblem, Elevation, FeatureCurve, SolveOptions,
-    Solver, TerrainOptions, generate, presets,
+    CellKind, Constraint, ConstraintMaps, DiffusionError, DiffusionProblem, Elevation, FeatureCurve, MAX_STATIONS,
+    SolveOptions, Solver, TerrainOptions, generate, presets,
 };
 use relief_heightfield::GridSpec;
 
@@ -208,6 +208,19 @@ fn bad_input_is_a_typed_error() {
         generate(&[line([0.0, 0.0], [1.0, 1.0], 1.0)], &g, &aliased),
         Err(DiffusionError::InvalidOption { name: "noise_wavelength", .. })
     ));
+    // A few kilobytes of scene asking for 10^8 samples: refused before any is taken. The grid is
+    // 100 units wide, a cell 100/32; a segment 10^8 units long is 6.4·10^7 half cells.
+    let far = line([0.0, 0.0], [1.0e8, 0.0], 1.0);
+    match generate(&[line([0.0, 0.0], [1.0, 1.0], 1.0), far.clone()], &g, &plain()) {
+        Err(e @ DiffusionError::CurveTooLong { curve: 1, max: MAX_STATIONS, .. }) => {
+            assert!(e.to_string().contains("grid's units"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Cubic pieces are bounded by their control polygons: many far-flung pieces add up.
+    let zigzag: Vec<DVec2> = (0..301).map(|i| DVec2::new(if i % 2 == 0 { 0.0 } else { 1.0e6 }, 0.0)).collect();
+    let zigzag = FeatureCurve { points: zigzag, constraints: far.constraints.clone() };
+    assert!(matches!(generate(&[zigzag], &g, &plain()), Err(DiffusionError::CurveTooLong { curve: 0, .. })));
     let bent = FeatureCurve { points: vec![DVec2::ZERO; 3], constraints: vec![Constraint::default()] };
     assert!(matches!(generate(&[bent], &g, &plain()), Err(DiffusionError::ControlPoints { curve: 0, count: 3 })));
     // Conflicting strict elevations average.
