@@ -73,10 +73,10 @@ impl Graph {
     /// [`EdenError::InvalidMargin`], [`EdenError::RegionTooSmall`], or a sampling/TIN error.
     pub fn from_regions(tree: &RegionTree, options: &GraphOptions) -> Result<Self, EdenError> {
         let omega = tree.omega();
-        let r = radius(omega.area(), options)?;
+        let (r, requested) = radius(omega.area(), options)?;
         let samples = PoissonDisc::new(r)?
             .with_seed(options.seed)
-            .with_max_points(options.max_particles.saturating_mul(4).saturating_add(1 << 20))
+            .with_max_points(max_points(requested))
             .sample_extended(omega, options.margin * r)?;
         let tin = Tin::new(samples.points)?;
         let classes: Vec<Class> = tin.points().par_iter().map(|&p| tree.classify(p)).collect();
@@ -100,14 +100,14 @@ impl Graph {
     /// As [`Graph::from_regions`], with [`EdenError::LevelTooSmall`] for a label level that holds
     /// no node.
     pub fn from_labels(labels: &LabelMap, options: &GraphOptions) -> Result<Self, EdenError> {
-        let r = radius(labels.omega_area(), options)?;
+        let (r, requested) = radius(labels.omega_area(), options)?;
         let margin = options.margin * r;
         // Half a pixel diagonal of slack: the distance transform is measured between pixel centres.
         let slack = 0.5 * labels.grid().cell_size().length();
         let domain = FnDomain::new(labels.omega_bounds().grow(margin), |p: DVec2| labels.near_omega(p, margin + slack));
         let TaggedSamples { points, .. } = PoissonDisc::new(r)?
             .with_seed(options.seed)
-            .with_max_points(options.max_particles.saturating_mul(4).saturating_add(1 << 20))
+            .with_max_points(max_points(requested))
             .sample_tagged(&domain, |_| false)?;
         let tin = Tin::new(points)?;
         let level: Vec<u16> = tin.points().par_iter().map(|&p| labels.level_at(p)).collect();
@@ -199,7 +199,16 @@ impl Graph {
 }
 
 /// The Poisson radius for the requested density, refusing counts over the cap before sampling.
-fn radius(area: f64, options: &GraphOptions) -> Result<f64, EdenError> {
+/// The sampler's point budget for `requested` particles in Ω: room for the margin ring and a
+/// slack of 2^20, but proportional to what was asked, so that a sliver of Ω whose bounding box
+/// is vast at its sampling radius fails fast instead of allocating a background grid for it.
+fn max_points(requested: u64) -> u64 {
+    requested.saturating_mul(8).saturating_add(1 << 20)
+}
+
+/// The sampling radius and the particle count it implies in Ω (area `area`), checked against the
+/// options' cap.
+fn radius(area: f64, options: &GraphOptions) -> Result<(f64, u64), EdenError> {
     if !(options.margin.is_finite() && options.margin >= 1.0) {
         return Err(EdenError::InvalidMargin { margin: options.margin });
     }
@@ -211,7 +220,7 @@ fn radius(area: f64, options: &GraphOptions) -> Result<f64, EdenError> {
     if requested > options.max_particles {
         return Err(EdenError::TooManyParticles { requested, limit: options.max_particles });
     }
-    Ok(r)
+    Ok((r, requested))
 }
 
 /// Finds, level by level from the bottom, the connected groups of same-level nodes with no

@@ -279,6 +279,15 @@ fn bad_parameters_are_typed_errors() {
         Graph::from_regions(&tree, &opts).unwrap_err(),
         EdenError::TooManyParticles { limit: 10_000, .. }
     ));
+    // A sliver 1000 km long and 1 mm wide at its base asks for 64 particles: its margin band
+    // would take millions of samples at the radius those 64 imply. The sampler's budget follows
+    // the request, so it fails at once instead of sampling (or allocating a grid for) the band.
+    let sliver = Polygon::from_exterior(vec![DVec2::ZERO, DVec2::new(1.0e6, 0.0), DVec2::new(1.0e6, 1.0e-3)]).unwrap();
+    let sliver = RegionTree::new(vec![Region::new(sliver)]).unwrap();
+    match Graph::from_regions(&sliver, &GraphOptions::particles(64)).unwrap_err() {
+        EdenError::Sampling(e) => assert!(e.to_string().contains("points"), "{e}"),
+        other => panic!("{other:?}"),
+    }
     let mut opts = GraphOptions::particles(100);
     opts.margin = 0.5;
     assert!(matches!(Graph::from_regions(&tree, &opts).unwrap_err(), EdenError::InvalidMargin { .. }));
