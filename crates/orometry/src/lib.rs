@@ -58,7 +58,7 @@ pub use descriptor::{
 pub use error::OrometryError;
 pub use generate::{ControlMaps, MAX_PEAKS, TreeOptions, generate_tree};
 pub use isolation::Isolation;
-pub use terrain::{TerrainOptions, terrain_from_tree};
+pub use terrain::{MAX_MESH_SAMPLES, TerrainOptions, terrain_from_tree};
 pub use tree::{DivideTree, TreeOrometry, TreePeak, TreeSaddle};
 
 use relief_heightfield::{GridSpec, Heightfield};

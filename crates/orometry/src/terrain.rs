@@ -34,7 +34,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use relief_heightfield::noise::Fbm;
-use relief_heightfield::{GridSpec, Heightfield, distance_transform_seeded};
+use relief_heightfield::{Extent, GridSpec, Heightfield, distance_transform_seeded};
 use relief_hydrology::{D8, Field, NO_RECEIVER, Outlets, StreamPower, fill};
 use relief_tin::Tin;
 use relief_tin::poisson_sampling::{PoissonDisc, Rect};
@@ -101,7 +101,30 @@ fn check(name: &'static str, v: f64, ok: bool, reason: &'static str) -> Result<(
     if ok && v.is_finite() { Ok(()) } else { Err(OrometryError::InvalidOption { name, value: v, reason }) }
 }
 
+/// Most samples [`terrain_from_tree`] meshes and routes at λ: 2^25, the routing raster of a domain
+/// about 570 km across at the default λ = 200 m. Finer meshes fail with
+/// [`OrometryError::MeshTooFine`] before anything is allocated.
+pub const MAX_MESH_SAMPLES: u64 = 1 << 25;
+
 impl TerrainOptions {
+    /// About how many samples [`terrain_from_tree`] works with over `extent` for `tree`: the
+    /// routing raster at λ/2 plus the ridge nodes refined every λ (the Poisson fill at λ is a
+    /// quarter of the raster). In f64, so absurd domains cannot overflow it.
+    pub fn mesh_samples(&self, tree: &DivideTree, extent: Extent) -> f64 {
+        let size = extent.size();
+        let cell = 0.5 * self.lambda_m;
+        let raster = ((size.x / cell).ceil() + 1.0) * ((size.y / cell).ceil() + 1.0);
+        let ridges: f64 = tree
+            .saddles
+            .iter()
+            .flat_map(|s| s.peaks.iter().map(move |&p| (s.position, p)))
+            .filter_map(|(at, p)| {
+                tree.peaks.get(p as usize).map(|peak| (at.distance(peak.position) / self.lambda_m).ceil())
+            })
+            .sum();
+        raster + ridges
+    }
+
     fn validate(&self) -> Result<(), OrometryError> {
         check("lambda_m", self.lambda_m, self.lambda_m > 0.0, "must be finite and > 0")?;
         check("jitter", self.jitter, (0.0..=0.45).contains(&self.jitter), "must be in [0, 0.45]")?;
@@ -220,6 +243,10 @@ pub fn terrain_from_tree(
     }
     if let Some(k) = tree.saddles.iter().position(|s| !extent.contains(s.position)) {
         return Err(OrometryError::InvalidTree(format!("saddle {k} lies outside the grid's extent")));
+    }
+    let samples = options.mesh_samples(tree, extent);
+    if samples.is_nan() || samples > MAX_MESH_SAMPLES as f64 {
+        return Err(OrometryError::MeshTooFine { lambda: options.lambda_m, samples, limit: MAX_MESH_SAMPLES });
     }
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let lambda = options.lambda_m;

@@ -359,6 +359,15 @@ fn bad_synthesis_input_is_a_typed_error() {
     let hf = terrain_from_tree(&single, 0.0, &grid, &relief_orometry::TerrainOptions::default(), |_, _| {}).unwrap();
     assert_eq!(hf.value(5, 5), 30.0);
     assert!(hf.samples().iter().all(|&v| (0.0..=30.0).contains(&v)));
+    // A meshing distance far too fine for the domain (10^10 routing cells) fails before allocating.
+    let fine = relief_orometry::TerrainOptions { lambda_m: 0.002, ..relief_orometry::TerrainOptions::default() };
+    assert!(fine.mesh_samples(&single, grid.extent()) > 1e10);
+    match terrain_from_tree(&single, 0.0, &grid, &fine, |_, _| {}) {
+        Err(e @ OrometryError::MeshTooFine { limit: relief_orometry::MAX_MESH_SAMPLES, .. }) => {
+            assert!(e.to_string().contains("raise lambda_m"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]
