@@ -388,6 +388,9 @@ fn run(cli: &Cli) -> Result<()> {
 }
 
 fn vectorize(ui: &mut Ui, dem: &Path, output: &Path, options: &VectorizeOptions) -> Result<()> {
+    ui.budget.primitives(options.primitives as u64, "--primitives")?;
+    let side = options.resolution as u64;
+    ui.budget.cells(side.saturating_mul(side), "--resolution")?;
     let heightfield = ui.read(dem)?;
     let target = if ui.draw { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
     let bar = ProgressBar::with_draw_target(Some(options.iterations as u64), target);
@@ -431,10 +434,12 @@ fn rasterize(
     window: Option<[f64; 4]>,
 ) -> Result<()> {
     Format::from_extension(output).with_context(|| format!("{}: unknown output extension", output.display()))?;
-    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    ui.budget.cells((nx as u64).saturating_mul(ny as u64), "--size")?;
+    let text = relief::budget::read_json_text(path).with_context(|| format!("reading {}", path.display()))?;
     let terrain: VectorTerrain =
         serde_json::from_str(&text).with_context(|| format!("{}: not a vector terrain", path.display()))?;
     terrain.validate().with_context(|| path.display().to_string())?;
+    ui.budget.primitives(terrain.len() as u64, &path.display().to_string())?;
     let extent = match window {
         Some([a, b, c, d]) => Extent::new(DVec2::new(a, b), DVec2::new(c, d)),
         None => relief::vector::default_extent(&terrain),
@@ -606,7 +611,7 @@ fn analyze_orometry(
     }
     let mut references = Vec::with_capacity(out.classify.len());
     for p in out.classify {
-        let text = std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+        let text = relief::budget::read_json_text(p).with_context(|| format!("reading {}", p.display()))?;
         let d: Descriptor =
             serde_json::from_str(&text).with_context(|| format!("{} is not a descriptor", p.display()))?;
         d.validate().with_context(|| format!("{}", p.display()))?;

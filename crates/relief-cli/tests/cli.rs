@@ -365,4 +365,15 @@ fn vectorize_then_rasterize_a_real_dem() {
     std::fs::write(&bad, r#"{"primitives":[{"center":[0,0],"sigma":[-1,1],"amplitude":1}]}"#).unwrap();
     let err = fails(&["rasterize", bad.to_str().unwrap(), "--size", "64", "-o", exr.to_str().unwrap()], 1);
     assert!(err.contains("sigma.x"), "{err}");
+    // The budget flags cap what the commands would allocate, before they do: the raster's cells,
+    // the terrain's primitives, and a fit's primitives and working grid.
+    let (json, exr, dem) = (json.to_str().unwrap(), exr.to_str().unwrap(), dem.to_str().unwrap());
+    let err = fails(&["--max-cells", "10000", "rasterize", json, "--size", "120x100", "-o", exr], 1);
+    assert!(err.contains("--size") && err.contains("12000") && err.contains("--max-cells"), "{err}");
+    let err = fails(&["--max-primitives", "10", "rasterize", json, "--size", "64", "-o", exr], 1);
+    assert!(err.contains("--max-primitives"), "{err}");
+    let err = fails(&["--max-primitives", "100", "vectorize", dem, "--primitives", "150", "-o", json], 1);
+    assert!(err.contains("--primitives") && err.contains("--max-primitives"), "{err}");
+    let err = fails(&["--max-cells", "5000", "vectorize", dem, "--resolution", "96", "-o", json], 1);
+    assert!(err.contains("--resolution") && err.contains("9216"), "{err}");
 }

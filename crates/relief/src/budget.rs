@@ -99,19 +99,35 @@ impl Budget {
         Ok(())
     }
 
-    pub(crate) fn cells(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+    /// Checks `requested` raster cells against the cap; `at` names what asked (a JSON path or a flag).
+    ///
+    /// # Errors
+    /// [`ReliefError::OverBudget`] when over the cap.
+    pub fn cells(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
         over(requested, self.max_cells, "cells", at)
     }
 
-    pub(crate) fn particles(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+    /// Checks `requested` growth particles against the cap; `at` names what asked (a JSON path or a flag).
+    ///
+    /// # Errors
+    /// [`ReliefError::OverBudget`] when over the cap.
+    pub fn particles(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
         over(requested, self.max_particles, "particles", at)
     }
 
-    pub(crate) fn primitives(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+    /// Checks `requested` Gaussian primitives against the cap; `at` names what asked (a JSON path or a flag).
+    ///
+    /// # Errors
+    /// [`ReliefError::OverBudget`] when over the cap.
+    pub fn primitives(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
         over(requested, self.max_primitives, "primitives", at)
     }
 
-    pub(crate) fn peaks(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+    /// Checks `requested` divide-tree peaks against the cap; `at` names what asked (a JSON path or a flag).
+    ///
+    /// # Errors
+    /// [`ReliefError::OverBudget`] when over the cap.
+    pub fn peaks(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
         over(requested, self.max_peaks, "peaks", at)
     }
 }
@@ -152,4 +168,34 @@ impl Env<'_> {
     pub(crate) fn read_gray(&self, path: &Path) -> Result<Heightfield, IoError> {
         crate::io::read_gray_image(self.join(path), &self.options())
     }
+}
+
+/// Largest JSON input read (scene, vector terrain, atlas, descriptor, divide tree): 1 GiB, room for
+/// [`Budget::max_primitives`]' default of 2^22 listed primitives several times over.
+pub const MAX_JSON_BYTES: u64 = 1 << 30;
+
+/// The text of a JSON input file: regular files only (a path to `/dev/zero` or a FIFO fails at
+/// once rather than reading forever) and at most [`MAX_JSON_BYTES`], checked from its size first.
+///
+/// # Errors
+/// The operating system's error, or `InvalidInput` naming the reason.
+pub fn read_json_text(path: &Path) -> std::io::Result<String> {
+    use std::io::Read as _;
+    let invalid = |why: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, why);
+    let file = std::fs::File::open(path)?;
+    let meta = file.metadata()?;
+    if !meta.is_file() {
+        return Err(invalid("not a regular file".into()));
+    }
+    let too_big =
+        |bytes: u64| invalid(format!("{bytes} bytes is more than the {MAX_JSON_BYTES}-byte limit on JSON inputs"));
+    if meta.len() > MAX_JSON_BYTES {
+        return Err(too_big(meta.len()));
+    }
+    let mut text = String::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    file.take(MAX_JSON_BYTES + 1).read_to_string(&mut text)?;
+    if text.len() as u64 > MAX_JSON_BYTES {
+        return Err(too_big(text.len() as u64));
+    }
+    Ok(text)
 }

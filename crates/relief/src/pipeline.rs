@@ -253,7 +253,8 @@ pub struct Terrain {
 /// [`ReliefError::File`] when it cannot be read, [`ReliefError::Scene`] when it is not a valid scene.
 pub fn load_scene(path: impl AsRef<Path>) -> Result<Scene, ReliefError> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|source| ReliefError::File { path: path.to_owned(), source })?;
+    let text =
+        crate::budget::read_json_text(path).map_err(|source| ReliefError::File { path: path.to_owned(), source })?;
     Scene::from_json(&text)
 }
 
@@ -614,6 +615,9 @@ fn generate_orometry(
     let base = target.domain.min_elevation;
     let terrain_options =
         crate::orometry::TerrainOptions { seed: growth_seed(scene.seed), ..generator.terrain.clone() };
+    // The routing raster at λ/2 and the refined ridges count as cells.
+    let mesh = terrain_options.mesh_samples(&tree, grid.extent());
+    env.budget.cells(if mesh.is_finite() { mesh as u64 } else { u64::MAX }, &format!("{OROMETRY}.terrain.lambda_m"))?;
     let heightfield = timer.step("terrain", || {
         terrain_from_tree(&tree, base, &grid, &terrain_options, |_, _| {}).map_err(|e| ReliefError::scene(OROMETRY, e))
     })?;

@@ -77,7 +77,7 @@ pub(crate) fn load_source(source: &GaussianSource, env: &Env<'_>, at: &str) -> R
 /// A JSON file of the scene, its read and parse errors named at the scene path `at`.
 pub(crate) fn read_json<T: serde::de::DeserializeOwned>(path: &Path, at: &str) -> Result<T, ReliefError> {
     let fail = |e: &dyn std::fmt::Display| ReliefError::scene(at.to_string(), format!("{}: {e}", path.display()));
-    let text = std::fs::read_to_string(path).map_err(|e| fail(&e))?;
+    let text = crate::budget::read_json_text(path).map_err(|e| fail(&e))?;
     serde_json::from_str(&text).map_err(|e| fail(&e))
 }
 

@@ -146,11 +146,25 @@ fn divide_tree_peaks_are_capped_asked_for_or_from_the_descriptor() {
 }
 
 #[test]
+fn the_orometric_mesh_counts_as_cells() {
+    // λ = 1 m over the fixture's ~30 km domain: a routing raster of billions of cells at λ/2.
+    let mut v = fixture("orometry-jacksboro.json");
+    v["generator"]["orometry"]["terrain"] = json!({ "lambda_m": 1.0 });
+    match &refused(&v, Budget::default()) {
+        ReliefError::OverBudget { path, what: "cells", requested, .. } => {
+            assert_eq!(path, "generator.orometry.terrain.lambda_m");
+            assert!(*requested > 1 << 28, "{requested}");
+        }
+        other => panic!("expected OverBudget for cells, got {other:?}"),
+    }
+}
+
+#[test]
 fn the_default_budget_refuses_requests_that_would_exhaust_memory() {
     // Each would allocate terabytes if attempted; each fails at once instead.
     let mut v = fixture("mesa.json");
-    v["reconstruction"]["resolution"] = json!([16_384, 16_384]);
-    assert_over(&refused(&v, Budget::default().with_max_cells(1 << 20)), "cells", "reconstruction.resolution", 1 << 28);
+    v["reconstruction"]["resolution"] = json!([32_768, 16_384]);
+    assert_over(&refused(&v, Budget::default()), "cells", "reconstruction.resolution", 1 << 29);
     let mut v = fixture("mesa.json");
     v["generator"]["contours"]["particles"] = json!(1u64 << 40);
     assert_over(&refused(&v, Budget::default()), "particles", "generator.contours.particles", 1 << 40);
@@ -186,4 +200,21 @@ fn primitives_added_by_the_tools_are_capped() {
     // One more primitive of budget and the same scene generates.
     let budget = Budget::default().with_max_primitives(listed + landform);
     assert!(generate_with(&scene(&v), &scenes(), &budget, &mut Quiet).is_ok());
+}
+
+#[test]
+fn inputs_that_are_not_regular_files_fail_at_once() {
+    // A scene naming a device (or a FIFO) would otherwise read forever; a directory is no scene.
+    if cfg!(unix) {
+        let mut v = fixture("range-label.json");
+        v["generator"]["contours"]["label_image"]["path"] = json!("/dev/zero");
+        let e = refused(&v, Budget::default());
+        assert!(e.to_string().contains("not a regular file"), "{e}");
+        let mut v = fixture("gaussian-massif.json");
+        v["generator"]["gaussian"]["operations"][4]["atlas"] = json!("/dev/zero");
+        let e = refused(&v, Budget::default());
+        assert!(e.to_string().contains("not a regular file") && e.to_string().contains("operations[4]"), "{e}");
+    }
+    let e = relief::pipeline::load_scene(scenes()).unwrap_err();
+    assert!(matches!(&e, ReliefError::File { .. }) && e.to_string().contains("not a regular file"), "{e}");
 }
