@@ -75,6 +75,31 @@ fn render(entries: &[Entry]) -> String {
                 it = s["diffusion"]["iterations"],
                 res = s["diffusion"]["relative_residual"].as_f64().unwrap_or(f64::NAN),
             )
+        } else if s["island"].is_object() {
+            let i = &s["island"];
+            format!(
+                "`relief generate {scene}`: a coast of {coast} vertices, {hills} hill(s), {filters} perturbation \
+                 filters, ",
+                scene = e.scene,
+                coast = i["coast_vertices"],
+                hills = i["hills"],
+                filters = i["perturbations"],
+            )
+        } else if s["gaussian"].is_object() {
+            format!(
+                "`relief generate {scene}`: {n} Gaussian primitives, ",
+                scene = e.scene,
+                n = s["gaussian"]["primitives"]
+            )
+        } else if s["orometry"].is_object() {
+            let o = &s["orometry"];
+            format!(
+                "`relief generate {scene}`: a divide tree of {peaks} peaks (prominence EMD {emd:.3} against the \
+                 target), ",
+                scene = e.scene,
+                peaks = o["peaks"],
+                emd = o["prominence_emd"].as_f64().unwrap_or(f64::NAN),
+            )
         } else {
             format!(
                 "`relief generate {scene}`: {nodes} nodes, histogram match KS {ks:.4}, ",

@@ -102,7 +102,7 @@ fn every_generator_is_byte_identical_across_thread_counts_and_runs() {
             assert!(two.get(file) == Some(bytes), "{name}: {file} differs between 1 and 2 threads");
             assert!(again.get(file) == Some(bytes), "{name}: {file} differs between two runs");
         }
-        assert_eq!(one.len(), two.len());
+        assert_eq!((one.len(), one.len()), (two.len(), again.len()), "{name}: different sets of files");
     }
 }
 
@@ -130,24 +130,38 @@ fn sigkill_never_leaves_a_truncated_output_under_its_final_name() {
     let reference = outputs(&reference_dir);
     assert!(reference.len() >= 5, "{:?}", reference.keys());
 
-    let mut complete_files = 0;
-    for (round, fraction) in Fractions(0x5eed_cafe).take(12).enumerate() {
+    // Twelve kills anywhere in the run, weighted towards its end where the files are written, and
+    // four as soon as the first output appears (then some files are surely still to come).
+    let fractions: Vec<Option<f64>> =
+        Fractions(0x5eed_cafe).take(12).map(Some).chain(std::iter::repeat_n(None, 4)).collect();
+    let (mut complete_files, mut landed) = (0, 0);
+    for (round, fraction) in fractions.into_iter().enumerate() {
         let out = ws.path().join(format!("killed-{round}"));
         let mut child = relief(&scene, &out, "2").spawn().unwrap();
-        // Kill anywhere in the run, weighted towards its end where the files are written.
-        let at = full.mul_f64(0.3 + 0.9 * fraction);
+        let at = fraction.map(|f| full.mul_f64(0.3 + 0.9 * f));
         let waited = Instant::now();
-        while waited.elapsed() < at {
+        let mut running = true;
+        loop {
             if child.try_wait().unwrap().is_some() {
+                running = false;
                 break;
             }
-            std::thread::sleep(Duration::from_millis(2));
+            let due = match at {
+                Some(at) => waited.elapsed() >= at,
+                None => std::fs::read_dir(&out)
+                    .is_ok_and(|d| d.flatten().any(|e| reference.contains_key(&*e.file_name().to_string_lossy()))),
+            };
+            if due || waited.elapsed() > 4 * full {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(1));
         }
         child.kill().unwrap(); // SIGKILL on Unix; an error only if it already exited and was reaped
         child.wait().unwrap();
         if !out.exists() {
             continue;
         }
+        let mut finals = 0;
         for entry in std::fs::read_dir(&out).unwrap() {
             let path = entry.unwrap().path();
             let name = path.file_name().unwrap().to_string_lossy().into_owned();
@@ -170,8 +184,13 @@ fn sigkill_never_leaves_a_truncated_output_under_its_final_name() {
                 want.len()
             );
             complete_files += 1;
+            finals += 1;
+        }
+        if running && finals > 0 {
+            landed += 1;
         }
     }
-    // The kills must have landed after some files were written, or the test checked nothing.
-    assert!(complete_files > 0, "no kill landed after the first output was written");
+    // Some kills must have hit a running process after it had written files, or the test checked
+    // nothing.
+    assert!(complete_files > 0 && landed > 0, "no kill landed among the writes ({complete_files} files)");
 }
