@@ -1,6 +1,6 @@
 //! Regression inputs under `fixtures/bad/<target>/`, one directory per fuzz target: each file
 //! goes through the same decoding as its target (`relief::harness`) and must come back as a
-//! typed error with a message, never a panic or a value.
+//! typed error naming its problem (`EXPECTED`), never a panic or a value.
 
 use std::path::{Path, PathBuf};
 
@@ -31,6 +31,28 @@ fn replay(target: &str, bytes: &[u8]) -> Option<String> {
     }
 }
 
+/// Every regression input and a fragment of the error it must give: the error that names its
+/// problem, not merely some error.
+const EXPECTED: &[(&str, &str)] = &[
+    ("label_image/one-pixel-strip.bin", "label level 1 holds no graph node"),
+    ("polygon_regions/bowtie.bin", "regions[0].polygon: ring 0 edge 0 touches or crosses ring 0 edge 2"),
+    ("polygon_regions/overlap.bin", "regions 0 and 1 overlap without nesting"),
+    ("read_asc/lying_header.asc", "900000000 cells exceed the limit"),
+    ("read_asc/over_limit.asc", "10000000000 cells exceed the limit"),
+    ("read_exr/truncated.exr", "file is truncated"),
+    ("read_geotiff/truncated.tif", "file is truncated"),
+    ("read_hgt/seven-bytes.hgt", "file holds 7 bytes, but this format needs 2884802 or 25934402 bytes"),
+    ("read_png16/huge-header.png", "4294836225 cells exceed the limit"),
+    ("read_png16/truncated.png", "file is truncated"),
+    ("read_png8/not-a-png.png", "cannot decode"),
+    ("read_r16/odd-length.r16", "not a square number of samples"),
+    ("read_r32/not-square.r32", "not a square number of samples"),
+    ("scene_json/deep-nesting.json", "generator: expected value"),
+    ("scene_json/nan-resolution.json", "reconstruction.resolution[0]: number out of range"),
+    ("scene_json/not-utf8.json", "invalid utf-8"),
+    ("scene_json/version-2.json", "version 2 is not supported"),
+];
+
 #[test]
 fn every_bad_input_is_a_typed_error() {
     let mut checked = 0;
@@ -43,7 +65,11 @@ fn every_bad_input_is_a_typed_error() {
             let file = file.unwrap().path();
             let bytes = std::fs::read(&file).unwrap();
             let message = replay(target, &bytes).unwrap_or_else(|| panic!("{} was accepted", file.display()));
-            assert!(!message.trim().is_empty(), "{}: empty error message", file.display());
+            let name = format!("{target}/{}", file.file_name().unwrap().to_string_lossy());
+            let Some((_, want)) = EXPECTED.iter().find(|(n, _)| *n == name) else {
+                panic!("{name}: add the error it must give to EXPECTED (it gives: {message})");
+            };
+            assert!(message.contains(want), "{name}: expected an error containing {want:?}, got: {message}");
             checked += 1;
         }
     }
