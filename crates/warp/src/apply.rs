@@ -6,6 +6,10 @@ use crate::{Warp, WarpError};
 /// Deepest subdivision of one segment (2¹⁶ pieces): a bound, not a target.
 const MAX_DEPTH: u32 = 16;
 
+/// Most points one warped polyline may have (2^24): a tolerance far below what the warp's bends
+/// need would otherwise split every segment 2¹⁶ ways.
+pub const MAX_POLYLINE_POINTS: usize = 1 << 24;
+
 /// Warps points in place (in parallel).
 pub fn warp_points(warp: &(impl Warp + ?Sized), points: &mut [DVec2]) {
     points.par_iter_mut().for_each(|p| *p = warp.forward(*p));
@@ -18,12 +22,24 @@ pub fn warp_points(warp: &(impl Warp + ?Sized), points: &mut [DVec2]) {
 /// warped spacing of neighbouring contours does.)
 ///
 /// # Errors
-/// [`WarpError::InvalidTolerance`] unless `tolerance` is finite and positive.
+/// [`WarpError::InvalidTolerance`] unless `tolerance` is finite and positive;
+/// [`WarpError::TooManyPoints`] when the output would exceed [`MAX_POLYLINE_POINTS`].
 pub fn warp_polyline(
     warp: &(impl Warp + ?Sized),
     points: &[DVec2],
     closed: bool,
     tolerance: f64,
+) -> Result<Vec<DVec2>, WarpError> {
+    capped_polyline(warp, points, closed, tolerance, MAX_POLYLINE_POINTS)
+}
+
+/// [`warp_polyline`] with the point cap `max` (a parameter so tests can reach it cheaply).
+fn capped_polyline(
+    warp: &(impl Warp + ?Sized),
+    points: &[DVec2],
+    closed: bool,
+    tolerance: f64,
+    max: usize,
 ) -> Result<Vec<DVec2>, WarpError> {
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(WarpError::InvalidTolerance { tolerance });
@@ -38,7 +54,10 @@ pub fn warp_polyline(
     for i in 0..segments {
         let j = (i + 1) % n;
         out.push(warped[i]);
-        subdivide(warp, points[i], points[j], warped[i], warped[j], tolerance, 0, &mut out);
+        subdivide(warp, points[i], points[j], warped[i], warped[j], tolerance, (0, max), &mut out);
+        if out.len() > max {
+            return Err(WarpError::TooManyPoints { tolerance, max });
+        }
     }
     if !closed {
         out.push(warped[n - 1]);
@@ -55,10 +74,10 @@ fn subdivide(
     wa: DVec2,
     wb: DVec2,
     tol: f64,
-    depth: u32,
+    (depth, max): (u32, usize),
     out: &mut Vec<DVec2>,
 ) {
-    if depth >= MAX_DEPTH {
+    if depth >= MAX_DEPTH || out.len() > max {
         return;
     }
     let m = 0.5 * (a + b);
@@ -66,9 +85,9 @@ fn subdivide(
     if wm.distance(0.5 * (wa + wb)) <= tol {
         return;
     }
-    subdivide(warp, a, m, wa, wm, tol, depth + 1, out);
+    subdivide(warp, a, m, wa, wm, tol, (depth + 1, max), out);
     out.push(wm);
-    subdivide(warp, m, b, wm, wb, tol, depth + 1, out);
+    subdivide(warp, m, b, wm, wb, tol, (depth + 1, max), out);
 }
 
 /// Warps many polylines `(points, closed)` in parallel with [`warp_polyline`].
@@ -103,4 +122,24 @@ pub fn warp_raster(
         }
     });
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{PathOptions, PathWarp};
+
+    #[test]
+    fn a_tolerance_too_fine_for_the_cap_is_an_error_not_an_allocation() {
+        let warp = PathWarp::new(&[DVec2::ZERO, DVec2::new(100.0, 0.0)], &PathOptions::new(40.0, 1.0)).unwrap();
+        let line: Vec<DVec2> = (0..=10).map(|i| DVec2::new(10.0 * f64::from(i), 5.0)).collect();
+        let fine = capped_polyline(&warp, &line, false, 1e-6, usize::MAX).unwrap();
+        assert!(fine.len() > 100, "{}", fine.len());
+        match capped_polyline(&warp, &line, false, 1e-6, fine.len() / 2) {
+            Err(WarpError::TooManyPoints { max, .. }) => assert_eq!(max, fine.len() / 2),
+            other => panic!("{other:?}"),
+        }
+        // The public function's cap is far above what ordinary tolerances need.
+        assert_eq!(warp_polyline(&warp, &line, false, 1e-6).unwrap(), fine);
+    }
 }

@@ -89,6 +89,15 @@ pub enum WarpError {
         /// The cap.
         max: usize,
     },
+    /// Warping a polyline to within the tolerance would take more than
+    /// [`crate::MAX_POLYLINE_POINTS`] points.
+    #[error("warping a polyline to within {tolerance} would take more than {max} points: use a larger tolerance")]
+    TooManyPoints {
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// The cap.
+        max: usize,
+    },
     /// A subdivision tolerance is not finite and positive.
     #[error("tolerance {tolerance} must be finite and > 0")]
     InvalidTolerance {

@@ -42,7 +42,7 @@ mod profile;
 mod slope;
 mod warp;
 
-pub use apply::{warp_points, warp_polyline, warp_polylines, warp_raster};
+pub use apply::{MAX_POLYLINE_POINTS, warp_points, warp_polyline, warp_polylines, warp_raster};
 pub use error::WarpError;
 pub use path::{MAX_DISCS, PathOptions, PathWarp};
 pub use profile::Profile;
