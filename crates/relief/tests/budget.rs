@@ -218,3 +218,29 @@ fn inputs_that_are_not_regular_files_fail_at_once() {
     let e = relief::pipeline::load_scene(scenes()).unwrap_err();
     assert!(matches!(&e, ReliefError::File { .. }) && e.to_string().contains("not a regular file"), "{e}");
 }
+
+#[test]
+fn source_dems_are_read_under_the_cell_cap() {
+    // The orometry and Gaussian fixtures read the same 403 × 344 DEM: under a cap of 100 000 cells
+    // it is refused by its header, naming the scene value that points at it.
+    for (name, at) in [
+        ("orometry-jacksboro.json", "generator.orometry.source"),
+        ("gaussian-jacksboro.json", "generator.gaussian.source"),
+    ] {
+        let mut v = fixture(name);
+        v["reconstruction"]["resolution"] = json!([8, 8]);
+        if name.starts_with("gaussian") {
+            v["generator"]["gaussian"]["source"]["resolution"] = json!(16);
+        }
+        match &refused(&v, Budget::default().with_max_cells(100_000)) {
+            ReliefError::Scene { path, message } => {
+                assert!(path.starts_with(at), "{name}: {path}");
+                assert!(message.contains("138632") && message.contains("100000"), "{name}: {message}");
+            }
+            other => panic!("{name}: expected a scene error at the source, got {other:?}"),
+        }
+        // The same scene generates under a cap the DEM fits.
+        let budget = Budget::default().with_max_cells(138_632);
+        assert!(generate_with(&scene(&v), &scenes(), &budget, &mut Quiet).is_ok(), "{name}");
+    }
+}
