@@ -198,7 +198,6 @@ impl Graph {
     }
 }
 
-/// The Poisson radius for the requested density, refusing counts over the cap before sampling.
 /// The sampler's point budget for `requested` particles in Ω: room for the margin ring and a
 /// slack of 2^20, but proportional to what was asked, so that a sliver of Ω whose bounding box
 /// is vast at its sampling radius fails fast instead of allocating a background grid for it.
@@ -206,8 +205,8 @@ fn max_points(requested: u64) -> u64 {
     requested.saturating_mul(8).saturating_add(1 << 20)
 }
 
-/// The sampling radius and the particle count it implies in Ω (area `area`), checked against the
-/// options' cap.
+/// The Poisson radius for the requested density and the particle count it implies in Ω (area
+/// `area`), refusing counts over the cap before sampling.
 fn radius(area: f64, options: &GraphOptions) -> Result<(f64, u64), EdenError> {
     if !(options.margin.is_finite() && options.margin >= 1.0) {
         return Err(EdenError::InvalidMargin { margin: options.margin });

@@ -418,7 +418,6 @@ fn raw_sidecar_path(path: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
-/// A sidecar's text, `None` if it does not exist; at most `max` bytes are accepted.
 /// A regular file's bytes, refused from its size alone when no grid within `limits` could need
 /// that many (32 bytes per cell, the widest ASCII value with its separator, plus 1 MiB of header).
 fn read_input(path: &Path, limits: Limits) -> Result<Vec<u8>, IoError> {
@@ -441,6 +440,7 @@ fn read_input(path: &Path, limits: Limits) -> Result<Vec<u8>, IoError> {
     Ok(bytes)
 }
 
+/// A sidecar's text, `None` if it does not exist; at most `max` bytes are accepted.
 fn read_small_text(path: &Path, max: u64) -> Result<Option<String>, IoError> {
     let at = |kind| IoError::new(path, kind);
     let file = match std::fs::File::open(path) {

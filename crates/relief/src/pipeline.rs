@@ -615,9 +615,14 @@ fn generate_orometry(
     let base = target.domain.min_elevation;
     let terrain_options =
         crate::orometry::TerrainOptions { seed: growth_seed(scene.seed), ..generator.terrain.clone() };
-    // The routing raster at λ/2 and the refined ridges count as cells.
-    let mesh = terrain_options.mesh_samples(&tree, grid.extent());
-    env.budget.cells(if mesh.is_finite() { mesh as u64 } else { u64::MAX }, &format!("{OROMETRY}.terrain.lambda_m"))?;
+    // The routing raster at λ/2 and the refined ridges count as cells (an invalid λ is left to the
+    // synthesis's own check, which names it).
+    let lambda = terrain_options.lambda_m;
+    if lambda.is_finite() && lambda > 0.0 {
+        let mesh = terrain_options.mesh_samples(&tree, grid.extent());
+        let mesh = if mesh.is_finite() { mesh as u64 } else { u64::MAX };
+        env.budget.cells(mesh, &format!("{OROMETRY}.terrain.lambda_m"))?;
+    }
     let heightfield = timer.step("terrain", || {
         terrain_from_tree(&tree, base, &grid, &terrain_options, |_, _| {}).map_err(|e| ReliefError::scene(OROMETRY, e))
     })?;
