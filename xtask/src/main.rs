@@ -3,9 +3,9 @@
 //! - `ci`: the same steps as `.ci/run` (it runs that script, the single source of truth).
 //! - `bench [--quick] [-p PACKAGE]...`: runs the criterion benches (all, or those of the named
 //!   packages; `--quick`: short measurements, largest sizes skipped) and writes
-//!   `docs/benchmarks.md`, our medians beside the figures the papers and the issues report. `--report-only` rewrites the report from the medians already under
-//!   `target/criterion` (after a filtered `cargo bench`, say) without running anything but the
-//!   paired TIN measurement.
+//!   `docs/benchmarks.md`, our medians beside the figures the papers and the issues report.
+//!   `--report-only` rewrites the report from the medians already under `target/criterion` (after
+//!   a filtered `cargo bench`, say) without running anything but the paired TIN measurement.
 //! - `fuzz [SECONDS] [TARGET]...`: runs the cargo-fuzz targets under `fuzz/` (nightly), each for
 //!   SECONDS (default 600); see `fuzz.rs`.
 //! - `gallery`: renders the demo and every fixture scene and writes `docs/gallery.md`.

@@ -243,3 +243,23 @@ pub(crate) fn decode_io(e: &std::io::Error, found_bytes: usize) -> IoErrorKind {
         IoErrorKind::Decode(e.to_string())
     }
 }
+
+/// Why [`crate::read_capped`] refused a file.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum CapError {
+    /// The operating system refused (missing file, permissions, …).
+    #[error("{0}")]
+    Io(#[source] std::io::Error),
+    /// A directory, device, pipe or socket: only regular files are read.
+    #[error("not a regular file")]
+    NotAFile,
+    /// The file holds more than the cap allows (its size, or what was read when it grew).
+    #[error("{bytes} bytes is more than the {max}-byte limit")]
+    TooLarge {
+        /// The file's size.
+        bytes: u64,
+        /// The cap.
+        max: u64,
+    },
+}

@@ -92,7 +92,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec2;
 use relief_heightfield::{GridSpec, Heightfield, Units};
 
-pub use error::{IoError, IoErrorKind};
+pub use error::{CapError, IoError, IoErrorKind};
 pub use format::Format;
 pub use limits::Limits;
 pub use preview::{NO_DATA_RGB, RgbImage, ShadeOptions, shaded_relief};
@@ -418,41 +418,60 @@ fn raw_sidecar_path(path: &Path) -> PathBuf {
     PathBuf::from(s)
 }
 
-/// A regular file's bytes, refused from its size alone when no grid within `limits` could need
-/// that many (32 bytes per cell, the widest ASCII value with its separator, plus 1 MiB of header).
-fn read_input(path: &Path, limits: Limits) -> Result<Vec<u8>, IoError> {
-    let at = |kind| IoError::new(path, kind);
-    let file = std::fs::File::open(path).map_err(|e| at(IoErrorKind::Io(e)))?;
-    let meta = file.metadata().map_err(|e| at(IoErrorKind::Io(e)))?;
+/// The bytes of a regular file of at most `max` bytes: a directory, device or pipe is refused at
+/// once (so `/dev/zero` or a FIFO cannot read forever), and an oversized file from its size,
+/// before anything is read. Every file this crate reads (grids, sidecars, `.prj` files) comes
+/// through here, and callers with their own inputs (JSON scenes, say) may use it too.
+///
+/// # Errors
+/// [`CapError`]: the operating system's error, not a regular file, or too large.
+pub fn read_capped(path: impl AsRef<Path>, max: u64) -> Result<Vec<u8>, CapError> {
+    let file = std::fs::File::open(path.as_ref()).map_err(CapError::Io)?;
+    let meta = file.metadata().map_err(CapError::Io)?;
     if !meta.is_file() {
-        return Err(at(IoErrorKind::NotAFile));
+        return Err(CapError::NotAFile);
     }
-    let limit = limits.byte_budget(32, 1 << 20) as u64;
-    if meta.len() > limit {
-        return Err(at(IoErrorKind::FileTooLarge { bytes: meta.len(), limit, max_cells: limits.max_cells }));
+    if meta.len() > max {
+        return Err(CapError::TooLarge { bytes: meta.len(), max });
     }
     let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
-    // `take`: a file that grows while it is read still stops at the limit.
-    file.take(limit + 1).read_to_end(&mut bytes).map_err(|e| at(IoErrorKind::Io(e)))?;
-    if bytes.len() as u64 > limit {
-        return Err(at(IoErrorKind::FileTooLarge { bytes: bytes.len() as u64, limit, max_cells: limits.max_cells }));
+    // `take`: a file that grows while it is read still stops at the cap.
+    file.take(max.saturating_add(1)).read_to_end(&mut bytes).map_err(CapError::Io)?;
+    if bytes.len() as u64 > max {
+        return Err(CapError::TooLarge { bytes: bytes.len() as u64, max });
     }
     Ok(bytes)
+}
+
+/// A heightfield file's bytes, refused from its size alone when no grid within `limits` could
+/// need that many (32 bytes per cell, the widest ASCII value with its separator, plus 1 MiB of
+/// header).
+fn read_input(path: &Path, limits: Limits) -> Result<Vec<u8>, IoError> {
+    let limit = limits.byte_budget(32, 1 << 20) as u64;
+    read_capped(path, limit).map_err(|e| {
+        let kind = match e {
+            CapError::Io(e) => IoErrorKind::Io(e),
+            CapError::NotAFile => IoErrorKind::NotAFile,
+            CapError::TooLarge { bytes, .. } => IoErrorKind::FileTooLarge { bytes, limit, max_cells: limits.max_cells },
+        };
+        IoError::new(path, kind)
+    })
 }
 
 /// A sidecar's text, `None` if it does not exist; at most `max` bytes are accepted.
 fn read_small_text(path: &Path, max: u64) -> Result<Option<String>, IoError> {
     let at = |kind| IoError::new(path, kind);
-    let file = match std::fs::File::open(path) {
-        Ok(f) => f,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-        Err(e) => return Err(at(IoErrorKind::Io(e))),
+    let bytes = match read_capped(path, max) {
+        Ok(bytes) => bytes,
+        Err(CapError::Io(e)) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(CapError::Io(e)) => return Err(at(IoErrorKind::Io(e))),
+        Err(CapError::NotAFile) => return Err(at(IoErrorKind::NotAFile)),
+        Err(CapError::TooLarge { .. }) => {
+            return Err(at(IoErrorKind::InvalidMetadata(format!("sidecar is larger than {max} bytes"))));
+        }
     };
-    let mut text = String::new();
-    file.take(max + 1).read_to_string(&mut text).map_err(|e| at(IoErrorKind::Io(e)))?;
-    if text.len() as u64 > max {
-        return Err(at(IoErrorKind::InvalidMetadata(format!("sidecar is larger than {max} bytes"))));
-    }
+    let text = String::from_utf8(bytes)
+        .map_err(|e| at(IoErrorKind::Io(std::io::Error::new(std::io::ErrorKind::InvalidData, e))))?;
     Ok(Some(text))
 }
 

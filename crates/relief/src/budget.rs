@@ -180,22 +180,14 @@ pub const MAX_JSON_BYTES: u64 = 1 << 30;
 /// # Errors
 /// The operating system's error, or `InvalidInput` naming the reason.
 pub fn read_json_text(path: &Path) -> std::io::Result<String> {
-    use std::io::Read as _;
-    let invalid = |why: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, why);
-    let file = std::fs::File::open(path)?;
-    let meta = file.metadata()?;
-    if !meta.is_file() {
-        return Err(invalid("not a regular file".into()));
-    }
-    let too_big =
-        |bytes: u64| invalid(format!("{bytes} bytes is more than the {MAX_JSON_BYTES}-byte limit on JSON inputs"));
-    if meta.len() > MAX_JSON_BYTES {
-        return Err(too_big(meta.len()));
-    }
-    let mut text = String::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
-    file.take(MAX_JSON_BYTES + 1).read_to_string(&mut text)?;
-    if text.len() as u64 > MAX_JSON_BYTES {
-        return Err(too_big(text.len() as u64));
-    }
-    Ok(text)
+    use std::io::{Error, ErrorKind};
+    let bytes = crate::io::read_capped(path, MAX_JSON_BYTES).map_err(|e| match e {
+        crate::io::CapError::Io(e) => e,
+        crate::io::CapError::TooLarge { bytes, .. } => Error::new(
+            ErrorKind::InvalidInput,
+            format!("{bytes} bytes is more than the {MAX_JSON_BYTES}-byte limit on JSON inputs"),
+        ),
+        other => Error::new(ErrorKind::InvalidInput, other.to_string()),
+    })?;
+    String::from_utf8(bytes).map_err(|e| Error::new(ErrorKind::InvalidData, e))
 }
