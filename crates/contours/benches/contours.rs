@@ -14,19 +14,13 @@ use relief_contours::{
     reconstruct_interpolated, reconstruct_stairs,
 };
 use relief_eden_growth::{Graph, GraphOptions, Region, RegionTree, Uniform, grow};
+use relief_fixtures::island_coast;
 use relief_heightfield::{Extent, GridSpec};
 use relief_tin::Tin;
-use relief_tin::poisson_sampling::Polygon;
 
+/// The 15 km wavy island of the paper's single-region timing scene.
 fn island() -> RegionTree {
-    let coast = (0..720)
-        .map(|k| {
-            let t = std::f64::consts::TAU * f64::from(k) / 720.0;
-            let r = 6000.0 * (1.0 + 0.15 * (5.0 * t).sin() + 0.05 * (17.0 * t).cos());
-            DVec2::new(r * t.cos(), r * t.sin())
-        })
-        .collect();
-    RegionTree::new(vec![Region::new(Polygon::from_exterior(coast).expect("coast"))]).expect("regions")
+    RegionTree::new(vec![Region::new(island_coast())]).expect("regions")
 }
 
 fn histogram() -> Histogram {

@@ -41,11 +41,15 @@ pub enum ContoursError {
         /// First offending index.
         index: usize,
     },
-    /// Smoothing parameters are out of range.
-    #[error("invalid smoothing: {reason}")]
+    /// A smoothing parameter is out of range.
+    #[error("smoothing {field} = {value} {reason}")]
     InvalidSmoothing {
-        /// What is wrong.
-        reason: String,
+        /// The parameter (`alpha` or `k`).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        reason: &'static str,
     },
     /// The requested contour interval or level count makes no sense for the data.
     #[error("invalid level request: {reason}")]
@@ -56,4 +60,16 @@ pub enum ContoursError {
     /// A contour set's structure is broken (reported by `check_invariants`).
     #[error("contour invariant violated: {0}")]
     Invariant(String),
+}
+
+impl ContoursError {
+    /// Where the offending value is, as a JSON path relative to the value the failing call was
+    /// given (the field of a [`crate::Smoothing`]); empty when the error concerns that value as a
+    /// whole. The `relief` facade prefixes it with the value's own path in the scene.
+    pub fn location(&self) -> String {
+        match self {
+            Self::InvalidSmoothing { field, .. } => (*field).to_owned(),
+            _ => String::new(),
+        }
+    }
 }

@@ -41,6 +41,33 @@ pub fn assign_heights(
     ranking: &Ranking<'_>,
     histogram: &Histogram,
 ) -> Result<Heights, ContoursError> {
+    check_ranking(num_nodes, ranking)?;
+    let anchors = anchors(ranking, histogram)?;
+    let Ranking { order, level_ends, level_heights } = *ranking;
+    let mut heights = quantile_heights(num_nodes, order, &anchors, histogram);
+    let h0 = heights[order[0] as usize];
+    let top = heights[order[order.len() - 1] as usize];
+    let eps = if top > h0 { 1e-3 * (top - h0) } else { 1e-3 * h0.abs().max(1.0) };
+    let outside = h0 - eps;
+    for h in heights.iter_mut().filter(|h| h.is_nan()) {
+        *h = outside;
+    }
+    let level_boundaries = (0..level_ends.len())
+        .map(|l| {
+            let start = if l == 0 { 0 } else { level_ends[l - 1] };
+            level_heights[l].unwrap_or_else(|| {
+                let below = if start == 0 { outside } else { heights[order[start - 1] as usize] };
+                let first = order.get(start).map_or(below, |&v| heights[v as usize]);
+                0.5 * (below + first)
+            })
+        })
+        .collect();
+    Ok(Heights { heights, level_boundaries, outside })
+}
+
+/// Checks that `ranking` ranks each of `num_nodes` nodes at most once, some at all, and that its
+/// level ends increase to the number of ranked nodes, one per level height.
+fn check_ranking(num_nodes: usize, ranking: &Ranking<'_>) -> Result<(), ContoursError> {
     let Ranking { order, level_ends, level_heights } = *ranking;
     let bad = |reason: String| Err(ContoursError::InvalidRanking { reason });
     if order.is_empty() {
@@ -65,9 +92,14 @@ pub fn assign_heights(
             Some(s) => *s = true,
         }
     }
-    // Anchors: (first rank of the level, height).
+    Ok(())
+}
+
+/// The explicit level heights as anchors `(first rank of the level, height)`, checked to be
+/// finite, inside the histogram's range and increasing.
+fn anchors(ranking: &Ranking<'_>, histogram: &Histogram) -> Result<Vec<(usize, f64)>, ContoursError> {
     let mut anchors: Vec<(usize, f64)> = Vec::new();
-    for (l, h) in level_heights.iter().enumerate() {
+    for (l, h) in ranking.level_heights.iter().enumerate() {
         let Some(h) = *h else { continue };
         if !h.is_finite() {
             return Err(ContoursError::NonFinite { what: "level height", value: h });
@@ -89,11 +121,17 @@ pub fn assign_heights(
                 reason: format!("level {} has height {h}, not above the previous given height {prev}", l + 1),
             });
         }
-        anchors.push((if l == 0 { 0 } else { level_ends[l - 1] }, h));
+        anchors.push((if l == 0 { 0 } else { ranking.level_ends[l - 1] }, h));
     }
-    // Slices of ranks between anchors, each mapped onto its slice of the distribution.
+    Ok(anchors)
+}
+
+/// Heights of the ranked nodes (NaN for the others): the ranks between two anchors are mapped onto
+/// their slice of the distribution, rank `i` of `m` in the slice `[f0, f1]` of the CDF getting
+/// `F⁻¹(f0 + (i + ½)/m·(f1 − f0))`.
+fn quantile_heights(num_nodes: usize, order: &[u32], anchors: &[(usize, f64)], histogram: &Histogram) -> Vec<f64> {
     let mut bounds: Vec<(usize, f64)> = vec![(0, 0.0)];
-    for &(rank, h) in &anchors {
+    for &(rank, h) in anchors {
         let f = histogram.cdf(h);
         match bounds.last_mut() {
             Some(last) if last.0 == rank => last.1 = f,
@@ -109,22 +147,5 @@ pub fn assign_heights(
             heights[v as usize] = histogram.quantile(f0 + (i as f64 + 0.5) / m * (f1 - f0));
         }
     }
-    let h0 = heights[order[0] as usize];
-    let top = heights[order[order.len() - 1] as usize];
-    let eps = if top > h0 { 1e-3 * (top - h0) } else { 1e-3 * h0.abs().max(1.0) };
-    let outside = h0 - eps;
-    for h in heights.iter_mut().filter(|h| h.is_nan()) {
-        *h = outside;
-    }
-    let level_boundaries = (0..level_ends.len())
-        .map(|l| {
-            let start = if l == 0 { 0 } else { level_ends[l - 1] };
-            level_heights[l].unwrap_or_else(|| {
-                let below = if start == 0 { outside } else { heights[order[start - 1] as usize] };
-                let first = order.get(start).map_or(below, |&v| heights[v as usize]);
-                0.5 * (below + first)
-            })
-        })
-        .collect();
-    Ok(Heights { heights, level_boundaries, outside })
+    heights
 }

@@ -8,6 +8,7 @@ use crate::ContoursError;
 /// between consecutive samples.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "HistogramSpec", into = "HistogramSpec")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Histogram {
     knots: Vec<(f64, f64)>,
     spec: HistogramSpec,
@@ -16,6 +17,7 @@ pub struct Histogram {
 /// How a histogram is written in a scene file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub enum HistogramSpec {
     /// Bins: `edges` (n + 1, increasing) and non-negative `weights` (n), not necessarily normalised.
     Bins {

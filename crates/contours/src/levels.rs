@@ -1,4 +1,98 @@
+use serde::{Deserialize, Serialize};
+
 use crate::ContoursError;
+
+/// Most contour levels one request may produce.
+pub const MAX_LEVELS: usize = 10_000;
+
+/// Which contour levels to draw over a range of elevations: in JSON `{ "count": n }`,
+/// `{ "interval": m }` or `{ "heights": [h, …] }`. Deserialization checks the request itself
+/// (1 ≤ n ≤ [`MAX_LEVELS`], a finite positive interval, finite heights); [`Levels::resolve`]
+/// turns it into heights once the range is known.
+///
+/// ```
+/// use relief_contours::Levels;
+///
+/// assert_eq!(Levels::Count(3).resolve(0.0, 400.0)?, vec![100.0, 200.0, 300.0]);
+/// assert_eq!(Levels::Interval(150.0).resolve(10.0, 400.0)?, vec![150.0, 300.0]);
+/// assert!(serde_json::from_str::<Levels>(r#"{ "count": 0 }"#).is_err());
+/// # Ok::<(), relief_contours::ContoursError>(())
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", try_from = "LevelsRepr")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+pub enum Levels {
+    /// This many levels evenly spaced strictly inside the range ([`evenly_spaced_levels`]).
+    Count(usize),
+    /// The multiples of this interval within the range, like `gdal_contour -i` ([`interval_levels`]).
+    Interval(f64),
+    /// These heights, whatever the range.
+    Heights(Vec<f64>),
+}
+
+/// The unchecked JSON form of [`Levels`].
+#[derive(Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "Levels"))]
+enum LevelsRepr {
+    /// This many levels evenly spaced strictly inside the elevation range (1 to 10 000).
+    Count(usize),
+    /// The multiples of this interval (finite, > 0) within the elevation range.
+    Interval(f64),
+    /// These heights (finite), whatever the range.
+    Heights(Vec<f64>),
+}
+
+impl TryFrom<LevelsRepr> for Levels {
+    type Error = ContoursError;
+    fn try_from(r: LevelsRepr) -> Result<Self, ContoursError> {
+        let levels = match r {
+            LevelsRepr::Count(n) => Levels::Count(n),
+            LevelsRepr::Interval(m) => Levels::Interval(m),
+            LevelsRepr::Heights(h) => Levels::Heights(h),
+        };
+        levels.validate()?;
+        Ok(levels)
+    }
+}
+
+impl Levels {
+    /// Checks the request on its own: a count in 1..=[`MAX_LEVELS`], a finite interval above 0,
+    /// at most [`MAX_LEVELS`] finite heights.
+    ///
+    /// # Errors
+    /// [`ContoursError::InvalidLevelRequest`] naming the problem.
+    pub fn validate(&self) -> Result<(), ContoursError> {
+        let bad = |reason: String| Err(ContoursError::InvalidLevelRequest { reason });
+        match self {
+            Self::Count(n) if !(1..=MAX_LEVELS).contains(n) => bad(format!("{n} levels: give 1 to {MAX_LEVELS}")),
+            Self::Interval(m) if !(m.is_finite() && *m > 0.0) => bad(format!("interval {m} must be finite and > 0")),
+            Self::Heights(h) if h.len() > MAX_LEVELS => bad(format!("{} levels, more than {MAX_LEVELS}", h.len())),
+            Self::Heights(h) => match h.iter().position(|v| !v.is_finite()) {
+                Some(k) => bad(format!("heights[{k}] = {} is not finite", h[k])),
+                None => Ok(()),
+            },
+            _ => Ok(()),
+        }
+    }
+
+    /// The heights this request gives over elevations `[min, max]`, in the order requested
+    /// (sorted for a count or an interval). A count over a flat range (`min == max`) gives no
+    /// level: there is nothing to contour.
+    ///
+    /// # Errors
+    /// [`ContoursError::InvalidLevelRequest`] for an invalid request ([`Levels::validate`]), a
+    /// non-finite or inverted range, or an interval giving more than [`MAX_LEVELS`] levels.
+    pub fn resolve(&self, min: f64, max: f64) -> Result<Vec<f64>, ContoursError> {
+        self.validate()?;
+        match self {
+            Self::Count(_) if min == max && min.is_finite() => Ok(Vec::new()),
+            Self::Count(n) => evenly_spaced_levels(min, max, *n),
+            Self::Interval(m) => interval_levels(min, max, *m, 0.0, MAX_LEVELS),
+            Self::Heights(h) => Ok(h.clone()),
+        }
+    }
+}
 
 /// `count` levels evenly spaced strictly inside `(min, max)`: `min + (max − min)·k/(count + 1)`.
 ///

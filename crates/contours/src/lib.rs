@@ -6,8 +6,13 @@
 //!
 //! Main types: [`Histogram`] and [`assign_heights`] (from a [`Ranking`] — plain data, e.g. the
 //! order of `relief-eden-growth`), [`extract_tin`] / [`extract_dem`] → [`ContourSet`] of
-//! [`Contour`]s (checked by [`ContourSet::check_invariants`]), [`Smoothing`],
-//! [`reconstruct_stairs`] / [`reconstruct_interpolated`].
+//! [`Contour`]s (checked by [`ContourSet::check_invariants`]), [`Levels`] (a count, an interval or
+//! heights, resolved over a range), [`Smoothing`], [`reconstruct_stairs`] /
+//! [`reconstruct_interpolated`].
+//!
+//! [`Histogram`], [`Levels`] and [`Smoothing`] are serde types in the JSON shape of `relief`
+//! scenes and check their values as they deserialize; the optional `schemars` feature derives
+//! their JSON Schemas. [`ContoursError::location`] names the parameter an error is about.
 //!
 //! Beyond the paper: crossings are linear interpolation on the mesh edge shared by two triangles,
 //! computed once per edge so polylines close exactly; all levels come out of a single pass over the
@@ -51,6 +56,6 @@ pub use error::ContoursError;
 pub use extract::{extract_dem, extract_tin};
 pub use heights::{Heights, Ranking, assign_heights};
 pub use histogram::{Histogram, HistogramSpec};
-pub use levels::{evenly_spaced_levels, interval_levels};
+pub use levels::{Levels, MAX_LEVELS, evenly_spaced_levels, interval_levels};
 pub use reconstruct::{Interpolation, Summit, reconstruct_interpolated, reconstruct_stairs};
 pub use smooth::Smoothing;

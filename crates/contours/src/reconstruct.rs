@@ -166,65 +166,15 @@ pub fn reconstruct_interpolated(
 ) -> Result<Heightfield, ContoursError> {
     check_base(base)?;
     let labels = region_labels(set, grid);
-    let members = region_members(set.len(), &labels);
-    let region = |k: usize| &members.1[members.0[k]..members.0[k + 1]];
-    // One transform per parent (and one for the roots), seeded with its children only: it gives
-    // the children's regions their distance to their own contour and the parent's region its
-    // distance to the nearest child, exactly.
-    let parents: Vec<Option<usize>> =
-        std::iter::once(None).chain((0..set.len()).filter(|&k| set.children(k).next().is_some()).map(Some)).collect();
-    let parts: Vec<ParentDistances> = parents
-        .par_iter()
-        .map_init(Buffers::default, |buffers, &parent| {
-            let children: Vec<usize> = match parent {
-                Some(p) => set.children(p).collect(),
-                None => set.roots().filter(|&k| set.contours()[k].closed).collect(),
-            };
-            let bounds = match parent {
-                Some(p) => set.contours()[p].bounds(),
-                None => {
-                    children.iter().map(|&k| set.contours()[k].bounds()).fold(Rect::bounding(&[]), |a, b| a.union(&b))
-                }
-            };
-            let Some(win) = Window::around(grid, bounds.min, bounds.max) else { return ParentDistances::default() };
-            // The nearest child's identity matters only when the children differ in height.
-            let first = children.first().map(|&c| set.contours()[c].height);
-            let labelled = parent.is_some() && children.iter().any(|&c| Some(set.contours()[c].height) != first);
-            let (sq, label) = transform(set, grid, win, &children, labelled, buffers);
-            let nearest_default = children.first().map_or(NONE, |&c| c as u32);
-            let own: Vec<(u32, f64)> = children
-                .iter()
-                .flat_map(|&c| region(c).iter().map(|&g| (g, sq[win.local(grid, g as usize)].sqrt())))
-                .collect();
-            let nearest: Vec<(u32, f64, u32)> = parent.map_or_else(Vec::new, |p| {
-                region(p)
-                    .iter()
-                    .map(|&g| {
-                        let w = win.local(grid, g as usize);
-                        (g, sq[w].sqrt(), label.get(w).copied().unwrap_or(nearest_default))
-                    })
-                    .collect()
-            });
-            ParentDistances { own, nearest }
-        })
-        .collect();
-    let mut d_own = vec![f64::INFINITY; grid.len()];
-    let mut d_child = vec![(f64::INFINITY, NONE); grid.len()];
-    for ParentDistances { own, nearest } in parts {
-        for (g, d) in own {
-            d_own[g as usize] = d;
-        }
-        for (g, d, c) in nearest {
-            d_child[g as usize] = (d, c);
-        }
-    }
+    let regions = Regions::new(set.len(), &labels);
+    let distances = Distances::new(set, grid, &regions);
     let mut values: Vec<f64> = labels.iter().map(|&l| if l == NONE { base } else { f64::NAN }).collect();
-    let regions: Vec<Vec<(u32, f64)>> = (0..set.len())
+    let blended: Vec<Vec<(u32, f64)>> = (0..set.len())
         .into_par_iter()
         .filter(|&k| set.contours()[k].closed)
-        .map(|k| region_values(set, grid, k, region(k), &d_own, &d_child, options.summit))
+        .map(|k| region_values(set, grid, k, regions.of(k), &distances.own, &distances.child, options.summit))
         .collect();
-    for (g, v) in regions.into_iter().flatten() {
+    for (g, v) in blended.into_iter().flatten() {
         values[g as usize] = v;
     }
     // A sample labelled by an open contour cannot occur; anything left is outside every region.
@@ -233,32 +183,126 @@ pub fn reconstruct_interpolated(
     }
     let mut dem = to_heightfield(grid, values)?;
     if options.drain {
-        let pit: Vec<bool> = set.contours().iter().map(|c| c.closed && !c.is_counter_clockwise()).collect();
-        let nx = grid.nx();
-        fill_depressions(&mut dem, |i, j| {
-            let l = labels[j * nx + i];
-            l == NONE || pit[l as usize]
-        });
+        drain(&mut dem, set, &labels);
     }
     Ok(dem)
 }
 
-/// The samples of each region, grouped by contour: `(starts, samples)`, CSR.
-fn region_members(n: usize, labels: &[u32]) -> (Vec<usize>, Vec<u32>) {
-    let mut starts = vec![0usize; n + 1];
-    for &l in labels.iter().filter(|&&l| l != NONE) {
-        starts[l as usize + 1] += 1;
+/// Fills the raster's one-cell pits by Priority-Flood+ε, with the sea (outside every contour) and
+/// every region inside a pit contour as outlets, so intended depressions stay.
+fn drain(dem: &mut Heightfield, set: &ContourSet, labels: &[u32]) {
+    let pit: Vec<bool> = set.contours().iter().map(|c| c.closed && !c.is_counter_clockwise()).collect();
+    let nx = dem.nx();
+    fill_depressions(dem, |i, j| {
+        let l = labels[j * nx + i];
+        l == NONE || pit[l as usize]
+    });
+}
+
+/// The samples of each region, grouped by contour (CSR).
+struct Regions {
+    starts: Vec<usize>,
+    samples: Vec<u32>,
+}
+
+impl Regions {
+    /// Groups the samples by their label among `n` contours (`NONE` belongs to no region).
+    fn new(n: usize, labels: &[u32]) -> Self {
+        let mut starts = vec![0usize; n + 1];
+        for &l in labels.iter().filter(|&&l| l != NONE) {
+            starts[l as usize + 1] += 1;
+        }
+        for k in 0..n {
+            starts[k + 1] += starts[k];
+        }
+        let mut fill = starts.clone();
+        let mut samples = vec![0u32; starts[n]];
+        for (g, &l) in labels.iter().enumerate().filter(|(_, l)| **l != NONE) {
+            samples[fill[l as usize]] = g as u32;
+            fill[l as usize] += 1;
+        }
+        Self { starts, samples }
     }
-    for k in 0..n {
-        starts[k + 1] += starts[k];
+
+    /// The samples of contour `k`'s region.
+    fn of(&self, k: usize) -> &[u32] {
+        &self.samples[self.starts[k]..self.starts[k + 1]]
     }
-    let mut fill = starts.clone();
-    let mut members = vec![0u32; starts[n]];
-    for (g, &l) in labels.iter().enumerate().filter(|(_, l)| **l != NONE) {
-        members[fill[l as usize]] = g as u32;
-        fill[l as usize] += 1;
+}
+
+/// Per sample, the two distances of Hormann's formula: to the contour of the sample's own region,
+/// and to the nearest contour nested in it (with that contour; `NONE` when the children share one
+/// height). Infinite where they do not apply.
+struct Distances {
+    own: Vec<f64>,
+    child: Vec<(f64, u32)>,
+}
+
+impl Distances {
+    /// One transform per parent (and one for the roots), seeded with its children only: it gives
+    /// the children's regions their distance to their own contour and the parent's region its
+    /// distance to the nearest child, exactly. Parents run in parallel, each thread reusing its
+    /// transform buffers.
+    fn new(set: &ContourSet, grid: &GridSpec, regions: &Regions) -> Self {
+        let parents: Vec<Option<usize>> = std::iter::once(None)
+            .chain((0..set.len()).filter(|&k| set.children(k).next().is_some()).map(Some))
+            .collect();
+        let parts: Vec<ParentDistances> = parents
+            .par_iter()
+            .map_init(Buffers::default, |buffers, &parent| parent_distances(set, grid, regions, parent, buffers))
+            .collect();
+        let mut own = vec![f64::INFINITY; grid.len()];
+        let mut child = vec![(f64::INFINITY, NONE); grid.len()];
+        for ParentDistances { own: to_own, nearest } in parts {
+            for (g, d) in to_own {
+                own[g as usize] = d;
+            }
+            for (g, d, c) in nearest {
+                child[g as usize] = (d, c);
+            }
+        }
+        Self { own, child }
     }
-    (starts, members)
+}
+
+/// The transform of one parent contour (`None`: the closed roots), seeded with its children, read
+/// out over the children's regions and the parent's own.
+fn parent_distances(
+    set: &ContourSet,
+    grid: &GridSpec,
+    regions: &Regions,
+    parent: Option<usize>,
+    buffers: &mut Buffers,
+) -> ParentDistances {
+    let children: Vec<usize> = match parent {
+        Some(p) => set.children(p).collect(),
+        None => set.roots().filter(|&k| set.contours()[k].closed).collect(),
+    };
+    let bounds = match parent {
+        Some(p) => set.contours()[p].bounds(),
+        None => children.iter().map(|&k| set.contours()[k].bounds()).fold(Rect::bounding(&[]), |a, b| a.union(&b)),
+    };
+    let Some(win) = Window::around(grid, bounds.min, bounds.max) else { return ParentDistances::default() };
+    // The nearest child's identity matters only when the children differ in height.
+    let first = children.first().map(|&c| set.contours()[c].height);
+    let labelled = parent.is_some() && children.iter().any(|&c| Some(set.contours()[c].height) != first);
+    let (sq, label) = transform(set, grid, win, &children, labelled, buffers);
+    let nearest_default = children.first().map_or(NONE, |&c| c as u32);
+    let own: Vec<(u32, f64)> = children
+        .iter()
+        .flat_map(|&c| regions.of(c).iter().map(|&g| (g, sq[win.local(grid, g as usize)].sqrt())))
+        .collect();
+    let nearest: Vec<(u32, f64, u32)> = parent.map_or_else(Vec::new, |p| {
+        regions
+            .of(p)
+            .iter()
+            .map(|&g| {
+                let w = win.local(grid, g as usize);
+                (g, sq[w].sqrt(), label.get(w).copied().unwrap_or(nearest_default))
+            })
+            .collect()
+    });
+    ParentDistances { own, nearest }
 }
 
 /// A rectangle of samples `[i0, i0 + w) × [j0, j0 + h)`.

@@ -7,15 +7,37 @@ use crate::{ContourSet, ContoursError};
 
 /// Parameters of contour smoothing (the contours paper, §5.1):
 /// `qᵢ ← (1 − α)·qᵢ + α/(2k)·Σⱼ₌₁..ₖ (qᵢ₋ⱼ + qᵢ₊ⱼ)`, repeated `iterations` times.
+/// In JSON every field is optional (defaults α = 0.5, k = 2, 4 passes).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Smoothing {
-    /// Strength α in (0, 1].
+    /// Strength α in (0, 1] (default 0.5).
     pub alpha: f64,
-    /// Neighbourhood half-width k ≥ 1 (vertices on each side).
+    /// Neighbourhood half-width k ≥ 1, vertices on each side (default 2).
     pub k: usize,
-    /// Number of passes.
+    /// Number of passes (default 4).
     pub iterations: u32,
+}
+
+impl Smoothing {
+    /// Checks the parameters: α in (0, 1], k ≥ 1.
+    ///
+    /// # Errors
+    /// [`ContoursError::InvalidSmoothing`] naming the parameter.
+    pub fn validate(&self) -> Result<(), ContoursError> {
+        if !(self.alpha > 0.0 && self.alpha <= 1.0) {
+            return Err(ContoursError::InvalidSmoothing {
+                field: "alpha",
+                value: self.alpha,
+                reason: "must be in (0, 1]",
+            });
+        }
+        if self.k == 0 {
+            return Err(ContoursError::InvalidSmoothing { field: "k", value: 0.0, reason: "must be at least 1" });
+        }
+        Ok(())
+    }
 }
 
 impl Default for Smoothing {
@@ -44,14 +66,7 @@ impl ContourSet {
     /// # Errors
     /// [`ContoursError::InvalidSmoothing`] for α outside (0, 1] or k = 0.
     pub fn smoothed(&self, params: &Smoothing) -> Result<ContourSet, ContoursError> {
-        if !(params.alpha > 0.0 && params.alpha <= 1.0) {
-            return Err(ContoursError::InvalidSmoothing {
-                reason: format!("alpha {} must be in (0, 1]", params.alpha),
-            });
-        }
-        if params.k == 0 {
-            return Err(ContoursError::InvalidSmoothing { reason: "k must be at least 1".into() });
-        }
+        params.validate()?;
         let mut pts: Vec<Vec<DVec2>> = self.contours().iter().map(|c| c.points.clone()).collect();
         let closed: Vec<bool> = self.contours().iter().map(|c| c.closed).collect();
         let mut lengths: Vec<f64> =

@@ -10,19 +10,9 @@ use relief_contours::{
     evenly_spaced_levels, extract_dem, extract_tin, reconstruct_interpolated, reconstruct_stairs,
 };
 use relief_eden_growth::{Graph, GraphOptions, Growth, Region, RegionTree, Uniform, grow};
+use relief_fixtures::star;
 use relief_heightfield::{Extent, GridSpec, Heightfield};
 use relief_tin::poisson_sampling::Polygon;
-
-fn star(center: DVec2, radius: f64, radii: &[f64]) -> Polygon {
-    let n = radii.len();
-    let ring = (0..n)
-        .map(|k| {
-            let t = std::f64::consts::TAU * k as f64 / n as f64;
-            center + radius * (0.6 + 0.4 * radii[k]) * DVec2::new(t.cos(), t.sin())
-        })
-        .collect();
-    Polygon::from_exterior(ring).expect("star polygons are simple")
-}
 
 struct Terrain {
     graph: Graph,

@@ -2,18 +2,60 @@
 //! interpolation of their attributes along the curve.
 
 use glam::DVec2;
-use serde::{Deserialize, Serialize};
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::DiffusionError;
+
+/// A condition a constraint value must meet, and what an error says when it does not. The same
+/// rules check values as they are deserialized (so a scene error names the field) and in
+/// [`FeatureCurve::validate`] (for curves built in code).
+struct Rule {
+    ok: fn(f64) -> bool,
+    reason: &'static str,
+}
+
+const FINITE: Rule = Rule { ok: f64::is_finite, reason: "must be finite" };
+const NON_NEGATIVE: Rule = Rule { ok: |v| v.is_finite() && v >= 0.0, reason: "must be finite and ≥ 0" };
+const UNIT: Rule = Rule { ok: |v| v.is_finite() && (0.0..=1.0).contains(&v), reason: "must lie in [0, 1]" };
+const ANGLE: Rule =
+    Rule { ok: |v| v.is_finite() && v.abs() < 90.0, reason: "must lie strictly between −90° and 90°" };
+
+impl Rule {
+    fn check(&self, value: f64) -> Result<(), &'static str> {
+        if (self.ok)(value) { Ok(()) } else { Err(self.reason) }
+    }
+
+    fn read<'de, D: Deserializer<'de>>(&self, d: D) -> Result<f64, D::Error> {
+        let value = f64::deserialize(d)?;
+        self.check(value).map_err(|reason| D::Error::custom(format!("{value} {reason}")))?;
+        Ok(value)
+    }
+}
+
+fn finite<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    FINITE.read(d)
+}
+fn non_negative<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    NON_NEGATIVE.read(d)
+}
+fn unit<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    UNIT.read(d)
+}
+fn angle<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    ANGLE.read(d)
+}
 
 /// A strict elevation constraint: height `h` over a band of half-width `r` around the curve.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Elevation {
-    /// Elevation.
+    /// Elevation (finite).
+    #[serde(deserialize_with = "finite")]
     pub h: f64,
-    /// Half-width of the band, world units (0: the curve itself).
-    #[serde(default)]
+    /// Half-width of the band, world units (≥ 0; default 0: the curve itself).
+    #[serde(default, deserialize_with = "non_negative")]
     pub r: f64,
 }
 
@@ -23,24 +65,32 @@ pub struct Elevation {
 /// zero keeps the ground level (hills). The prescribed slope fades to nothing at the band's end.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Slope {
-    /// Extent on the left, world units.
+    /// Extent on the left, world units (≥ 0).
+    #[serde(deserialize_with = "non_negative")]
     pub a: f64,
-    /// Extent on the right, world units.
+    /// Extent on the right, world units (≥ 0).
+    #[serde(deserialize_with = "non_negative")]
     pub b: f64,
     /// Slope angle on the left, degrees in (−90, 90), positive descending away from the curve.
+    #[serde(deserialize_with = "angle")]
     pub theta: f64,
     /// Slope angle on the right, degrees in (−90, 90), positive descending away from the curve.
+    #[serde(deserialize_with = "angle")]
     pub phi: f64,
 }
 
 /// Noise constraints: amplitude (elevation units) and roughness in [0, 1] of the detail noise.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Noise {
-    /// Amplitude A.
+    /// Amplitude A (≥ 0).
+    #[serde(deserialize_with = "non_negative")]
     pub amplitude: f64,
-    /// Roughness R: 1 blends all octaves equally, 0 damps the fine ones.
+    /// Roughness R in [0, 1]: 1 blends all octaves equally, 0 damps the fine ones.
+    #[serde(deserialize_with = "unit")]
     pub roughness: f64,
 }
 
@@ -48,8 +98,10 @@ pub struct Noise {
 /// of elevation, slope and noise constraints.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Constraint {
-    /// Position along the curve: 0 at its start, 1 at its end (by arc length).
+    /// Position along the curve, in [0, 1]: 0 at its start, 1 at its end (by arc length).
+    #[serde(deserialize_with = "unit")]
     pub u: f64,
     /// Elevation (h, r).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -62,15 +114,79 @@ pub struct Constraint {
     pub noise: Option<Noise>,
 }
 
+impl Constraint {
+    /// The first value breaking its rule: `(group, field, value, reason)`, the group being the
+    /// JSON object holding the field (`""`, `"elevation"`, `"slope"` or `"noise"`).
+    fn invalid(&self) -> Option<(&'static str, &'static str, f64, &'static str)> {
+        let mut checks: Vec<(&'static str, &'static str, f64, &Rule)> = vec![("", "u", self.u, &UNIT)];
+        if let Some(e) = self.elevation {
+            checks.extend([("elevation", "h", e.h, &FINITE), ("elevation", "r", e.r, &NON_NEGATIVE)]);
+        }
+        if let Some(s) = self.slope {
+            checks.extend([
+                ("slope", "a", s.a, &NON_NEGATIVE),
+                ("slope", "b", s.b, &NON_NEGATIVE),
+                ("slope", "theta", s.theta, &ANGLE),
+                ("slope", "phi", s.phi, &ANGLE),
+            ]);
+        }
+        if let Some(n) = self.noise {
+            checks.extend([
+                ("noise", "amplitude", n.amplitude, &NON_NEGATIVE),
+                ("noise", "roughness", n.roughness, &UNIT),
+            ]);
+        }
+        checks
+            .into_iter()
+            .find_map(|(group, field, v, rule)| rule.check(v).err().map(|reason| (group, field, v, reason)))
+    }
+}
+
 /// A feature curve: a piecewise cubic Bézier spline (control polygon of 3k + 1 points, or 2 points
-/// for a straight segment) with its constraint points.
+/// for a straight segment) with its constraint points. Deserialization checks every field (see
+/// [`FeatureCurve::validate`]), naming the one at fault.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct FeatureCurve {
-    /// Control points `[x, y]`: p₀, c₀, c₁, p₁, c₂, c₃, p₂, … (or just two end points).
+    /// Control points `[x, y]`: p₀, c₀, c₁, p₁, c₂, c₃, p₂, … (3k + 1 of them, or just two end
+    /// points), finite.
+    #[serde(deserialize_with = "control_points")]
+    #[cfg_attr(feature = "schemars", schemars(with = "Vec<[f64; 2]>"))]
     pub points: Vec<DVec2>,
-    /// Constraint points, in any order.
+    /// Constraint points, in any order (at least one).
+    #[serde(deserialize_with = "constraints")]
     pub constraints: Vec<Constraint>,
+}
+
+/// Whether `n` control points make a control polygon: 2, or 3k + 1 for k ≥ 1 cubic pieces.
+fn polygon_size_ok(n: usize) -> bool {
+    n == 2 || (n >= 4 && (n - 1).is_multiple_of(3))
+}
+
+/// Why a control polygon is unusable, if it is.
+fn control_polygon_error(points: &[DVec2]) -> Option<String> {
+    let n = points.len();
+    if !polygon_size_ok(n) {
+        return Some(format!("{n} control points; give 2 (a straight segment) or 3k + 1 (k cubic Bézier pieces)"));
+    }
+    points.iter().position(|p| !p.is_finite()).map(|k| format!("control point {k} is not finite"))
+}
+
+fn control_points<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<DVec2>, D::Error> {
+    let points = Vec::<DVec2>::deserialize(d)?;
+    match control_polygon_error(&points) {
+        Some(message) => Err(D::Error::custom(message)),
+        None => Ok(points),
+    }
+}
+
+fn constraints<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Constraint>, D::Error> {
+    let constraints = Vec::<Constraint>::deserialize(d)?;
+    if constraints.is_empty() {
+        return Err(D::Error::custom("give at least one constraint point"));
+    }
+    Ok(constraints)
 }
 
 /// One sample of a curve's centre line with its interpolated attributes.
@@ -106,9 +222,8 @@ impl FeatureCurve {
     /// [`DiffusionError::ControlPoints`], [`DiffusionError::NonFinitePoint`],
     /// [`DiffusionError::NoConstraints`] or [`DiffusionError::InvalidConstraint`].
     pub fn validate(&self, index: usize) -> Result<(), DiffusionError> {
-        let n = self.points.len();
-        if n < 2 || (n != 2 && !(n - 1).is_multiple_of(3)) {
-            return Err(DiffusionError::ControlPoints { curve: index, count: n });
+        if !polygon_size_ok(self.points.len()) {
+            return Err(DiffusionError::ControlPoints { curve: index, count: self.points.len() });
         }
         if let Some(k) = self.points.iter().position(|p| !p.is_finite()) {
             return Err(DiffusionError::NonFinitePoint { curve: index, index: k });
@@ -117,40 +232,8 @@ impl FeatureCurve {
             return Err(DiffusionError::NoConstraints { curve: index });
         }
         for (k, c) in self.constraints.iter().enumerate() {
-            let bad = |field, value, reason| {
-                Err(DiffusionError::InvalidConstraint { curve: index, constraint: k, field, value, reason })
-            };
-            let finite = |v: f64| v.is_finite();
-            if !(finite(c.u) && (0.0..=1.0).contains(&c.u)) {
-                return bad("u", c.u, "must lie in [0, 1]");
-            }
-            if let Some(e) = c.elevation {
-                if !finite(e.h) {
-                    return bad("h", e.h, "must be finite");
-                }
-                if !(finite(e.r) && e.r >= 0.0) {
-                    return bad("r", e.r, "must be finite and ≥ 0");
-                }
-            }
-            if let Some(s) = c.slope {
-                for (field, v) in [("a", s.a), ("b", s.b)] {
-                    if !(finite(v) && v >= 0.0) {
-                        return bad(field, v, "must be finite and ≥ 0");
-                    }
-                }
-                for (field, v) in [("theta", s.theta), ("phi", s.phi)] {
-                    if !(finite(v) && v.abs() < 90.0) {
-                        return bad(field, v, "must lie strictly between −90° and 90°");
-                    }
-                }
-            }
-            if let Some(nz) = c.noise {
-                if !(finite(nz.amplitude) && nz.amplitude >= 0.0) {
-                    return bad("amplitude", nz.amplitude, "must be finite and ≥ 0");
-                }
-                if !(finite(nz.roughness) && (0.0..=1.0).contains(&nz.roughness)) {
-                    return bad("roughness", nz.roughness, "must lie in [0, 1]");
-                }
+            if let Some((_, field, value, reason)) = c.invalid() {
+                return Err(DiffusionError::InvalidConstraint { curve: index, constraint: k, field, value, reason });
             }
         }
         Ok(())
@@ -285,6 +368,57 @@ fn catmull_rom(keys: &[(f64, Vec<f64>)], u: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn deserialization_checks_every_field_with_the_rules_validate_uses() {
+        let good = r#"{"points":[[0.0,0.0],[10.0,0.0]],"constraints":[{"u":0.5,"elevation":{"h":3.0,"r":1.0},"slope":{"a":1.0,"b":2.0,"theta":30.0,"phi":-10.0},"noise":{"amplitude":2.0,"roughness":0.5}}]}"#;
+        let curve: FeatureCurve = serde_json::from_str(good).unwrap();
+        assert_eq!(serde_json::to_string(&curve).unwrap(), good);
+        assert_eq!(curve.validate(0), Ok(()));
+        let cases = [
+            (r#""u":1.5"#, r#""u":0.5"#, "1.5 must lie in [0, 1]", "u"),
+            (r#""r":-1.0"#, r#""r":1.0"#, "-1 must be finite and ≥ 0", "r"),
+            (r#""a":-1.0"#, r#""a":1.0"#, "≥ 0", "a"),
+            (r#""theta":90.0"#, r#""theta":30.0"#, "90 must lie strictly between", "theta"),
+            (r#""phi":-95.0"#, r#""phi":-10.0"#, "between", "phi"),
+            (r#""amplitude":-2.0"#, r#""amplitude":2.0"#, "≥ 0", "amplitude"),
+            (r#""roughness":2.0"#, r#""roughness":0.5"#, "[0, 1]", "roughness"),
+        ];
+        for (bad, fine, message, field) in cases {
+            let text = good.replace(fine, bad);
+            let e = serde_json::from_str::<FeatureCurve>(&text).unwrap_err().to_string();
+            assert!(e.contains(message), "{bad}: {e}");
+            // The same value built in code fails `validate` on the same field.
+            let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+            let c = &value["constraints"][0];
+            let num = |g: &str, f: &str| if g.is_empty() { c[f].as_f64().unwrap() } else { c[g][f].as_f64().unwrap() };
+            let mut built = curve.clone();
+            let k = &mut built.constraints[0];
+            let (e, s, n) = (k.elevation.as_mut().unwrap(), k.slope.as_mut().unwrap(), k.noise.as_mut().unwrap());
+            (e.h, e.r) = (num("elevation", "h"), num("elevation", "r"));
+            (s.a, s.b, s.theta, s.phi) =
+                (num("slope", "a"), num("slope", "b"), num("slope", "theta"), num("slope", "phi"));
+            (n.amplitude, n.roughness) = (num("noise", "amplitude"), num("noise", "roughness"));
+            k.u = num("", "u");
+            let err = built.validate(2).unwrap_err();
+            assert!(
+                matches!(err, DiffusionError::InvalidConstraint { field: f, curve: 2, constraint: 0, .. } if f == field),
+                "{err:?}"
+            );
+            assert!(
+                err.location().ends_with(field) && err.location().starts_with("curves[2].constraints[0]."),
+                "{}",
+                err.location()
+            );
+        }
+        for (text, message) in [
+            (r#"{"points":[[0,0],[1,0],[2,0]],"constraints":[{"u":0}]}"#, "3 control points"),
+            (r#"{"points":[[0,0],[1,0]],"constraints":[]}"#, "at least one constraint"),
+        ] {
+            let e = serde_json::from_str::<FeatureCurve>(text).unwrap_err().to_string();
+            assert!(e.contains(message), "{text}: {e}");
+        }
+    }
 
     #[test]
     fn stations_follow_the_curve_and_interpolate() {

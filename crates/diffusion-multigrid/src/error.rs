@@ -66,6 +66,17 @@ pub enum DiffusionError {
         /// The cap.
         max: usize,
     },
+    /// A multigrid hierarchy breaks one of its invariants (found by
+    /// [`crate::DiffusionProblem::check_invariants`]): a bug, never the user's input.
+    #[error("multigrid level {level}{}: {reason}", sample.map_or_else(String::new, |(i, j)| format!(", sample ({i}, {j})")))]
+    BrokenHierarchy {
+        /// The level (0: the finest).
+        level: usize,
+        /// The sample `(i, j)` of that level, when the invariant is about one.
+        sample: Option<(usize, usize)>,
+        /// What is broken.
+        reason: String,
+    },
     /// The raster is too small to diffuse on.
     #[error("grid {nx} x {ny} is too small: diffusion needs at least 2 x 2 samples")]
     GridTooSmall {
@@ -74,4 +85,31 @@ pub enum DiffusionError {
         /// Samples along y.
         ny: usize,
     },
+}
+
+impl DiffusionError {
+    /// Where the offending value is, as a JSON path relative to the inputs of [`crate::generate`]
+    /// laid out as a scene's `diffusion` generator lays them out: `curves[2].points`,
+    /// `curves[0].constraints[1].slope.theta`, `tolerance`…; empty when the error concerns the
+    /// grid or the call as a whole. The `relief` facade prefixes it with the generator's path.
+    pub fn location(&self) -> String {
+        match self {
+            Self::ControlPoints { curve, .. } => format!("curves[{curve}].points"),
+            Self::NonFinitePoint { curve, index } => format!("curves[{curve}].points[{index}]"),
+            Self::NoConstraints { curve } => format!("curves[{curve}].constraints"),
+            Self::InvalidConstraint { curve, constraint, field, .. } => {
+                let group = match *field {
+                    "h" | "r" => "elevation.",
+                    "a" | "b" | "theta" | "phi" => "slope.",
+                    "amplitude" | "roughness" => "noise.",
+                    _ => "",
+                };
+                format!("curves[{curve}].constraints[{constraint}].{group}{field}")
+            }
+            Self::CurveTooLong { curve, .. } => format!("curves[{curve}]"),
+            Self::NoElevation => "curves".to_owned(),
+            Self::InvalidOption { name, .. } => (*name).to_owned(),
+            _ => String::new(),
+        }
+    }
 }

@@ -4,14 +4,19 @@
 //! - [`FeatureCurve`] (§3.1): a piecewise cubic Bézier spline with [`Constraint`] points at curve
 //!   parameter u carrying any subset of elevation (h, r), slope (a, b, θ, φ) and noise (A, R);
 //!   attributes interpolate linearly along the curve, h by a cubic spline. [`presets`] builds the
-//!   landforms of §3.2: ridge, multiple ridges, riverbed, cliff, hill, crack.
+//!   landforms of §3.2: ridge, multiple ridges, riverbed, cliff, hill, crack. Curves are serde
+//!   types in the shape of `relief` scenes and check every value as they deserialize, with the
+//!   rules [`FeatureCurve::validate`] applies to curves built in code; the optional `schemars`
+//!   feature derives their JSON Schemas, and [`DiffusionError::location`] turns an error's curve,
+//!   constraint and field into a JSON path (`curves[3].constraints[1].slope.theta`).
 //! - [`ConstraintMaps`] (§4.1): the curves rasterized at any resolution into elevation, gradient
 //!   (norm and direction) and noise maps, with the paper's rule for crossing slope bands: leave
 //!   them empty and fill them by diffusion.
 //! - [`DiffusionProblem`] (§4.2, §5.2): the per-sample relaxation `F = α·F_L + β·F_G + (1−α−β)·F_I`
 //!   as a linear system, solved either by the paper's coarse-to-fine Jacobi pyramid or by a real
 //!   multigrid (full multigrid start, V-cycles, red-black Gauss–Seidel in parallel), both to a
-//!   relative-residual tolerance with a [`SolveReport`].
+//!   relative-residual tolerance with a [`SolveReport`]. Its vertex-centred coarse hierarchy has
+//!   an invariant checker, [`DiffusionProblem::check_invariants`], that the tests call.
 //! - [`generate`] (§4.3): the smooth elevation plus multi-fractal detail driven by the diffused
 //!   amplitude and roughness; deterministic for a seed, identical for any thread count.
 //!
@@ -34,6 +39,7 @@
 
 mod curve;
 mod error;
+mod maps;
 pub mod presets;
 mod raster;
 mod solver;
@@ -41,12 +47,8 @@ mod terrain;
 
 pub use curve::{Constraint, Elevation, FeatureCurve, Noise, Slope};
 pub use error::DiffusionError;
-pub use raster::{CellKind, ConstraintMaps};
+pub use maps::{CellKind, ConstraintMaps};
+pub use raster::MAX_STATIONS;
 pub use relief_heightfield as heightfield;
 pub use solver::{DiffusionProblem, SolveOptions, SolveReport, Solver};
 pub use terrain::{FeatureTerrain, TerrainOptions, generate};
-
-/// Most samples one feature curve may take when rasterized (a station every half cell): 2^23, a
-/// curve thousands of grid widths long. Longer curves are refused with
-/// [`DiffusionError::CurveTooLong`] before any is allocated.
-pub const MAX_STATIONS: usize = 1 << 23;

@@ -1,47 +1,20 @@
 //! Rasterization of feature curves into constraint maps (§4.1): strict elevation, gradient norm
 //! and direction, noise amplitude and roughness, and what kind of equation each sample obeys.
+//! Crossing slope bands are filled afterwards by Laplace solves (`DiffusionProblem::laplace`) on crops
+//! around them.
 
 use glam::DVec2;
 use relief_heightfield::GridSpec;
-use serde::{Deserialize, Serialize};
 
 use crate::DiffusionError;
 use crate::curve::{FeatureCurve, Station};
+use crate::maps::{CellKind, ConstraintMaps};
 use crate::solver::{DiffusionProblem, SolveOptions};
 
-/// Which equation a sample obeys.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum CellKind {
-    /// No constraint: Laplace (α = 1, β = 0).
-    Free,
-    /// Strict elevation: identification (α = β = 0).
-    Elevation,
-    /// Slope constraint: half Laplace, half gradient (α = β = ½).
-    Gradient,
-    /// Where slope constraints of different curve sides overlap: left empty, the gradient filled
-    /// in by diffusion, then treated as [`CellKind::Gradient`].
-    Hole,
-}
-
-/// The constraints of a set of curves on one grid. Per-sample arrays are row-major.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ConstraintMaps {
-    /// The grid.
-    pub grid: GridSpec,
-    /// Equation per sample.
-    pub kind: Vec<CellKind>,
-    /// Strict elevation (averaged where curves overlap); NaN where none.
-    pub elevation: Vec<f32>,
-    /// Gradient step G of the gradient equation `F = F_N + G` (elevation change per grid step along
-    /// `normal`); 0 where none.
-    pub gradient: Vec<f32>,
-    /// Unit direction n of the gradient equation (the way the elevation is propagated).
-    pub normal: Vec<[f32; 2]>,
-    /// Noise amplitude (averaged); NaN where none.
-    pub amplitude: Vec<f32>,
-    /// Noise roughness (averaged); NaN where none.
-    pub roughness: Vec<f32>,
-}
+/// Most samples one feature curve may take when rasterized (a station every half cell): 2^23, a
+/// curve thousands of grid widths long. Longer curves are refused with
+/// [`DiffusionError::CurveTooLong`] before any is allocated.
+pub const MAX_STATIONS: usize = 1 << 23;
 
 /// Accumulators while painting.
 struct Canvas {
@@ -66,7 +39,7 @@ impl ConstraintMaps {
     ///
     /// # Errors
     /// The validation errors of [`FeatureCurve::validate`]; [`DiffusionError::GridTooSmall`];
-    /// [`DiffusionError::CurveTooLong`] before sampling a curve of more than [`crate::MAX_STATIONS`]
+    /// [`DiffusionError::CurveTooLong`] before sampling a curve of more than [`MAX_STATIONS`]
     /// half-cell steps.
     pub fn rasterize(curves: &[FeatureCurve], grid: &GridSpec) -> Result<Self, DiffusionError> {
         if grid.nx() < 2 || grid.ny() < 2 {
@@ -76,8 +49,8 @@ impl ConstraintMaps {
         for (k, c) in curves.iter().enumerate() {
             c.validate(k)?;
             let stations = c.samples_at(step);
-            if stations.is_nan() || stations > crate::MAX_STATIONS as f64 {
-                return Err(DiffusionError::CurveTooLong { curve: k, stations, max: crate::MAX_STATIONS });
+            if stations.is_nan() || stations > MAX_STATIONS as f64 {
+                return Err(DiffusionError::CurveTooLong { curve: k, stations, max: MAX_STATIONS });
             }
         }
         let n = grid.len();
@@ -103,20 +76,6 @@ impl ConstraintMaps {
             }
         }
         Ok(canvas.finish())
-    }
-
-    /// Number of samples of each kind `(free, elevation, gradient, hole)`.
-    pub fn counts(&self) -> (usize, usize, usize, usize) {
-        let mut c = (0, 0, 0, 0);
-        for k in &self.kind {
-            match k {
-                CellKind::Free => c.0 += 1,
-                CellKind::Elevation => c.1 += 1,
-                CellKind::Gradient => c.2 += 1,
-                CellKind::Hole => c.3 += 1,
-            }
-        }
-        c
     }
 }
 
@@ -286,9 +245,10 @@ enum Paint {
 /// normal is short; renormalised to unit length it would point anywhere, and a descent chain
 /// that loops digs a pit (a five-ridge summit sank to −1 200 m that way). So the normal keeps the
 /// diffused direction but not more than unit length, and the slope is scaled by its squared
-/// length: a coherent fill keeps the full constraint, a cancelled one fades to plain Laplace. Each 4-connected group of holes is
-/// solved on its own bounding box grown by a margin, with the slope samples there as fixed
-/// values and everything else free, by the same multigrid solver as the elevation.
+/// length: a coherent fill keeps the full constraint, a cancelled one fades to plain Laplace. Each
+/// 4-connected group of holes is solved on its own bounding box grown by a margin, with the slope
+/// samples there as fixed values and everything else free, by the same multigrid solver as the
+/// elevation.
 fn fill_holes(maps: &mut ConstraintMaps) {
     let (nx, ny) = (maps.grid.nx(), maps.grid.ny());
     let mut seen = vec![false; nx * ny];
@@ -297,57 +257,100 @@ fn fill_holes(maps: &mut ConstraintMaps) {
         if seen[start] || maps.kind[start] != CellKind::Hole {
             continue;
         }
-        // The group's bounding box.
-        let (mut i0, mut j0, mut i1, mut j1) = (nx, ny, 0, 0);
-        seen[start] = true;
-        stack.push(start);
-        while let Some(k) = stack.pop() {
-            let (i, j) = (k % nx, k / nx);
-            (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
-            for (di, dj) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)] {
-                let (a, b) = (i as i64 + di, j as i64 + dj);
-                if a >= 0 && b >= 0 && a < nx as i64 && b < ny as i64 {
-                    let w = b as usize * nx + a as usize;
-                    if !seen[w] && maps.kind[w] == CellKind::Hole {
-                        seen[w] = true;
-                        stack.push(w);
-                    }
+        let group = hole_group_bounds(maps, start, &mut seen, &mut stack);
+        if let Some(window) = Window::around(group, nx, ny) {
+            fill_window(maps, &window);
+        }
+    }
+}
+
+/// Marks the 4-connected group of holes containing `start` as `seen` (depth-first, on `stack`)
+/// and returns its bounding box `[i0, j0, i1, j1]`, bounds included.
+fn hole_group_bounds(maps: &ConstraintMaps, start: usize, seen: &mut [bool], stack: &mut Vec<usize>) -> [usize; 4] {
+    let (nx, ny) = (maps.grid.nx(), maps.grid.ny());
+    let (mut i0, mut j0, mut i1, mut j1) = (nx, ny, 0, 0);
+    seen[start] = true;
+    stack.push(start);
+    while let Some(k) = stack.pop() {
+        let (i, j) = (k % nx, k / nx);
+        (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
+        for (di, dj) in [(-1i64, 0i64), (1, 0), (0, -1), (0, 1)] {
+            let (a, b) = (i as i64 + di, j as i64 + dj);
+            if a >= 0 && b >= 0 && a < nx as i64 && b < ny as i64 {
+                let w = b as usize * nx + a as usize;
+                if !seen[w] && maps.kind[w] == CellKind::Hole {
+                    seen[w] = true;
+                    stack.push(w);
                 }
             }
         }
+    }
+    [i0, j0, i1, j1]
+}
+
+/// The crop of the grid one group of holes is filled on.
+struct Window {
+    /// Column of the crop's first sample in the full grid.
+    i0: usize,
+    /// Row of the crop's first sample in the full grid.
+    j0: usize,
+    /// Samples along x.
+    w: usize,
+    /// Samples along y.
+    h: usize,
+    /// Samples along x of the full grid.
+    nx: usize,
+}
+
+impl Window {
+    /// The group's bounding box `[i0, j0, i1, j1]` grown by a margin of 2 plus a quarter of its
+    /// larger side, clamped to the `nx × ny` grid; `None` when narrower than 2 samples (nothing
+    /// to diffuse on).
+    fn around([i0, j0, i1, j1]: [usize; 4], nx: usize, ny: usize) -> Option<Self> {
         let margin = 2 + (i1 - i0).max(j1 - j0) / 4;
         let (i0, j0) = (i0.saturating_sub(margin), j0.saturating_sub(margin));
         let (i1, j1) = ((i1 + margin).min(nx - 1), (j1 + margin).min(ny - 1));
         let (w, h) = (i1 - i0 + 1, j1 - j0 + 1);
-        if w < 2 || h < 2 {
+        (w >= 2 && h >= 2).then_some(Self { i0, j0, w, h, nx })
+    }
+
+    /// Index in the full grid of crop sample `c` (row-major in the crop).
+    fn full_index(&self, c: usize) -> usize {
+        (self.j0 + c / self.w) * self.nx + self.i0 + c % self.w
+    }
+}
+
+/// Diffuses the gradient step and both normal components over `window` and writes them into its
+/// holes: the normal capped at unit length, the step scaled by the cap's square. A field whose
+/// solve fails (no slope sample in the window) fills with zeros.
+fn fill_window(maps: &mut ConstraintMaps, window: &Window) {
+    let g = diffuse_slope_samples(maps, window, |k| maps.gradient[k]);
+    let x = diffuse_slope_samples(maps, window, |k| maps.normal[k][0]);
+    let y = diffuse_slope_samples(maps, window, |k| maps.normal[k][1]);
+    for c in 0..window.w * window.h {
+        let k = window.full_index(c);
+        if maps.kind[k] != CellKind::Hole {
             continue;
         }
-        let crop = |f: &dyn Fn(usize) -> f32| -> Vec<f32> {
-            (0..w * h)
-                .map(|c| {
-                    let k = (j0 + c / w) * nx + i0 + c % w;
-                    if maps.kind[k] == CellKind::Gradient { f(k) } else { f32::NAN }
-                })
-                .collect()
-        };
-        let solve = |values: Vec<f32>| -> Option<Vec<f32>> {
-            let options = SolveOptions { tolerance: 1e-3, ..SolveOptions::default() };
-            DiffusionProblem::laplace(w, h, &values)?.solve(&options).ok().map(|(x, _)| x)
-        };
-        let g = solve(crop(&|k| maps.gradient[k]));
-        let x = solve(crop(&|k| maps.normal[k][0]));
-        let y = solve(crop(&|k| maps.normal[k][1]));
-        for c in 0..w * h {
-            let k = (j0 + c / w) * nx + i0 + c % w;
-            if maps.kind[k] != CellKind::Hole {
-                continue;
-            }
-            maps.gradient[k] = g.as_ref().map_or(0.0, |g| g[c]);
-            let (a, b) = (x.as_ref().map_or(0.0, |x| x[c]), y.as_ref().map_or(0.0, |y| y[c]));
-            let len = a.hypot(b);
-            let keep = len.min(1.0);
-            maps.normal[k] = if len > 1e-6 { [a / len * keep, b / len * keep] } else { [0.0, 0.0] };
-            maps.gradient[k] *= keep * keep;
-        }
+        maps.gradient[k] = g.as_ref().map_or(0.0, |g| g[c]);
+        let (a, b) = (x.as_ref().map_or(0.0, |x| x[c]), y.as_ref().map_or(0.0, |y| y[c]));
+        let len = a.hypot(b);
+        let keep = len.min(1.0);
+        maps.normal[k] = if len > 1e-6 { [a / len * keep, b / len * keep] } else { [0.0, 0.0] };
+        maps.gradient[k] *= keep * keep;
     }
+}
+
+/// Laplace diffusion over `window` of `field` (by full-grid index), fixed on the slope samples
+/// and free elsewhere, to a relative residual of 1e-3; `None` if the window has no slope sample
+/// or the solve fails.
+fn diffuse_slope_samples(maps: &ConstraintMaps, window: &Window, field: impl Fn(usize) -> f32) -> Option<Vec<f32>> {
+    let values: Vec<f32> = (0..window.w * window.h)
+        .map(|c| {
+            let k = window.full_index(c);
+            if maps.kind[k] == CellKind::Gradient { field(k) } else { f32::NAN }
+        })
+        .collect();
+    let options = SolveOptions { tolerance: 1e-3, ..SolveOptions::default() };
+    DiffusionProblem::laplace(window.w, window.h, &values)?.solve(&options).ok().map(|(x, _)| x)
 }

@@ -13,11 +13,12 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::DiffusionError;
-use crate::raster::{CellKind, ConstraintMaps};
+use crate::maps::{CellKind, ConstraintMaps};
 
 /// Which solver to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub enum Solver {
     /// Full multigrid then V-cycles with red-black Gauss–Seidel smoothing (2 + 2 sweeps, damped
     /// coarse-grid correction); `BiCGStab` preconditioned by the V-cycle takes over if a cycle cuts
@@ -77,6 +78,19 @@ pub struct SolveReport {
     /// every 50 Jacobi sweeps).
     pub history: Vec<f64>,
 }
+
+/// The error of a broken hierarchy invariant: `level` (0: the finest), the sample when the
+/// invariant is about one, and what is broken.
+fn broken(level: usize, sample: Option<(usize, usize)>, reason: String) -> DiffusionError {
+    DiffusionError::BrokenHierarchy { level, sample, reason }
+}
+
+/// Most levels of a hierarchy, the finest included.
+const MAX_LEVELS: usize = 16;
+
+/// A level is coarsened only while both its sides have at least this many samples, so every coarse
+/// level keeps at least 3 a side and the coarsest is small enough for plain sweeps.
+const MIN_COARSENED_SIDE: usize = 6;
 
 /// One level of the system, stored by colour like [`Field`].
 #[derive(Debug, Clone)]
@@ -147,11 +161,13 @@ impl DiffusionProblem {
         Some(Self::with_coarse(Level::new(nx, ny, &g, &b)))
     }
 
+    /// `finest` and its coarse versions, each coarsened from the one above while both its sides
+    /// have at least [`MIN_COARSENED_SIDE`] samples, up to [`MAX_LEVELS`] levels.
     fn with_coarse(finest: Level) -> Self {
         let mut levels = vec![finest];
-        while levels.len() < 16 {
+        while levels.len() < MAX_LEVELS {
             let last = &levels[levels.len() - 1];
-            if last.nx.min(last.ny) < 6 {
+            if last.nx.min(last.ny) < MIN_COARSENED_SIDE {
                 break;
             }
             let coarse = last.coarsen();
@@ -168,6 +184,79 @@ impl DiffusionProblem {
     /// Number of levels (the finest included).
     pub fn depth(&self) -> usize {
         self.levels.len()
+    }
+
+    /// Checks the invariants of the level hierarchy that the solvers rely on (what the coarsening
+    /// must preserve; the constructors establish them, tests call this):
+    ///
+    /// - **shape**: 1 to 16 levels, each at least 2 × 2 (the reflecting border needs a neighbour
+    ///   on each axis); level l + 1 is `⌈nx/2⌉ × ⌈ny/2⌉` of level l (vertex-centred: coarse
+    ///   sample (I, J) on fine sample (2I, 2J)), and level l had at least 6 samples per side; the
+    ///   coarsest is below 6 along some side unless the hierarchy is 16 deep;
+    /// - **colour-split storage**: weights and right-hand side stored as `c[(i + j) % 2][j·w + i/2]`
+    ///   with `w = ⌈nx/2⌉`, and the slot past a row's last sample of a colour (odd `nx`) holding
+    ///   zero weights and a zero right-hand side, so sweeps, residuals and reductions that run over
+    ///   whole rows see zeros there;
+    /// - **equations**: a fixed sample stores `[FIXED, 0]` (the stencil ignores its first weight,
+    ///   not its second); a free sample's upwind weights satisfy `|wx| + |wy| ≤ 1`, so its
+    ///   Laplacian weight `(1 − |wx| − |wy|)/4`, computed as the stencil computes it, is ≥ 0; the
+    ///   finest level has a fixed sample (without one the problem is pure Neumann, singular);
+    /// - **coarsening**: a coarse sample is fixed exactly when its fine sample or one of that
+    ///   sample's four neighbours is (so fixed data survives every level, bar isolated fixed samples
+    ///   at odd (i, j): coarse levels may have no fixed sample), at a value between the
+    ///   least and the greatest of those fixed values (up to f32 rounding); a free coarse sample's
+    ///   weights each lie between the least and the greatest of the free fine weights in its 3 × 3
+    ///   neighbourhood (they average them).
+    ///
+    /// # Errors
+    /// [`DiffusionError::BrokenHierarchy`] naming the level, the sample where there is one, and what is broken.
+    pub fn check_invariants(&self) -> Result<(), DiffusionError> {
+        self.check_shape()?;
+        for (l, level) in self.levels.iter().enumerate() {
+            level.check_storage(l)?;
+            level.check_equations(l)?;
+        }
+        if !self.levels[0].g.iter().flatten().any(|g| g[0] == FIXED) {
+            return Err(broken(0, None, "no fixed sample: the problem is singular".into()));
+        }
+        for (l, pair) in self.levels.windows(2).enumerate() {
+            pair[1].check_coarsening_of(&pair[0], l + 1)?;
+        }
+        Ok(())
+    }
+
+    /// The shape part of [`Self::check_invariants`]: depth, sizes and the stopping rule.
+    fn check_shape(&self) -> Result<(), DiffusionError> {
+        let depth = self.levels.len();
+        if depth == 0 || depth > MAX_LEVELS {
+            return Err(broken(0, None, format!("{depth} levels, not 1 to {MAX_LEVELS}")));
+        }
+        for (l, level) in self.levels.iter().enumerate() {
+            if level.nx < 2 || level.ny < 2 {
+                return Err(broken(l, None, format!("{} × {} is below 2 × 2", level.nx, level.ny)));
+            }
+        }
+        for (l, pair) in self.levels.windows(2).enumerate() {
+            let (fine, coarse) = (&pair[0], &pair[1]);
+            if fine.nx.min(fine.ny) < MIN_COARSENED_SIDE {
+                let reason = format!("{} × {} was coarsened, below {MIN_COARSENED_SIDE} a side", fine.nx, fine.ny);
+                return Err(broken(l, None, reason));
+            }
+            let expected = (fine.nx.div_ceil(2), fine.ny.div_ceil(2));
+            if (coarse.nx, coarse.ny) != expected {
+                let reason = format!(
+                    "{} × {}, not the coarse size {} × {} of the level above",
+                    coarse.nx, coarse.ny, expected.0, expected.1
+                );
+                return Err(broken(l + 1, None, reason));
+            }
+        }
+        let last = &self.levels[depth - 1];
+        if depth < MAX_LEVELS && last.nx.min(last.ny) >= MIN_COARSENED_SIDE {
+            let reason = format!("the coarsest level, {} × {}, was not coarsened further", last.nx, last.ny);
+            return Err(broken(depth - 1, None, reason));
+        }
+        Ok(())
     }
 
     /// Solves the system, returning the finest-level solution (row-major) and a report.
@@ -454,7 +543,9 @@ impl Level {
     /// The coarse version, vertex-centred: coarse sample (I, J) sits on fine sample (2I, 2J) and
     /// stands for its 3 × 3 neighbourhood under full weighting (¼, ½, ¼ per axis). It is fixed when
     /// the fine sample or one of its four neighbours is (so Dirichlet data, even a one-sample-wide
-    /// curve, survives every coarsening and no coarse problem is a singular pure-Neumann one), at
+    /// 4-connected curve, survives every coarsening and no coarse problem of a rasterized curve is
+    /// a singular pure-Neumann one; only fixed samples at odd (i, j) with no fixed 4-neighbour
+    /// vanish, and the V-cycle copes with the singular coarse levels such isolated data leave), at
     /// the weighted mean of those fixed values. Otherwise it averages its neighbourhood's signed
     /// upwind weights (what cancels goes to the Laplacian, so the row still sums to 1) and doubles
     /// the gradient steps of the right-hand side (one coarse step spans two fine ones).
@@ -650,6 +741,118 @@ impl Level {
     }
 }
 
+/// The per-level parts of [`DiffusionProblem::check_invariants`].
+impl Level {
+    /// Colour-split storage: row stride, array lengths, zero padding slots.
+    fn check_storage(&self, l: usize) -> Result<(), DiffusionError> {
+        let (nx, ny, w) = (self.nx, self.ny, self.nx.div_ceil(2));
+        let b = &self.b;
+        if self.w != w || (b.nx, b.ny, b.w) != (nx, ny, w) {
+            let reason = format!(
+                "stride {} and right-hand side {} × {} (stride {}) for {nx} × {ny}: want stride {w}",
+                self.w, b.nx, b.ny, b.w
+            );
+            return Err(broken(l, None, reason));
+        }
+        for c in 0..2 {
+            if self.g[c].len() != w * ny || b.c[c].len() != w * ny {
+                let reason = format!(
+                    "colour {c} holds {} weights and {} right-hand sides, not {w} × {ny}",
+                    self.g[c].len(),
+                    b.c[c].len()
+                );
+                return Err(broken(l, None, reason));
+            }
+            for j in 0..ny {
+                for h in self.count(c, j)..w {
+                    let (g, v) = (self.g[c][j * w + h], b.c[c][j * w + h]);
+                    if g != [0, 0] || v != 0.0 {
+                        let reason = format!("padding slot {h} of colour {c}, row {j} holds {g:?} and {v}, not zeros");
+                        return Err(broken(l, None, reason));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Stored rows: fixed samples as `[FIXED, 0]`, free ones with a non-negative Laplacian weight.
+    fn check_equations(&self, l: usize) -> Result<(), DiffusionError> {
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                let [gx, gy] = self.weights(i, j);
+                let reason = if gx == FIXED {
+                    if gy == 0 {
+                        continue;
+                    }
+                    format!("fixed with a second weight {gy}, not 0")
+                } else {
+                    let (wx, wy) = (f32::from(gx) * QUANTUM, f32::from(gy) * QUANTUM);
+                    if 0.25 * (1.0 - wx.abs() - wy.abs()) >= 0.0 {
+                        continue;
+                    }
+                    format!("|wx| + |wy| = {} > 1: negative Laplacian weight", wx.abs() + wy.abs())
+                };
+                return Err(broken(l, Some((i, j)), reason));
+            }
+        }
+        Ok(())
+    }
+
+    /// This level (number `l`) as the coarse version of `fine`: fixed exactly where the fine
+    /// five-point neighbourhood has a fixed sample, at a value within theirs; free weights within
+    /// those of the free fine 3 × 3 neighbourhood.
+    fn check_coarsening_of(&self, fine: &Level, l: usize) -> Result<(), DiffusionError> {
+        for jc in 0..self.ny {
+            for ic in 0..self.nx {
+                let (fi, fj) = (2 * ic, 2 * jc);
+                // Off-grid neighbours wrap to huge indices and drop out.
+                let five = [(fi, fj), (fi.wrapping_sub(1), fj), (fi + 1, fj), (fi, fj.wrapping_sub(1)), (fi, fj + 1)];
+                let (mut lo, mut hi, mut fixed) = (f32::INFINITY, f32::NEG_INFINITY, false);
+                for (i, j) in five.into_iter().filter(|&(i, j)| i < fine.nx && j < fine.ny && fine.fixed(i, j)) {
+                    let v = fine.b.get(i, j);
+                    (lo, hi, fixed) = (lo.min(v), hi.max(v), true);
+                }
+                let [gx, gy] = self.weights(ic, jc);
+                let reason = if fixed != (gx == FIXED) {
+                    let which = if fixed { "free although" } else { "fixed although none of" };
+                    format!("{which} fine sample ({fi}, {fj}) or its four neighbours is fixed")
+                } else if fixed {
+                    // The weighted mean of at most five values, summed in f32.
+                    let (v, tol) = (self.b.get(ic, jc), 4.0 * f32::EPSILON * lo.abs().max(hi.abs()));
+                    if v >= lo - tol && v <= hi + tol {
+                        continue;
+                    }
+                    format!("fixed at {v}, outside the fine fixed values {lo} ..= {hi}")
+                } else {
+                    let ((xlo, xhi), (ylo, yhi)) = fine.free_weight_ranges(fi, fj);
+                    if (xlo..=xhi).contains(&gx) && (ylo..=yhi).contains(&gy) {
+                        continue;
+                    }
+                    format!("weights [{gx}, {gy}] outside the fine ranges {xlo} ..= {xhi}, {ylo} ..= {yhi}")
+                };
+                return Err(broken(l, Some((ic, jc)), reason));
+            }
+        }
+        Ok(())
+    }
+
+    /// The ranges `((min wx, max wx), (min wy, max wy))` of the stored weights of the free samples
+    /// in the 3 × 3 neighbourhood of `(fi, fj)`; empty ranges (min > max) if all are fixed.
+    fn free_weight_ranges(&self, fi: usize, fj: usize) -> ((i16, i16), (i16, i16)) {
+        let (mut x, mut y) = ((i16::MAX, i16::MIN), (i16::MAX, i16::MIN));
+        for j in fj.saturating_sub(1)..=(fj + 1).min(self.ny - 1) {
+            for i in fi.saturating_sub(1)..=(fi + 1).min(self.nx - 1) {
+                let [gx, gy] = self.weights(i, j);
+                if gx != FIXED {
+                    (x, y) = ((x.0.min(gx), x.1.max(gx)), (y.0.min(gy), y.1.max(gy)));
+                }
+            }
+        }
+        (x, y)
+    }
+}
+
 /// Weight of the coarse-grid correction. The coarse rows only approximate the fine ones (second-
 /// and first-order terms scale differently), and undamped corrections overshoot on slope bands
 /// until V-cycles diverge; at 0.7 they converge on every constraint set we tried.
@@ -797,6 +1000,129 @@ mod tests {
             }
         }
         Level::new(nx, ny, &g, &b)
+    }
+
+    /// [`level`] with its coarse versions.
+    fn problem(nx: usize, ny: usize) -> DiffusionProblem {
+        DiffusionProblem::with_coarse(level(nx, ny))
+    }
+
+    /// Sets the stored weights of sample `(i, j)`.
+    fn set_weights(level: &mut Level, i: usize, j: usize, g: [i16; 2]) {
+        level.g[(i + j) & 1][j * level.w + (i >> 1)] = g;
+    }
+
+    /// The first sample of `level` (row-major) whose weights satisfy `pick`.
+    fn find(level: &Level, pick: impl Fn([i16; 2]) -> bool) -> (usize, usize) {
+        (0..level.ny)
+            .flat_map(|j| (0..level.nx).map(move |i| (i, j)))
+            .find(|&(i, j)| pick(level.weights(i, j)))
+            .unwrap()
+    }
+
+    /// A failure expected of [`check`]: the level, the sample, words of the reason.
+    type Broken<'a> = (usize, Option<(usize, usize)>, &'a str);
+
+    /// `p.check_invariants()` passes (`None`) or fails as `expected`.
+    #[track_caller]
+    fn check(p: &DiffusionProblem, expected: Option<Broken<'_>>) {
+        match (p.check_invariants(), expected) {
+            (Ok(()), None) => {}
+            (Err(DiffusionError::BrokenHierarchy { level: l, sample: s, reason }), Some((level, sample, words))) => {
+                assert_eq!((l, s), (level, sample), "{reason}");
+                assert!(reason.contains(words), "{reason}");
+            }
+            (got, want) => panic!("{got:?}, expected {want:?}"),
+        }
+    }
+
+    #[test]
+    fn built_hierarchies_keep_their_invariants() {
+        for (nx, ny) in [(2, 2), (7, 5), (8, 6), (9, 9), (37, 23), (64, 64), (65, 33), (200, 6)] {
+            let p = problem(nx, ny);
+            assert_eq!(p.depth() > 1, nx.min(ny) >= 6, "{nx}×{ny}");
+            check(&p, None);
+        }
+    }
+
+    #[test]
+    fn a_broken_hierarchy_fails_its_check() {
+        let p = problem(37, 23);
+        assert_eq!(p.depth(), 4);
+        // Coarsening: a fixed coarse sample set free, a free one fixed, a weight or a fixed value
+        // outside what the fine samples around it allow.
+        let mut q = p.clone();
+        let (i, j) = find(&q.levels[1], |g| g[0] == FIXED);
+        set_weights(&mut q.levels[1], i, j, [0, 0]);
+        check(&q, Some((1, Some((i, j)), "free although")));
+        let mut q = p.clone();
+        let (i, j) = find(&q.levels[1], |g| g[0] != FIXED);
+        set_weights(&mut q.levels[1], i, j, [FIXED, 0]);
+        check(&q, Some((1, Some((i, j)), "fixed although none")));
+        let mut q = p.clone();
+        let (i, j) = find(&q.levels[1], |g| g[0] != FIXED);
+        set_weights(&mut q.levels[1], i, j, [32_000, 0]);
+        check(&q, Some((1, Some((i, j)), "outside the fine ranges")));
+        let mut q = p.clone();
+        let (i, j) = find(&q.levels[3], |g| g[0] == FIXED);
+        let (w, c) = (q.levels[3].w, (i + j) & 1);
+        q.levels[3].b.c[c][j * w + (i >> 1)] = 1e6;
+        check(&q, Some((3, Some((i, j)), "outside the fine fixed values")));
+        // Equations: a fixed sample with a second weight.
+        let mut q = p.clone();
+        let (i, j) = find(&q.levels[0], |g| g[0] == FIXED);
+        set_weights(&mut q.levels[0], i, j, [FIXED, 7]);
+        check(&q, Some((0, Some((i, j)), "second weight")));
+        // Storage: a padding slot (37 is odd: row 0 of colour 1 has 18 samples in a stride of 19).
+        let mut q = p.clone();
+        q.levels[0].b.c[1][18] = 1.0;
+        check(&q, Some((0, None, "padding slot 18 of colour 1, row 0")));
+        // Shape: a level of the wrong size, a hierarchy cut short, no fixed sample at all.
+        let mut q = p.clone();
+        q.levels[2] = level(10, 7);
+        check(&q, Some((2, None, "not the coarse size 10 × 6")));
+        let mut q = p.clone();
+        q.levels.truncate(2);
+        check(&q, Some((1, None, "not coarsened further")));
+        let free = Level::new(8, 8, &[[0, 0]; 64], &[0.0; 64]);
+        check(&DiffusionProblem::with_coarse(free), Some((0, None, "no fixed sample")));
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+        /// Random rows (any fixed density down to one sample, weights of every sign up to the
+        /// quantizer's clamp) on random small grids: the built hierarchy keeps its invariants.
+        #[test]
+        fn random_hierarchies_keep_their_invariants(nx in 2usize..48, ny in 2usize..48, seed: u64, fixed in 0u64..64) {
+            // SplitMix64: the rows from the seed.
+            let mut state = seed;
+            let mut next = move || {
+                state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+                let mut z = state;
+                z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+                z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+                z ^ (z >> 31)
+            };
+            let n = nx * ny;
+            let mut g = vec![[0i16; 2]; n];
+            let mut b = vec![0.0f32; n];
+            for k in 0..n {
+                let r = next();
+                let unit = |bits: u64| (bits & 0xFFFF) as f32 / 65535.0 - 0.5;
+                if r % 256 < fixed {
+                    g[k] = [FIXED, 0];
+                    b[k] = 1000.0 * unit(r >> 8);
+                } else {
+                    g[k] = [quantize(1.1 * unit(r >> 8)), quantize(1.1 * unit(r >> 24))];
+                    b[k] = unit(r >> 40);
+                }
+            }
+            let one = (next() % n as u64) as usize;
+            g[one] = [FIXED, 0];
+            let p = DiffusionProblem::with_coarse(Level::new(nx, ny, &g, &b));
+            proptest::prop_assert_eq!(p.check_invariants(), Ok(()));
+        }
     }
 
     #[test]

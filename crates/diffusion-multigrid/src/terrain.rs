@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::DiffusionError;
 use crate::curve::FeatureCurve;
-use crate::raster::ConstraintMaps;
+use crate::maps::ConstraintMaps;
 use crate::solver::{DiffusionProblem, SolveOptions, SolveReport};
 
 /// Options of [`generate`].

@@ -1,6 +1,7 @@
 //! Issue #7's invariants: strict elevations are met exactly; with elevations only the solution is
 //! discrete-harmonic (maximum principle, linear ramps); slope constraints give their gradient;
-//! resolutions agree; both solvers agree; the output is deterministic for any thread count.
+//! resolutions agree; both solvers agree; the output is deterministic for any thread count; every
+//! multigrid hierarchy built passes `DiffusionProblem::check_invariants`.
 
 use glam::DVec2;
 use proptest::prelude::*;
@@ -126,6 +127,7 @@ fn both_solvers_reach_the_same_solution() {
     );
     let maps = ConstraintMaps::rasterize(&curves, &grid(65, 1000.0)).unwrap();
     let problem = DiffusionProblem::elevation(&maps).unwrap();
+    assert_eq!(problem.check_invariants(), Ok(()));
     let tight = |solver| SolveOptions { solver, tolerance: 1e-6, max_iterations: Some(200_000) };
     let (mg, a) = problem.solve(&tight(Solver::Multigrid)).unwrap();
     let (jp, b) = problem.solve(&tight(Solver::JacobiPyramid)).unwrap();
@@ -257,6 +259,22 @@ proptest! {
                 prop_assert_eq!(v, t.maps.elevation[k]);
             }
         }
+        prop_assert_eq!(DiffusionProblem::elevation(&t.maps).unwrap().check_invariants(), Ok(()));
+    }
+
+    /// Random Laplace problems on small grids, from a single given value to all: every coarse
+    /// level is the coarse size of the one above, keeps the fixed samples, averages the rows.
+    #[test]
+    fn random_laplace_hierarchies_keep_their_invariants(
+        (nx, ny, values) in (2usize..40, 2usize..40).prop_flat_map(|(nx, ny)| {
+            (Just(nx), Just(ny), prop::collection::vec(prop::option::weighted(0.05, -1e3f32..1e3), nx * ny))
+        })
+    ) {
+        let values: Vec<f32> = values.iter().map(|v| v.unwrap_or(f32::NAN)).collect();
+        match DiffusionProblem::laplace(nx, ny, &values) {
+            Some(problem) => prop_assert_eq!(problem.check_invariants(), Ok(())),
+            None => prop_assert!(values.iter().all(|v| v.is_nan())),
+        }
     }
 }
 
@@ -272,7 +290,9 @@ fn crossing_slope_bands_leave_no_pit_below_the_ridge_feet() {
     let g = grid(512, 8000.0);
     let maps = ConstraintMaps::rasterize(&curves, &g).unwrap();
     assert!(maps.counts().3 > 0, "the scene must have crossing bands");
-    let (x, report) = DiffusionProblem::elevation(&maps).unwrap().solve(&SolveOptions::default()).unwrap();
+    let problem = DiffusionProblem::elevation(&maps).unwrap();
+    assert_eq!(problem.check_invariants(), Ok(()));
+    let (x, report) = problem.solve(&SolveOptions::default()).unwrap();
     assert!(report.converged, "{report:?}");
     for j in 0..512 {
         for i in 0..512 {

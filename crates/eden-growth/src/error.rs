@@ -151,4 +151,46 @@ pub enum EdenError {
     /// Triangulating the samples failed.
     #[error("triangulating the samples failed: {0}")]
     Tin(#[from] TinError),
+    /// A growth breaks one of its invariants at a node ([`crate::Growth::check_invariants`]): a
+    /// bug, never the user's input.
+    #[error("growth invariant broken at node {node}: {reason}")]
+    BrokenGrowth {
+        /// The offending node.
+        node: u32,
+        /// What is wrong there.
+        reason: String,
+    },
+    /// A growth does not fit the graph it is checked against (node count, level count or a
+    /// level's extent in the order).
+    #[error("growth does not fit its graph: {reason}")]
+    GrowthMismatch {
+        /// What differs.
+        reason: String,
+    },
+}
+
+impl EdenError {
+    /// Where the offending value is, as a JSON path relative to the inputs laid out as a scene's
+    /// `contours` generator lays them out: `regions[2].polygon`, `regions[1].height`,
+    /// `probability`, `particles`…; empty when the error concerns the inputs as a whole (a label
+    /// map's level, a particle budget, sampling). The `relief` facade prefixes it with the
+    /// generator's path.
+    pub fn location(&self) -> String {
+        let region = |i: usize, field: &str| format!("regions[{i}]{field}");
+        match *self {
+            Self::NoRegions | Self::HeightsNotIncreasing { .. } => "regions".to_owned(),
+            Self::RegionsOverlap { b, .. } => region(b, ".polygon"),
+            Self::HoleInRaisedRegion { region: i, .. } => region(i, ".polygon.holes"),
+            Self::DepressionNotNested { region: i, .. } | Self::DepressionWithChildren { region: i, .. } => {
+                region(i, ".depression")
+            }
+            Self::InvalidHeight { region: i, .. } | Self::ConflictingHeights { b: i, .. } => region(i, ".height"),
+            Self::RegionTooSmall { region: i, .. } => region(i, ".polygon"),
+            Self::InvalidProbability { .. } | Self::ZeroProbability | Self::InvalidProbabilityParameters { .. } => {
+                "probability".to_owned()
+            }
+            Self::InvalidParticleCount { .. } => "particles".to_owned(),
+            _ => String::new(),
+        }
+    }
 }

@@ -55,6 +55,132 @@ impl Growth {
     pub fn seeds(&self) -> usize {
         self.seeds as usize
     }
+
+    /// Verifies this growth against the graph it was grown on; unit and property tests call it.
+    ///
+    /// Checked, in O(nodes + edges) without allocating beyond one count per level:
+    /// - sizes: one rank per graph node, one level range per graph level, each level's range as
+    ///   long as the graph's count of nodes at that level;
+    /// - every inside node gets exactly one rank: `order` lists each node of level ≥ 1 once and
+    ///   no outside node, and [`Growth::ranks`] is its inverse ([`UNRANKED`] outside Ω);
+    /// - all of level ℓ ranks below level ℓ + 1: each node's rank lies in its level's range (what
+    ///   [`Growth::level_range`] and the contours' level ends rely on);
+    /// - the first [`Growth::seeds`] ranks are exactly ∂G ∩ level 1;
+    /// - no endorheic basin: every other node outside a marked depression has a neighbour of
+    ///   lower rank or outside Ω.
+    ///
+    /// # Errors
+    /// [`EdenError::GrowthMismatch`] when the growth's sizes do not fit `graph`, otherwise
+    /// [`EdenError::BrokenGrowth`] naming the first offending node.
+    pub fn check_invariants(&self, graph: &Graph) -> Result<(), EdenError> {
+        self.check_sizes(graph)?;
+        self.check_ranks(graph.levels())?;
+        self.check_levels(graph.levels())?;
+        self.check_seeds(graph)?;
+        self.check_drainage(graph)
+    }
+
+    /// Ranks for every node; level ranges as long as the graph's levels, in order.
+    fn check_sizes(&self, graph: &Graph) -> Result<(), EdenError> {
+        let mismatch = |reason: String| Err(EdenError::GrowthMismatch { reason });
+        let (n, ranks) = (graph.levels().len(), self.rank.len());
+        if ranks != n {
+            return mismatch(format!("{ranks} ranks for {n} nodes"));
+        }
+        let max = usize::from(graph.max_level());
+        if self.level_offsets.len() != max + 1 {
+            return mismatch(format!("{} levels, the graph {max}", self.level_offsets.len().saturating_sub(1)));
+        }
+        let mut count = vec![0usize; max + 1];
+        for &l in graph.levels() {
+            count[usize::from(l)] += 1;
+        }
+        let mut end = 0;
+        for (l, (&offset, &nodes)) in self.level_offsets.iter().zip(&count).enumerate() {
+            end += if l == 0 { 0 } else { nodes };
+            if offset as usize != end {
+                return mismatch(format!(
+                    "ranks below level {} end at {offset}, but the graph has {end} nodes there",
+                    l + 1
+                ));
+            }
+        }
+        if self.order.len() != end {
+            return mismatch(format!("{} nodes in the order, {end} inside the graph", self.order.len()));
+        }
+        Ok(())
+    }
+
+    /// `order` lists distinct inside nodes and `rank` inverts it; outside nodes are unranked.
+    /// With the order as long as the inside count, that makes it a permutation of the inside.
+    fn check_ranks(&self, levels: &[u16]) -> Result<(), EdenError> {
+        for (k, &v) in self.order.iter().enumerate() {
+            let reason = match (levels.get(v as usize), self.rank.get(v as usize)) {
+                (None, _) | (_, None) => format!("rank {k} names a node past the graph's {}", levels.len()),
+                (Some(0), _) => format!("outside Ω but listed at rank {k}"),
+                (_, Some(&r)) if r as usize != k => format!("listed at rank {k} but its rank is {r}"),
+                _ => continue,
+            };
+            return Err(EdenError::BrokenGrowth { node: v, reason });
+        }
+        if let Some(v) = (0..levels.len()).find(|&v| levels[v] == 0 && self.rank[v] != UNRANKED) {
+            let reason = format!("outside Ω but has rank {}", self.rank[v]);
+            return Err(EdenError::BrokenGrowth { node: v as u32, reason });
+        }
+        Ok(())
+    }
+
+    /// Every node's rank lies in its level's range.
+    fn check_levels(&self, levels: &[u16]) -> Result<(), EdenError> {
+        for (k, &v) in self.order.iter().enumerate() {
+            let l = levels[v as usize];
+            let range = self.level_range(l);
+            if !range.contains(&k) {
+                let reason = format!("level {l} at rank {k}, outside level {l}'s ranks {range:?}");
+                return Err(EdenError::BrokenGrowth { node: v, reason });
+            }
+        }
+        Ok(())
+    }
+
+    /// The seeds are ∂G ∩ level 1, all of it.
+    fn check_seeds(&self, graph: &Graph) -> Result<(), EdenError> {
+        let (levels, boundary) = (graph.levels(), graph.boundary());
+        let seeds = self.seeds();
+        if seeds > self.order.len() {
+            let reason = format!("{seeds} seeds but {} ranked nodes", self.order.len());
+            return Err(EdenError::GrowthMismatch { reason });
+        }
+        let seed_node = |v: u32| levels[v as usize] == 1 && boundary.binary_search(&v).is_ok();
+        if let Some((k, &v)) = self.order[..seeds].iter().enumerate().find(|&(_, &v)| !seed_node(v)) {
+            let reason = format!("seed (rank {k}) but not on ∂G ∩ level 1");
+            return Err(EdenError::BrokenGrowth { node: v, reason });
+        }
+        if let Some(&v) = boundary.iter().find(|&&v| levels[v as usize] == 1 && self.rank[v as usize] as usize >= seeds)
+        {
+            let reason = format!("on ∂G ∩ level 1 but ranked {} after the {seeds} seeds", self.rank[v as usize]);
+            return Err(EdenError::BrokenGrowth { node: v, reason });
+        }
+        Ok(())
+    }
+
+    /// Every node but the seeds and those in marked depressions has a lower neighbour.
+    fn check_drainage(&self, graph: &Graph) -> Result<(), EdenError> {
+        let (tin, ranks) = (graph.tin(), &self.rank);
+        for (k, &v) in self.order.iter().enumerate().skip(self.seeds()) {
+            if graph.depressions()[v as usize] {
+                continue;
+            }
+            if !tin.neighbors(v).iter().any(|&w| ranks[w as usize] == UNRANKED || (ranks[w as usize] as usize) < k) {
+                let reason = format!(
+                    "rank {k}, level {}: no neighbour ranks lower, an endorheic basin outside any marked depression",
+                    graph.levels()[v as usize]
+                );
+                return Err(EdenError::BrokenGrowth { node: v, reason });
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Inward Open Eden Growth over `graph` (Algorithm 1 of the contours paper), by depth level with
@@ -286,5 +412,91 @@ impl State<'_> {
         order.truncate(seeds);
         order.extend(keyed.into_iter().map(|(_, v)| v));
         order
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec2;
+    use relief_tin::poisson_sampling::Polygon;
+
+    use super::*;
+    use crate::{GraphOptions, Region, RegionTree, Uniform};
+
+    /// A disc with a raised middle: two levels, a seed ring, a summit.
+    fn grown() -> (Graph, Growth) {
+        let coast = Region::new(Polygon::circle(DVec2::ZERO, 1000.0, 48).unwrap());
+        let range = Region::new(Polygon::circle(DVec2::ZERO, 400.0, 32).unwrap());
+        let tree = RegionTree::new(vec![coast, range]).unwrap();
+        let graph = Graph::from_regions(&tree, &GraphOptions::particles(1_500).with_seed(4)).unwrap();
+        let growth = grow(&graph, &Uniform, 9).unwrap();
+        growth.check_invariants(&graph).unwrap();
+        (graph, growth)
+    }
+
+    /// Swaps the ranks of the nodes at ranks `a` and `b`, keeping `order` and `rank` inverse.
+    fn swap_ranks(g: &mut Growth, a: usize, b: usize) {
+        g.order.swap(a, b);
+        g.rank[g.order[a] as usize] = a as u32;
+        g.rank[g.order[b] as usize] = b as u32;
+    }
+
+    #[track_caller]
+    fn broken_at(graph: &Graph, growth: &Growth, node: u32, needle: &str) {
+        match growth.check_invariants(graph) {
+            Err(EdenError::BrokenGrowth { node: at, reason }) => {
+                assert_eq!(at, node, "{reason}");
+                assert!(reason.contains(needle), "{needle:?} not in {reason:?}");
+            }
+            other => panic!("expected node {node} ({needle}), got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn corrupted_growths_fail_their_invariants() {
+        let (graph, good) = grown();
+        let (seeds, l1) = (good.seeds(), good.level_range(1));
+        let (last, top) = (good.order.len() - 1, *good.order.last().unwrap());
+
+        // Level 1's last node, deep inland by the range, ranked first after the seeds: nothing
+        // ranks below it there.
+        let mut bad = good.clone();
+        swap_ranks(&mut bad, seeds, l1.end - 1);
+        broken_at(&graph, &bad, bad.order[seeds], "endorheic basin");
+
+        // A level-2 node among level 1.
+        let mut bad = good.clone();
+        swap_ranks(&mut bad, l1.end - 1, last);
+        broken_at(&graph, &bad, top, "outside level 2's ranks");
+
+        // A node ranked twice, another never.
+        let mut bad = good.clone();
+        bad.order[seeds + 1] = bad.order[seeds];
+        broken_at(&graph, &bad, good.order[seeds], "listed at rank");
+
+        // An outside node with a rank.
+        let mut bad = good.clone();
+        let outside = graph.levels().iter().position(|&l| l == 0).unwrap();
+        bad.rank[outside] = 3;
+        broken_at(&graph, &bad, outside as u32, "outside Ω but has rank 3");
+
+        // One seed fewer: the last ∂G node is ranked after the seeds.
+        let mut bad = good.clone();
+        bad.seeds -= 1;
+        broken_at(&graph, &bad, good.order[seeds - 1], "after the");
+
+        // A non-boundary node among the seeds.
+        let mut bad = good.clone();
+        swap_ranks(&mut bad, 0, seeds);
+        broken_at(&graph, &bad, good.order[seeds], "not on ∂G");
+
+        // Level ranges that do not fit, and a growth of another graph.
+        let mut bad = good.clone();
+        bad.level_offsets[1] -= 1;
+        assert!(matches!(bad.check_invariants(&graph), Err(EdenError::GrowthMismatch { .. })));
+        let coast = Region::new(Polygon::circle(DVec2::ZERO, 1000.0, 48).unwrap());
+        let other = Graph::from_regions(&RegionTree::new(vec![coast]).unwrap(), &GraphOptions::particles(700)).unwrap();
+        let err = good.check_invariants(&other).unwrap_err();
+        assert!(matches!(err, EdenError::GrowthMismatch { .. }), "{err}");
     }
 }

@@ -1,6 +1,7 @@
 use glam::DVec2;
 use relief_tin::heightfield::Heightfield;
 use relief_tin::heightfield::noise::Fbm;
+use serde::{Deserialize, Serialize};
 
 use crate::EdenError;
 
@@ -32,13 +33,72 @@ impl ProbabilityMap for Uniform {
 
 /// `P(p) = exp(contrast · fbm(p))`: organic, fractal growth fronts (Fig. 23). `contrast` 0 is
 /// uniform; 3–6 gives strongly fingered contours.
-#[derive(Debug, Clone, Copy, PartialEq)]
+///
+/// In JSON: `{ "frequency": f, "contrast": c, "octaves": 6, "lacunarity": 2, "gain": 0.5 }` (the
+/// last three optional, with these defaults); deserializing checks it like [`FbmProbability::new`].
+/// The fBm's seed is not part of it: whoever runs the growth supplies it
+/// ([`FbmProbability::with_seed`]; a scene uses its own seed).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "FbmJson", into = "FbmJson")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct FbmProbability {
     fbm: Fbm,
     contrast: f64,
 }
 
+/// The JSON form of an [`FbmProbability`].
+#[derive(Clone, Copy, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "FbmProbability"))]
+struct FbmJson {
+    /// Octaves (≥ 1; default 6).
+    #[serde(default = "default_octaves")]
+    octaves: u32,
+    /// Frequency of the first octave, cycles per world unit (finite, > 0).
+    frequency: f64,
+    /// Frequency ratio between octaves (default 2).
+    #[serde(default = "default_lacunarity")]
+    lacunarity: f64,
+    /// Amplitude ratio between octaves (≥ 0; default 0.5).
+    #[serde(default = "default_gain")]
+    gain: f64,
+    /// Contrast: 0 is uniform, 3–6 strongly fingered (finite).
+    contrast: f64,
+}
+
+fn default_octaves() -> u32 {
+    Fbm::default().octaves
+}
+fn default_lacunarity() -> f64 {
+    Fbm::default().lacunarity
+}
+fn default_gain() -> f64 {
+    Fbm::default().gain
+}
+
+impl TryFrom<FbmJson> for FbmProbability {
+    type Error = EdenError;
+    fn try_from(j: FbmJson) -> Result<Self, EdenError> {
+        let fbm = Fbm { octaves: j.octaves, frequency: j.frequency, lacunarity: j.lacunarity, gain: j.gain, seed: 0 };
+        Self::new(fbm, j.contrast)
+    }
+}
+
+impl From<FbmProbability> for FbmJson {
+    fn from(p: FbmProbability) -> Self {
+        let Fbm { octaves, frequency, lacunarity, gain, .. } = p.fbm;
+        Self { octaves, frequency, lacunarity, gain, contrast: p.contrast }
+    }
+}
+
 impl FbmProbability {
+    /// The same map with the fBm seeded by `seed`.
+    #[must_use]
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.fbm.seed = seed;
+        self
+    }
+
     /// An fBm probability map.
     ///
     /// # Errors

@@ -9,6 +9,7 @@ use crate::EdenError;
 /// ground: a crater or a lake basin).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Region {
     /// The contour. Holes are allowed only in outermost regions (lagoons, which lie outside Ω).
     pub polygon: Polygon,

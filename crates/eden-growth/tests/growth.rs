@@ -20,44 +20,12 @@ fn star(center: DVec2, radius: f64, radii: &[f64]) -> Polygon {
     Polygon::from_exterior(ring).expect("star polygons are simple")
 }
 
-/// Checks the invariants every growth must satisfy.
+/// Checks the invariants every growth must satisfy ([`Growth::check_invariants`]).
 #[track_caller]
 fn check_growth(graph: &Graph, growth: &Growth) {
-    let tin = graph.tin();
-    let levels = graph.levels();
-    let ranks = growth.ranks();
-    // Exactly one rank per inside node, none outside.
-    assert_eq!(growth.order().len(), graph.inside_count());
-    let mut seen = vec![false; tin.num_points()];
-    for (k, &v) in growth.order().iter().enumerate() {
-        assert!(!std::mem::replace(&mut seen[v as usize], true), "node {v} ranked twice");
-        assert_eq!(ranks[v as usize], k as u32);
-        assert!(levels[v as usize] >= 1, "outside node {v} was ranked");
+    if let Err(e) = growth.check_invariants(graph) {
+        panic!("{e}");
     }
-    for (v, &r) in ranks.iter().enumerate() {
-        assert_eq!(r == UNRANKED, levels[v] == 0);
-    }
-    // Levels are contiguous and increasing along the order.
-    for w in growth.order().windows(2) {
-        assert!(levels[w[0] as usize] <= levels[w[1] as usize], "order mixes levels");
-    }
-    for l in 1..=growth.levels() {
-        assert!(growth.order()[growth.level_range(l)].iter().all(|&v| levels[v as usize] == l));
-    }
-    // No endorheic basin: a lower-ranked (or outside) neighbour, except seeds and depressions.
-    for (k, &v) in growth.order().iter().enumerate().skip(growth.seeds()) {
-        if graph.depressions()[v as usize] {
-            continue;
-        }
-        let has_lower =
-            tin.neighbors(v).iter().any(|&w| ranks[w as usize] == UNRANKED || (ranks[w as usize] as usize) < k);
-        assert!(has_lower, "node {v} (rank {k}, level {}) has no lower neighbour", levels[v as usize]);
-    }
-    // Seeds are ∂G ∩ level 1.
-    let mut seeds: Vec<u32> = growth.order()[..growth.seeds()].to_vec();
-    seeds.sort_unstable();
-    let expected: Vec<u32> = graph.boundary().iter().copied().filter(|&v| levels[v as usize] == 1).collect();
-    assert_eq!(seeds, expected);
 }
 
 fn regions() -> impl Strategy<Value = Vec<Region>> {

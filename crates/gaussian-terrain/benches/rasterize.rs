@@ -1,13 +1,15 @@
 //! Rasterization at the paper's sizes (Table 1 and §6.1, RTX 3090): 1024² with 10k / 30k / 60k
-//! primitives (15–21 ms) and 4096² with 60k (388 ms). The terrains are synthetic (see
-//! `random_terrain`): on average 16 supports cover each point, β mixed in [1.2, 4].
+//! primitives (15–21 ms) and 4096² with 60k (388 ms). The terrains are synthetic
+//! (`relief_fixtures::random_terrain`): on average 16 supports cover each point, β mixed in
+//! [1.2, 4].
 
 use std::hint::black_box;
 use std::ops::ControlFlow;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec2;
-use relief_gaussian_terrain::{RasterOptions, VectorizeOptions, fbm_dem, random_terrain, rasterize, vectorize};
+use relief_fixtures::{fbm_dem, random_terrain};
+use relief_gaussian_terrain::{RasterOptions, VectorizeOptions, rasterize, vectorize};
 use relief_heightfield::{Extent, GridSpec};
 
 /// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.

@@ -1,5 +1,6 @@
-//! Vectorizes the synthetic `fbm_dem` once and prints the time and the ℓ₁ reached, the way the
-//! paper reports its vectorization (§6: 1024², about 10 000 primitives, ≈ 60 s on an RTX 3090).
+//! Vectorizes the synthetic `fbm_dem` (relief-fixtures) once and prints the time and the ℓ₁
+//! reached, the way the paper reports its vectorization (§6: 1024², about 10 000 primitives,
+//! ≈ 60 s on an RTX 3090).
 //! `cargo xtask bench` runs it; one run of a minute-long fit does not suit criterion's sampling.
 //!
 //! Usage: `cargo run --release -p relief-gaussian-terrain --example vectorize_timing -- [size]
@@ -7,7 +8,8 @@
 
 use std::ops::ControlFlow;
 
-use relief_gaussian_terrain::{VectorizeOptions, fbm_dem, vectorize};
+use relief_fixtures::fbm_dem;
+use relief_gaussian_terrain::{VectorizeOptions, vectorize};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<usize> = std::env::args().skip(1).map(|a| a.parse()).collect::<Result<_, _>>()?;

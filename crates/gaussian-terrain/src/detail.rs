@@ -14,7 +14,7 @@ use relief_heightfield::{GridSpec, Heightfield};
 use relief_poisson_sampling::{PoissonDisc, Rect};
 use serde::{Deserialize, Serialize};
 
-use crate::raster::raster_samples;
+use crate::kernel::raster_samples;
 use crate::{Gaussian, GaussianError};
 
 /// σ of the detail fall-offs, in Poisson radii.
@@ -23,6 +23,7 @@ const SIGMA_PER_RADIUS: f64 = 1.25;
 /// Where a detail layer's amplitude `a(p)` comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub enum DetailSource {
     /// Procedural: `a(p) = amplitude · fbm(p)` (seeded gradient noise, about ±amplitude).
     Noise {
@@ -43,6 +44,7 @@ pub enum DetailSource {
 /// of their amplitude.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct DetailLayer {
     /// Centres `[x, y]`, world units.
     pub centers: Vec<[f64; 2]>,

@@ -4,8 +4,9 @@
 //!
 //! - [`Gaussian`], [`VectorTerrain`] (serde; a base elevation, the primitives, detail layers) and
 //!   an [`Atlas`] of saved [`Landform`]s (§5.2).
-//!   Loading checks shapes only; [`VectorTerrain::validate`] names NaN, `σ ≤ 0` or `β ≤ 0` by
-//!   primitive index, and caps the count at [`MAX_PRIMITIVES`].
+//!   Loading from JSON validates them ([`VectorTerrain::validate`] names NaN, `σ ≤ 0` or `β ≤ 0`
+//!   by primitive index, and caps the count at [`MAX_PRIMITIVES`]); the optional `schemars`
+//!   feature derives their JSON Schemas for `relief` scenes.
 //! - [`rasterize`] (§6.1): any resolution and window of the plane (a [`GridSpec`]), primitives
 //!   binned by the rows their support covers, bands in parallel, f32 sums in primitive order, so
 //!   the bytes are the same for any thread count. Each primitive's support is chosen so its
@@ -29,6 +30,9 @@
 //!   crest cells come from hydrology's flow routing on the inverted DEM, which the `relief`
 //!   facade supplies (`relief::vector::crest_skeleton`) because hydrology sits above this crate.
 //!   [`Gaussian::transformed`] re-splits a primitive under any linear map (Appendix A).
+//! - Editing sessions: a [`Tool`] is one landform or crest tool as data; [`Tool::apply`] replays
+//!   it, asking a [`ToolContext`] for what lies outside this crate (atlas files, the crest
+//!   skeleton, sized by [`SkeletonOptions`]).
 //!
 //! The inner loops use branch-free f32 `exp`/`log2` polynomials (module `fastmath`, tested
 //! against the standard library) so that the compiler vectorizes them.
@@ -57,13 +61,14 @@
 mod detail;
 mod error;
 mod fastmath;
+mod kernel;
 mod loss;
 mod primitive;
 mod raster;
 mod region;
 mod skeleton;
-mod synthetic;
 mod terrain;
+mod tool;
 mod vectorize;
 
 pub use detail::{DetailLayer, DetailSource};
@@ -73,7 +78,7 @@ pub use primitive::{DEFAULT_TOLERANCE, Gaussian};
 pub use raster::{MAX_RASTER_CELLS, RasterOptions, rasterize, rasterize_exact};
 pub use region::{Placement, Region, StampMode, copy, cut, delete, paste, smoothstep, squeeze, stamp, twist};
 pub use relief_heightfield::{GridSpec, Heightfield};
-pub use skeleton::{Attachment, Skeleton};
-pub use synthetic::{fbm_dem, random_terrain};
+pub use skeleton::{Attachment, Skeleton, SkeletonOptions};
 pub use terrain::{Atlas, Landform, MAX_PRIMITIVES, VectorTerrain};
+pub use tool::{Tool, ToolContext, ToolError};
 pub use vectorize::{Progress, VectorizeOptions, VectorizeReport, Vectorized, vectorize};

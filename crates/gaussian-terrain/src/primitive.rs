@@ -19,9 +19,11 @@ fn two() -> f64 {
 ///
 /// The reference notes fix the exponent as `½·d^β` (so `β = 2` matches the detail primitives'
 /// `exp(−½d²)`); the paper's typeset `(½d)^β` differs from it only by a rescaled σ.
+///
+/// Deserializing checks it ([`Gaussian::validate`]), naming the offending parameter.
 #[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, try_from = "GaussianJson")]
 pub struct Gaussian {
     /// Centre `c = [x, y]`, world units.
     pub center: [f64; 2],
@@ -35,6 +37,49 @@ pub struct Gaussian {
     /// Steepness `β > 0` (default 2).
     #[serde(default = "two")]
     pub beta: f64,
+}
+
+/// The unchecked JSON form of a [`Gaussian`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "Gaussian"))]
+struct GaussianJson {
+    /// Centre `c = [x, y]`, world units.
+    center: [f64; 2],
+    /// Scales `[σx, σy] > 0` along the primitive's own axes, world units.
+    sigma: [f64; 2],
+    /// Rotation θ of the σx axis from +x, radians counter-clockwise (default 0).
+    #[serde(default)]
+    theta: f64,
+    /// Signed amplitude `a`, world units of elevation.
+    amplitude: f64,
+    /// Steepness `β > 0` (default 2).
+    #[serde(default = "two")]
+    beta: f64,
+}
+
+/// Why a deserialized [`Gaussian`] is invalid: its [`GaussianError`] without the index, which
+/// the JSON path gives.
+#[derive(Debug)]
+struct InvalidGaussian(GaussianError);
+
+impl std::fmt::Display for InvalidGaussian {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0 {
+            GaussianError::NotFinite { what, .. } => write!(f, "{what} is not finite"),
+            GaussianError::InvalidPrimitive { what, value, reason, .. } => write!(f, "{what} = {value} ({reason})"),
+            other => other.fmt(f),
+        }
+    }
+}
+
+impl TryFrom<GaussianJson> for Gaussian {
+    type Error = InvalidGaussian;
+    fn try_from(j: GaussianJson) -> Result<Self, InvalidGaussian> {
+        let g = Self { center: j.center, sigma: j.sigma, theta: j.theta, amplitude: j.amplitude, beta: j.beta };
+        g.validate(0).map_err(InvalidGaussian)?;
+        Ok(g)
+    }
 }
 
 impl Gaussian {

@@ -7,7 +7,7 @@
 //! every other primitive keeps its exact bits.
 
 use glam::DVec2;
-use relief_poisson_sampling::segment_distance_sq;
+use relief_poisson_sampling::{ring_contains, segment_distance_sq, signed_area};
 use serde::{Deserialize, Serialize};
 
 use crate::primitive::stretch_along;
@@ -19,8 +19,9 @@ pub fn smoothstep(x: f64) -> f64 {
     x * x * (3.0 - 2.0 * x)
 }
 
-/// A selected region Ω of the plane.
-#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+/// A selected region Ω of the plane. (Its JSON Schema is named `SelectionRegion`, apart from a
+/// contour scene's `Region`.)
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "SelectionRegion"))]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Region {
@@ -70,16 +71,7 @@ impl Region {
     fn area(&self) -> f64 {
         match self {
             Region::Circle { radius, .. } => std::f64::consts::PI * radius * radius,
-            Region::Lasso { points } => {
-                let n = points.len();
-                let twice: f64 = (0..n)
-                    .map(|k| {
-                        let (a, b) = (points[k], points[(k + 1) % n]);
-                        a[0] * b[1] - b[0] * a[1]
-                    })
-                    .sum();
-                0.5 * twice.abs()
-            }
+            Region::Lasso { points } => signed_area(points).abs(),
         }
     }
 
@@ -87,17 +79,7 @@ impl Region {
     pub fn contains(&self, p: DVec2) -> bool {
         match self {
             Region::Circle { center, radius } => p.distance_squared(DVec2::from(*center)) <= radius * radius,
-            Region::Lasso { points } => {
-                let n = points.len();
-                let mut inside = false;
-                for k in 0..n {
-                    let (a, b) = (DVec2::from(points[k]), DVec2::from(points[(k + 1) % n]));
-                    if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
-                        inside = !inside;
-                    }
-                }
-                inside
-            }
+            Region::Lasso { points } => ring_contains(points, p),
         }
     }
 
@@ -393,4 +375,36 @@ pub fn squeeze(
         moved += 1;
     }
     Ok(moved)
+}
+
+#[cfg(test)]
+mod tests {
+    use relief_poisson_sampling::Polygon;
+
+    use super::*;
+
+    /// A lasso contains exactly what the shared polygon test says, points on its edges and
+    /// vertices included, and measures the same area.
+    #[test]
+    fn lasso_containment_and_area_are_the_polygon_ones() {
+        let points: Vec<[f64; 2]> = (0..24)
+            .map(|k| {
+                let t = std::f64::consts::TAU * f64::from(k) / 24.0;
+                let r = if k % 2 == 0 { 10.0 } else { 6.0 };
+                [(r * t.cos()).round(), (r * t.sin()).round()]
+            })
+            .collect();
+        let lasso = Region::Lasso { points: points.clone() };
+        let polygon = Polygon::from_exterior(points.iter().map(|&p| DVec2::from(p)).collect()).unwrap();
+        assert_eq!(lasso.area(), polygon.area());
+        let mut inside = 0;
+        for j in -44..=44 {
+            for i in -44..=44 {
+                let p = DVec2::new(f64::from(i), f64::from(j)) / 4.0;
+                assert_eq!(lasso.contains(p), polygon.contains(p), "at {p}");
+                inside += usize::from(lasso.contains(p));
+            }
+        }
+        assert!(inside > 1000, "{inside}");
+    }
 }

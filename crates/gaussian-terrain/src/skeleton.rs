@@ -27,6 +27,31 @@ pub struct Skeleton {
     pub edges: Vec<[usize; 2]>,
 }
 
+/// How a crest skeleton is extracted from a terrain rasterized on a grid (§5.1): crest cells are
+/// those draining at least `min_cells` cells on the inverted DEM, and the graph is simplified by
+/// edge collapse at node spacing `spacing`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+pub struct SkeletonOptions {
+    /// Flow accumulation (cells, on the inverted DEM) that makes a crest cell (default: 0.2 % of
+    /// the raster's cells, at least 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_cells: Option<u32>,
+    /// Node spacing after edge collapse, world units (default: 3 % of the grid's longer side).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<f64>,
+}
+
+impl SkeletonOptions {
+    /// `(min_cells, spacing)` for a raster of `cells` samples whose longer side spans `size`
+    /// world units, defaults filled in.
+    pub fn resolve(&self, cells: usize, size: f64) -> (u32, f64) {
+        let min_cells = self.min_cells.unwrap_or_else(|| (cells / 500).max(4) as u32);
+        (min_cells, self.spacing.unwrap_or(0.03 * size))
+    }
+}
+
 /// Where a primitive hangs on the skeleton: its centre's projection on an edge.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Attachment {

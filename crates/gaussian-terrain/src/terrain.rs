@@ -1,6 +1,7 @@
 //! The vector terrain (a list of primitives, serde) and the atlas of saved landforms.
 
 use glam::DVec2;
+use relief_heightfield::Extent;
 use serde::{Deserialize, Serialize};
 
 use crate::{DetailLayer, Gaussian, GaussianError};
@@ -11,17 +12,19 @@ pub const MAX_PRIMITIVES: usize = 1 << 22;
 /// A terrain as a sum of generalized Gaussian primitives: `h(p) = Σ gᵢ(p)` (§3.2). Resolution
 /// independent; [`crate::rasterize`] turns it into a grid at any resolution and window.
 ///
-/// Deserialising checks only the shape of the data: call [`VectorTerrain::validate`] (the
-/// rasterizer does) to reject NaN, `σ ≤ 0` or too many primitives with a typed error.
+/// Deserializing validates it ([`VectorTerrain::validate`]: NaN, `σ ≤ 0`, too many primitives,
+/// a bad domain or detail layer), so a terrain read from JSON is always usable; one built in code
+/// is checked by the rasterizer.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, try_from = "VectorTerrainJson")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct VectorTerrain {
+    /// The primitives, summed in this order.
+    pub primitives: Vec<Gaussian>,
     /// A constant added everywhere (default 0): vectorization puts the DEM's minimum here so
     /// that the primitives only model relief above it.
     #[serde(default)]
     pub base: f64,
-    /// The primitives, summed in this order.
-    pub primitives: Vec<Gaussian>,
     /// The window the terrain was made for, `[min, max]` corners (vectorization records the
     /// DEM's extent); renderers default to it. Not a clip: primitives reach beyond it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -29,6 +32,33 @@ pub struct VectorTerrain {
     /// Detail primitives (§3.2), added after the Gaussians in this order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub details: Vec<DetailLayer>,
+}
+
+/// The unchecked JSON form of a [`VectorTerrain`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "VectorTerrain"))]
+struct VectorTerrainJson {
+    /// The primitives, summed in this order.
+    primitives: Vec<Gaussian>,
+    /// A constant added everywhere (default 0).
+    #[serde(default)]
+    base: f64,
+    /// The window the terrain was made for, `[min, max]` corners.
+    #[serde(default)]
+    domain: Option<[[f64; 2]; 2]>,
+    /// Detail primitives (§3.2).
+    #[serde(default)]
+    details: Vec<DetailLayer>,
+}
+
+impl TryFrom<VectorTerrainJson> for VectorTerrain {
+    type Error = GaussianError;
+    fn try_from(j: VectorTerrainJson) -> Result<Self, GaussianError> {
+        let terrain = Self { primitives: j.primitives, base: j.base, domain: j.domain, details: j.details };
+        terrain.validate()?;
+        Ok(terrain)
+    }
 }
 
 impl VectorTerrain {
@@ -79,6 +109,24 @@ impl VectorTerrain {
         self.details.iter().enumerate().try_for_each(|(i, d)| d.validate(i))
     }
 
+    /// The window to render by default: the recorded [`VectorTerrain::domain`], else the union
+    /// of the primitives' supports (at [`crate::DEFAULT_TOLERANCE`]), else 1000 × 1000 from the
+    /// origin.
+    pub fn extent(&self) -> Extent {
+        if let Some([lo, hi]) = self.domain {
+            return Extent::new(DVec2::from(lo), DVec2::from(hi));
+        }
+        let bounds = self
+            .primitives
+            .iter()
+            .map(|g| g.bounds(crate::DEFAULT_TOLERANCE))
+            .reduce(|(a, b), (lo, hi)| (a.min(lo), b.max(hi)));
+        match bounds {
+            Some((lo, hi)) if (hi - lo).min_element() > 0.0 => Extent::new(lo, hi),
+            _ => Extent::new(DVec2::ZERO, DVec2::splat(1000.0)),
+        }
+    }
+
     /// The exact elevation at `p`: the base, every primitive untruncated and every detail
     /// layer, in f64. O(primitives); the reference the rasterizer is tested against.
     pub fn height_at(&self, p: DVec2) -> f64 {
@@ -122,12 +170,29 @@ impl Landform {
     }
 }
 
-/// A collection of saved landforms (§5.2, "vector-based atlas"): serde, so it saves as JSON.
+/// A collection of saved landforms (§5.2, "vector-based atlas"): serde, so it saves as JSON;
+/// deserializing validates it ([`Atlas::validate`]).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, try_from = "AtlasJson")]
 pub struct Atlas {
     /// The landforms, by name.
     pub landforms: Vec<Landform>,
+}
+
+/// The unchecked JSON form of an [`Atlas`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AtlasJson {
+    landforms: Vec<Landform>,
+}
+
+impl TryFrom<AtlasJson> for Atlas {
+    type Error = GaussianError;
+    fn try_from(j: AtlasJson) -> Result<Self, GaussianError> {
+        let atlas = Self { landforms: j.landforms };
+        atlas.validate()?;
+        Ok(atlas)
+    }
 }
 
 impl Atlas {

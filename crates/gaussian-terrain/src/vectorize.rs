@@ -20,8 +20,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::detail::{DetailLayer, DetailSource};
 use crate::fastmath::{exp_neg, exp2_signed, log2};
+use crate::kernel::{Prepared, Span, raster_samples};
 use crate::loss::{LossTerms, LossWeights, loss};
-use crate::raster::{Prepared, Span, raster_samples};
 use crate::{Gaussian, GaussianError, MAX_PRIMITIVES, VectorTerrain};
 
 /// The paper's initial scales, as fractions of the domain, for about 10 000 primitives (§4).
@@ -254,14 +254,7 @@ pub fn vectorize(
 ) -> Result<Vectorized, GaussianError> {
     options.validate()?;
     let started = Instant::now();
-    let (nx, ny) = (dem.nx(), dem.ny());
-    if nx < 2 || ny < 2 {
-        return Err(GaussianError::EmptyDem { nx, ny });
-    }
-    if dem.has_no_data() {
-        return Err(GaussianError::DemHasNoData { count: dem.no_data_count() });
-    }
-    let (lo, hi) = dem.min_max().ok_or(GaussianError::EmptyDem { nx, ny })?;
+    let (lo, hi) = check_dem(dem)?;
     let range = f64::from(hi) - f64::from(lo);
     let mut report = VectorizeReport {
         iterations: 0,
@@ -287,21 +280,64 @@ pub fn vectorize(
 
     // The working grid and the normalized target on it.
     let work = working_dem(dem, options.resolution)?;
-    let (wx, wy) = (work.nx(), work.ny());
     let target: Vec<f32> =
         work.samples().iter().map(|&h| (2.0 * (f64::from(h) - f64::from(lo)) / range) as f32).collect();
-    let pixels = GridSpec::new(wx, wy, DVec2::ZERO, DVec2::ONE)?;
-    let size = (wx.max(wy) - 1) as f64;
+    let pixels = GridSpec::new(work.nx(), work.ny(), DVec2::ZERO, DVec2::ONE)?;
+    let fit = fit(&target, &pixels, options, started, &mut progress);
+    report.stopped_by = fit.stopped_by.into();
+    let kept: Vec<Gaussian> =
+        fit.params.iter().map(Param::gaussian).filter(|g| keep(g, options, &pixels, FIT_TOLERANCE)).collect();
 
-    let mut params = initialise(&target, &pixels, options);
+    terrain.primitives = to_world(&kept, &work, range);
+    add_details(dem, &mut terrain, &mut report, options, range)?;
+    report.iterations = fit.iterations;
+    report.primitives = terrain.primitives.len();
+    report.loss = fit.loss;
+    report.seconds = started.elapsed().as_secs_f64();
+    Ok(Vectorized { terrain, report })
+}
+
+/// The DEM's elevation range `(min, max)`, once it is known to be at least 2 × 2 samples with no
+/// no-data.
+fn check_dem(dem: &Heightfield) -> Result<(f32, f32), GaussianError> {
+    let (nx, ny) = (dem.nx(), dem.ny());
+    if nx < 2 || ny < 2 {
+        return Err(GaussianError::EmptyDem { nx, ny });
+    }
+    if dem.has_no_data() {
+        return Err(GaussianError::DemHasNoData { count: dem.no_data_count() });
+    }
+    dem.min_max().ok_or(GaussianError::EmptyDem { nx, ny })
+}
+
+/// Where the optimisation stopped: the primitives' optimizer states, the steps run, the loss at
+/// the last step and why it stopped (as [`VectorizeReport::stopped_by`]).
+struct Fit {
+    params: Vec<Param>,
+    iterations: usize,
+    loss: LossTerms,
+    stopped_by: &'static str,
+}
+
+/// The optimisation on the working grid `pixels` (§4): the multi-level initialisation, then Adam
+/// steps with a learning rate decaying to a tenth over the budget, densifying every
+/// `options.densify_every` steps but in the last fifth, until [`stop_reason`] says otherwise.
+fn fit(
+    target: &[f32],
+    pixels: &GridSpec,
+    options: &VectorizeOptions,
+    started: Instant,
+    progress: &mut impl FnMut(&Progress) -> ControlFlow<()>,
+) -> Fit {
+    let (wx, wy) = (pixels.nx(), pixels.ny());
+    let size = (wx.max(wy) - 1) as f64;
+    let mut params = initialise(target, pixels, options);
     let max_ln_sigma = size.ln();
-    let mut loss_now;
     let mut iteration = 0;
     loop {
         let prims: Vec<Gaussian> = params.iter().map(Param::gaussian).collect();
-        let approx = raster_samples(&prims, &pixels, FIT_TOLERANCE);
-        let (terms, grad) = loss(&approx, &target, wx, wy, &options.weights, true);
-        loss_now = terms;
+        let approx = raster_samples(&prims, pixels, FIT_TOLERANCE);
+        let (terms, grad) = loss(&approx, target, wx, wy, &options.weights, true);
         let state = Progress {
             iteration,
             iterations: options.iterations,
@@ -309,42 +345,40 @@ pub fn vectorize(
             loss: terms,
             elapsed: started.elapsed(),
         };
-        if progress(&state).is_break() {
-            report.stopped_by = "cancelled".into();
-            break;
+        if let Some(stopped_by) = stop_reason(&state, options, progress) {
+            return Fit { params, iterations: iteration, loss: terms, stopped_by };
         }
-        if iteration >= options.iterations {
-            break;
-        }
-        if options.time_budget.is_some_and(|b| state.elapsed >= b) {
-            report.stopped_by = "time".into();
-            break;
-        }
-        if options.target_loss.is_some_and(|t| terms.total <= t) {
-            report.stopped_by = "loss".into();
-            break;
-        }
-        let err: Vec<f32> = approx.iter().zip(&target).map(|(a, b)| (a - b).abs()).collect();
-        let back = backward(&prims, &pixels, &grad, &err, FIT_TOLERANCE);
+        let err: Vec<f32> = approx.iter().zip(target).map(|(a, b)| (a - b).abs()).collect();
+        let back = backward(&prims, pixels, &grad, &err, FIT_TOLERANCE);
         // Learning rate decays exponentially to a tenth over the budget.
         let decay = 0.1f64.powf(iteration as f64 / options.iterations.max(1) as f64);
         params.par_iter_mut().zip(&back).for_each(|(p, b)| p.adam(&b.grad, decay, max_ln_sigma));
         iteration += 1;
         let late = iteration * 5 > options.iterations * 4;
         if options.densify_every > 0 && iteration % options.densify_every == 0 && !late {
-            densify(&mut params, &back, options, &pixels);
+            densify(&mut params, &back, options, pixels);
         }
     }
-    let kept: Vec<Gaussian> =
-        params.iter().map(Param::gaussian).filter(|g| keep(g, options, &pixels, FIT_TOLERANCE)).collect();
+}
 
-    terrain.primitives = to_world(&kept, &work, range);
-    add_details(dem, &mut terrain, &mut report, options, range)?;
-    report.iterations = iteration;
-    report.primitives = terrain.primitives.len();
-    report.loss = loss_now;
-    report.seconds = started.elapsed().as_secs_f64();
-    Ok(Vectorized { terrain, report })
+/// Reports `state` to `progress`, then says whether the fit stops before another step and why:
+/// "cancelled" (the callback broke), "iterations", "time" or "loss" (the budgets, in that order).
+fn stop_reason(
+    state: &Progress,
+    options: &VectorizeOptions,
+    progress: &mut impl FnMut(&Progress) -> ControlFlow<()>,
+) -> Option<&'static str> {
+    if progress(state).is_break() {
+        Some("cancelled")
+    } else if state.iteration >= options.iterations {
+        Some("iterations")
+    } else if options.time_budget.is_some_and(|b| state.elapsed >= b) {
+        Some("time")
+    } else if options.target_loss.is_some_and(|t| state.loss.total <= t) {
+        Some("loss")
+    } else {
+        None
+    }
 }
 
 /// The fitted primitives in world units: `x = origin + cell ⊙ p` (a non-square cell re-splits

@@ -3,8 +3,9 @@
 
 use glam::DVec2;
 use proptest::prelude::*;
+use relief_fixtures::random_terrain;
 use relief_gaussian_terrain::{
-    Atlas, Gaussian, GaussianError, Landform, RasterOptions, VectorTerrain, random_terrain, rasterize, rasterize_exact,
+    Atlas, Gaussian, GaussianError, Landform, RasterOptions, VectorTerrain, rasterize, rasterize_exact,
 };
 use relief_heightfield::{Extent, GridSpec};
 
@@ -119,11 +120,14 @@ fn a_placed_landform_is_the_original_moved_turned_and_scaled() {
 #[test]
 fn bad_input_gets_typed_errors() {
     let grid = square(9, 10.0);
-    // σ ≤ 0 and NaN after loading from JSON (JSON has no NaN: a huge exponent overflows to inf
-    // in neither serde_json nor here, so NaN is set after loading).
+    // Loading from JSON checks every primitive, naming the parameter at fault.
     let json = r#"{"primitives": [{"center": [1, 2], "sigma": [1, 0], "amplitude": 3}]}"#;
-    let t: VectorTerrain = serde_json::from_str(json).unwrap();
+    let e = serde_json::from_str::<VectorTerrain>(json).unwrap_err().to_string();
+    assert!(e.contains("sigma.y = 0"), "{e}");
+    let mut t: VectorTerrain = serde_json::from_str(&json.replace("[1, 0]", "[1, 2]")).unwrap();
     assert_eq!(t.primitives[0].beta, 2.0, "β defaults to 2");
+    // σ ≤ 0 and NaN set in code are caught by the rasterizer and `validate`.
+    t.primitives[0].sigma[1] = 0.0;
     assert!(matches!(
         rasterize(&t, &grid, &RasterOptions::default()),
         Err(GaussianError::InvalidPrimitive { index: 0, what: "sigma.y", .. })

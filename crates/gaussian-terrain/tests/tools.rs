@@ -4,9 +4,10 @@
 
 use glam::DVec2;
 use proptest::prelude::*;
+use relief_fixtures::random_terrain;
 use relief_gaussian_terrain::{
     GaussianError, Heightfield, Placement, RasterOptions, Region, Skeleton, StampMode, VectorTerrain, copy, cut,
-    delete, paste, random_terrain, rasterize, squeeze, stamp, twist,
+    delete, paste, rasterize, squeeze, stamp, twist,
 };
 use relief_heightfield::{Extent, GridSpec};
 

@@ -5,9 +5,10 @@ use std::ops::ControlFlow;
 use std::time::Duration;
 
 use glam::DVec2;
+use relief_fixtures::fbm_dem;
 use relief_gaussian_terrain::{
-    DetailLayer, DetailSource, Gaussian, GaussianError, RasterOptions, VectorTerrain, VectorizeOptions, fbm_dem,
-    rasterize, vectorize,
+    DetailLayer, DetailSource, Gaussian, GaussianError, RasterOptions, VectorTerrain, VectorizeOptions, rasterize,
+    vectorize,
 };
 use relief_heightfield::{Extent, GridSpec, Heightfield};
 

@@ -7,25 +7,8 @@ use glam::DVec2;
 use relief_heightfield::{GridSpec, Heightfield, Units};
 
 use crate::error::clip;
+use crate::format::is_asc_header_key as is_header_key;
 use crate::{IoErrorKind, Limits};
-
-const KEYS: [&[u8]; 10] = [
-    b"ncols",
-    b"nrows",
-    b"xllcorner",
-    b"xllcenter",
-    b"yllcorner",
-    b"yllcenter",
-    b"cellsize",
-    b"dx",
-    b"dy",
-    b"nodata_value",
-];
-
-/// Whether `word` (lower case) is an ESRI ASCII grid header key.
-pub(crate) fn is_header_key(word: &[u8]) -> bool {
-    KEYS.contains(&word)
-}
 
 /// Whitespace-separated tokens with line numbers, straight from the bytes (no copy of the file).
 struct Tokens<'a> {

@@ -76,7 +76,7 @@ impl Format {
             .take_while(|c| c.is_ascii_alphabetic() || **c == b'_')
             .map(u8::to_ascii_lowercase)
             .collect();
-        crate::asc::is_header_key(&word).then_some(Format::Asc)
+        is_asc_header_key(&word).then_some(Format::Asc)
     }
 
     /// The usual file extension, without the dot.
@@ -116,4 +116,24 @@ impl fmt::Display for Format {
             Format::GeoTiff => "GeoTIFF",
         })
     }
+}
+
+/// The keys of an ESRI ASCII grid header, lower case. Detection knows them (a text file starting
+/// with one is an ASCII grid), and so does the reader.
+const ASC_KEYS: [&[u8]; 10] = [
+    b"ncols",
+    b"nrows",
+    b"xllcorner",
+    b"xllcenter",
+    b"yllcorner",
+    b"yllcenter",
+    b"cellsize",
+    b"dx",
+    b"dy",
+    b"nodata_value",
+];
+
+/// Whether `word` (lower case) is an ESRI ASCII grid header key.
+pub(crate) fn is_asc_header_key(word: &[u8]) -> bool {
+    ASC_KEYS.contains(&word)
 }

@@ -39,7 +39,7 @@ pub enum HeightfieldError {
         y: f64,
     },
     /// An extent's max corner is not strictly above its min corner along an axis with more than one sample.
-    #[error("extent [{min_x}, {max_x}] x [{min_y}, {max_y}] is empty or inverted")]
+    #[error("extent min [{min_x}, {min_y}] must be finite and below max [{max_x}, {max_y}]")]
     InvalidExtent {
         /// Minimum x.
         min_x: f64,

@@ -86,22 +86,56 @@ pub fn fill_depressions(hf: &mut Heightfield, outlet: impl Fn(usize, usize) -> b
 /// radix heap: the flood pops keys in non-decreasing order) then only sees the cells of actual
 /// depressions. A nearly drained raster costs little more than one pass.
 pub fn fill_depressions_with(hf: &mut Heightfield, rules: FillRules, outlet: impl Fn(usize, usize) -> bool) -> usize {
-    let (nx, ny) = (hf.nx(), hf.ny());
+    let cells = Neighbourhood::new(hf.nx(), hf.ny());
     let z = hf.samples_mut();
-    let interior = |k: usize| {
-        let (i, j) = (k % nx, k / nx);
-        i > 0 && j > 0 && i + 1 < nx && j + 1 < ny
-    };
-    // Interior cells reach their neighbours by fixed offsets; border cells go the slow way.
-    let stride = nx as isize;
-    let offsets = [-1, 1, -stride, stride, -stride - 1, -stride + 1, stride - 1, stride + 1];
-    let neighbours = |k: usize, out: &mut [usize; 8]| -> usize {
-        if interior(k) {
-            for (o, d) in out.iter_mut().zip(offsets) {
+    let mut drained = outlets(z, &cells, rules, outlet);
+    // Zhou, Sun & Fu's (2016) refinement of Priority-Flood: a cell the flood reaches above the
+    // flood level keeps its height, and so does everything strictly uphill of it (water there
+    // runs down through it), so that whole slope is settled by a plain depth-first climb. Only a
+    // settled cell that still borders unsettled ground no higher than itself enters the heap.
+    // The outlets are settled first; on a drained raster that is one pass and the heap stays
+    // empty. The heap starts at key 0, below every key, so it needs no sorted seeding.
+    let mut heap = RadixHeap::new();
+    let mut settler = Settler::new(rules.epsilon);
+    for k in 0..z.len() {
+        if drained[k] && !z[k].is_nan() {
+            settler.settle(&cells, z, k, &mut drained, &mut heap);
+        }
+    }
+    flood(z, &cells, rules.epsilon, &mut drained, &mut heap, &mut settler)
+}
+
+/// The 8-neighbourhood of a cell on an `nx × ny` grid: interior cells reach their neighbours by
+/// fixed offsets, border cells go the slow way with bounds checks.
+struct Neighbourhood {
+    nx: usize,
+    ny: usize,
+    offsets: [isize; 8],
+}
+
+impl Neighbourhood {
+    fn new(nx: usize, ny: usize) -> Self {
+        let stride = nx as isize;
+        Self { nx, ny, offsets: [-1, 1, -stride, stride, -stride - 1, -stride + 1, stride - 1, stride + 1] }
+    }
+
+    /// Whether cell `k` is off the grid border.
+    #[inline]
+    fn interior(&self, k: usize) -> bool {
+        let (i, j) = (k % self.nx, k / self.nx);
+        i > 0 && j > 0 && i + 1 < self.nx && j + 1 < self.ny
+    }
+
+    /// Writes the neighbours of cell `k` to the front of `out` and returns how many there are.
+    #[inline]
+    fn of(&self, k: usize, out: &mut [usize; 8]) -> usize {
+        if self.interior(k) {
+            for (o, d) in out.iter_mut().zip(self.offsets) {
                 *o = k.wrapping_add_signed(d);
             }
             return 8;
         }
+        let (nx, ny) = (self.nx, self.ny);
         let (i, j) = ((k % nx) as i64, (k / nx) as i64);
         let mut n = 0;
         for (di, dj) in NEIGHBOURS {
@@ -112,60 +146,84 @@ pub fn fill_depressions_with(hf: &mut Heightfield, rules: FillRules, outlet: imp
             }
         }
         n
-    };
+    }
+}
+
+/// The cells that never change, as the initial `drained` flags: no-data, and the outlets the
+/// rules and `outlet(i, j)` name.
+fn outlets(z: &[f32], cells: &Neighbourhood, rules: FillRules, outlet: impl Fn(usize, usize) -> bool) -> Vec<bool> {
     let has_nan = z.iter().any(|v| v.is_nan());
     let mut nb = [0usize; 8];
-    // Outlets (and no-data) never change.
-    let mut drained: Vec<bool> = (0..z.len())
+    (0..z.len())
         .map(|k| {
-            let (i, j) = (k % nx, k / nx);
+            let (i, j) = (k % cells.nx, k / cells.nx);
             z[k].is_nan()
-                || (rules.border_drains && !interior(k))
+                || (rules.border_drains && !cells.interior(k))
                 || outlet(i, j)
                 || (rules.no_data_drains && has_nan && {
-                    let c = neighbours(k, &mut nb);
+                    let c = cells.of(k, &mut nb);
                     nb[..c].iter().any(|&w| z[w].is_nan())
                 })
         })
-        .collect();
-    // Zhou, Sun & Fu's (2016) refinement of Priority-Flood: a cell the flood reaches above the
-    // flood level keeps its height, and so does everything strictly uphill of it (water there
-    // runs down through it), so that whole slope is settled by a plain depth-first climb. Only a
-    // settled cell that still borders unsettled ground no higher than itself enters the heap.
-    // The outlets are settled first; on a drained raster that is one pass and the heap stays
-    // empty. The heap starts at key 0, below every key, so it needs no sorted seeding.
-    let mut heap = RadixHeap::new();
-    let mut climb = Vec::new();
-    let uphill = |zw: f32, zu: f32| zw > zu || (!rules.epsilon && zw == zu);
-    let mut climbed = Vec::new();
-    let mut settle = |z: &[f32], start: usize, drained: &mut [bool], heap: &mut RadixHeap, nb: &mut [usize; 8]| {
-        climb.push(start);
-        while let Some(u) = climb.pop() {
-            climbed.push(u);
-            let c = neighbours(u, nb);
-            for &v in &nb[..c] {
+        .collect()
+}
+
+/// The depth-first climb of Zhou et al.'s refinement, with its scratch stacks kept between calls
+/// so the flood allocates nothing per cell.
+struct Settler {
+    /// Without ε, equal heights count as uphill: flats drain through a settled cell unchanged.
+    epsilon: bool,
+    climb: Vec<usize>,
+    climbed: Vec<usize>,
+    nb: [usize; 8],
+}
+
+impl Settler {
+    fn new(epsilon: bool) -> Self {
+        Self { epsilon, climb: Vec::new(), climbed: Vec::new(), nb: [0; 8] }
+    }
+
+    /// Settles `start` and everything uphill of it, then pushes the settled cells that still
+    /// border unsettled ground onto the heap.
+    fn settle(&mut self, cells: &Neighbourhood, z: &[f32], start: usize, drained: &mut [bool], heap: &mut RadixHeap) {
+        let epsilon = self.epsilon;
+        let uphill = |zw: f32, zu: f32| zw > zu || (!epsilon && zw == zu);
+        self.climb.push(start);
+        while let Some(u) = self.climb.pop() {
+            self.climbed.push(u);
+            let c = cells.of(u, &mut self.nb);
+            for &v in &self.nb[..c] {
                 if !drained[v] && uphill(z[v], z[u]) {
                     drained[v] = true;
-                    climb.push(v);
+                    self.climb.push(v);
                 }
             }
         }
         // Only once the climb is done: a lower neighbour may have been climbed to another way.
-        for u in climbed.drain(..) {
-            let c = neighbours(u, nb);
-            if nb[..c].iter().any(|&v| !drained[v]) {
+        for u in self.climbed.drain(..) {
+            let c = cells.of(u, &mut self.nb);
+            if self.nb[..c].iter().any(|&v| !drained[v]) {
                 heap.push(key(z[u]), u as u32);
             }
         }
-    };
-    for k in 0..z.len() {
-        if drained[k] && !z[k].is_nan() {
-            settle(z, k, &mut drained, &mut heap, &mut nb);
-        }
     }
-    // Barnes et al.'s pit queue: a cell raised (or levelled) by the flood cannot be lower than
-    // anything still in the heap, so it is expanded right away, first in first out, without
-    // going through the heap.
+}
+
+/// The flood proper: pops cells in non-decreasing height and raises (with ε: one f32 step above)
+/// every undrained neighbour no higher than the cell; a higher neighbour is settled with its
+/// slope. Returns the number of raised cells.
+///
+/// Barnes et al.'s pit queue: a cell raised (or levelled) by the flood cannot be lower than
+/// anything still in the heap, so it is expanded right away, first in first out, without going
+/// through the heap.
+fn flood(
+    z: &mut [f32],
+    cells: &Neighbourhood,
+    epsilon: bool,
+    drained: &mut [bool],
+    heap: &mut RadixHeap,
+    settler: &mut Settler,
+) -> usize {
     let mut pit = std::collections::VecDeque::new();
     let mut around = [0usize; 8];
     let mut raised = 0;
@@ -178,21 +236,21 @@ pub fn fill_depressions_with(hf: &mut Heightfield, rules: FillRules, outlet: imp
             },
         };
         let h = z[k];
-        let c = neighbours(k, &mut around);
+        let c = cells.of(k, &mut around);
         for &w in &around[..c] {
             if drained[w] {
                 continue;
             }
             drained[w] = true;
-            if z[w] < h || (z[w] == h && rules.epsilon) {
+            if z[w] < h || (z[w] == h && epsilon) {
                 // Clamped so a field that tops out at f32::MAX stays finite.
-                z[w] = if rules.epsilon { h.next_up().min(f32::MAX) } else { h };
+                z[w] = if epsilon { h.next_up().min(f32::MAX) } else { h };
                 raised += 1;
                 pit.push_back(w);
             } else if z[w] == h {
                 pit.push_back(w);
             } else {
-                settle(z, w, &mut drained, &mut heap, &mut nb);
+                settler.settle(cells, z, w, drained, heap);
             }
         }
     }

@@ -10,6 +10,7 @@ pub const MAX_SAMPLES: u64 = u32::MAX as u64;
 /// What the grid's world coordinates measure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub enum Units {
     /// Planar coordinates in metres (x east, y north).
     #[default]
@@ -20,20 +21,56 @@ pub enum Units {
     Degrees,
 }
 
-/// An axis-aligned rectangle in world coordinates.
+/// An axis-aligned rectangle in world coordinates. In JSON, `{ "min": [x, y], "max": [x, y] }`;
+/// deserialization checks that both corners are finite and `min < max` along both axes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, try_from = "ExtentRepr")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Extent {
     /// Minimum corner (west, south).
+    #[cfg_attr(feature = "schemars", schemars(with = "[f64; 2]"))]
     pub min: DVec2,
     /// Maximum corner (east, north).
+    #[cfg_attr(feature = "schemars", schemars(with = "[f64; 2]"))]
     pub max: DVec2,
+}
+
+/// The unchecked JSON form of an [`Extent`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "Extent"))]
+struct ExtentRepr {
+    /// Minimum corner `[x, y]` (west, south).
+    #[cfg_attr(feature = "schemars", schemars(with = "[f64; 2]"))]
+    min: DVec2,
+    /// Maximum corner `[x, y]` (east, north), above `min` along both axes.
+    #[cfg_attr(feature = "schemars", schemars(with = "[f64; 2]"))]
+    max: DVec2,
+}
+
+impl TryFrom<ExtentRepr> for Extent {
+    type Error = HeightfieldError;
+    fn try_from(r: ExtentRepr) -> Result<Self, HeightfieldError> {
+        Self::checked(r.min, r.max)
+    }
 }
 
 impl Extent {
     /// The rectangle spanned by two corners.
     pub fn new(min: DVec2, max: DVec2) -> Self {
         Self { min, max }
+    }
+
+    /// The rectangle spanned by two corners, checked: both finite, `min < max` along both axes.
+    ///
+    /// # Errors
+    /// [`HeightfieldError::InvalidExtent`] otherwise.
+    pub fn checked(min: DVec2, max: DVec2) -> Result<Self, HeightfieldError> {
+        if min.is_finite() && max.is_finite() && min.cmplt(max).all() {
+            Ok(Self { min, max })
+        } else {
+            Err(HeightfieldError::InvalidExtent { min_x: min.x, min_y: min.y, max_x: max.x, max_y: max.y })
+        }
     }
 
     /// `max - min`.
@@ -82,6 +119,7 @@ pub fn metres_per_degree(lat_deg: f64) -> DVec2 {
 /// cell sizes finite and positive, extent finite, latitudes within ±90° for geographic grids.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "GridSpecRepr", into = "GridSpecRepr")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct GridSpec {
     nx: usize,
     ny: usize,
@@ -90,13 +128,22 @@ pub struct GridSpec {
     units: Units,
 }
 
+/// The JSON form of a [`GridSpec`].
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "GridSpec"))]
 struct GridSpecRepr {
+    /// Samples along x.
     nx: usize,
+    /// Samples along y.
     ny: usize,
+    /// Position `[x, y]` of sample (0, 0), the south-west corner.
+    #[cfg_attr(feature = "schemars", schemars(with = "[f64; 2]"))]
     origin: DVec2,
+    /// Spacing `[dx, dy]` of the samples.
+    #[cfg_attr(feature = "schemars", schemars(with = "[f64; 2]"))]
     cell_size: DVec2,
+    /// Units of the coordinates (default metres).
     #[serde(default)]
     units: Units,
 }

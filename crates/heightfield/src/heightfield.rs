@@ -13,6 +13,7 @@ use crate::{Extent, GridSpec, HeightfieldError};
 /// elevation units per metre of ground distance, also on geographic grids.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(try_from = "HeightfieldRepr", into = "HeightfieldRepr")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Heightfield {
     grid: GridSpec,
     samples: Vec<f32>,
@@ -43,9 +44,12 @@ pub struct Statistics {
     pub std_dev: f64,
 }
 
+/// The JSON form of a [`Heightfield`].
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "Heightfield"))]
 struct HeightfieldRepr {
+    /// The grid.
     grid: GridSpec,
     /// No-data samples are written as 0 and listed in `no_data`, because JSON has no NaN.
     samples: Vec<f32>,

@@ -18,6 +18,10 @@
 //! [`fill_depressions`] (Priority-Flood+ε) and the [`noise`] module (seeded gradient noise and fBm)
 //! that the generators share.
 //!
+//! The types are serde types ([`Extent`] checks its corners as it deserializes, [`GridSpec`] and
+//! [`Heightfield`] their invariants); the optional `schemars` feature derives their JSON Schemas
+//! for the `relief` scene format.
+//!
 //! ```
 //! use glam::DVec2;
 //! use relief_heightfield::{Extent, GridSpec, Heightfield};

@@ -48,6 +48,7 @@ pub fn gradient_noise(p: DVec2, seed: u64) -> f64 {
 /// `Σₖ gainᵏ · noise(frequency · lacunarityᵏ · p)`, normalised by `Σₖ gainᵏ` to about [−1, 1].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Fbm {
     /// Number of octaves (≥ 1).
     pub octaves: u32,

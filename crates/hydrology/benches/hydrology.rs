@@ -1,23 +1,17 @@
 //! Priority-flood, D8 routing with accumulation, and one stream-power step at 1024², 2048² and
-//! 4096² on an fBm terrain full of pits (about 28 % of its cells lie in depressions). Target
-//! (issue #6): 4096² flood + accumulation under 3 s. Beside ours runs the textbook
-//! Priority-Flood+ε of Barnes, Lehman & Mulla (2014, Algorithm 3: binary heap and pit queue).
+//! 4096² on an fBm terrain full of pits (`relief_fixtures::pitted_fbm_dem`: about 28 % of its
+//! cells lie in depressions). Target (issue #6): 4096² flood + accumulation under 3 s. Beside ours
+//! runs the textbook Priority-Flood+ε of Barnes, Lehman & Mulla (2014, Algorithm 3: binary heap and
+//! pit queue).
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, VecDeque};
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use glam::DVec2;
-use relief_heightfield::noise::Fbm;
-use relief_heightfield::{GridSpec, Heightfield};
+use relief_fixtures::pitted_fbm_dem;
+use relief_heightfield::Heightfield;
 use relief_hydrology::{D8, Outlets, StreamPower, fill};
-
-fn terrain(n: usize) -> Heightfield {
-    let grid = GridSpec::new(n, n, DVec2::ZERO, DVec2::splat(30.0)).expect("grid");
-    let fbm = Fbm { seed: 7, octaves: 8, frequency: 4.0 / (30.0 * n as f64), ..Fbm::default() };
-    Heightfield::from_fn(grid, |p| (1000.0 * fbm.sample(p)) as f32).expect("terrain")
-}
 
 /// Barnes et al.'s Priority-Flood+ε as published: every border cell seeds a binary heap; raised
 /// cells go through a pit queue.
@@ -80,7 +74,7 @@ fn bench(c: &mut Criterion) {
     group.sample_size(10);
     let largest = if quick() { 1024 } else { 4096 };
     for n in [1024usize, 2048, 4096].into_iter().filter(|&n| n <= largest) {
-        let dem = terrain(n);
+        let dem = pitted_fbm_dem(n).expect("terrain");
         group.bench_with_input(BenchmarkId::new("priority_flood", n), &dem, |b, dem| {
             b.iter(|| black_box(fill(dem, Outlets::new()).expect("fill")));
         });

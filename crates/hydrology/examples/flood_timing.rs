@@ -4,16 +4,12 @@
 
 use std::time::Instant;
 
-use glam::DVec2;
-use relief_heightfield::noise::Fbm;
-use relief_heightfield::{GridSpec, Heightfield};
+use relief_fixtures::pitted_fbm_dem;
 use relief_hydrology::{D8, Outlets, fill};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n: usize = std::env::args().nth(1).map_or(Ok(4096), |s| s.parse())?;
-    let grid = GridSpec::new(n, n, DVec2::ZERO, DVec2::splat(30.0))?;
-    let fbm = Fbm { seed: 7, octaves: 8, frequency: 4.0 / (30.0 * n as f64), ..Fbm::default() };
-    let dem = Heightfield::from_fn(grid, |p| (1000.0 * fbm.sample(p)) as f32)?;
+    let dem = pitted_fbm_dem(n)?;
     for _ in 0..3 {
         let t = Instant::now();
         let filled = fill(&dem, Outlets::new())?;

@@ -4,13 +4,18 @@
 use relief_heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
 
+use crate::emd::{CdfShape, earth_movers_distance};
 use crate::error::check_param;
 use crate::flow::{D8, Mfd, mfd_drainage_area};
 use crate::{HydrologyError, Outlets, fill};
 
-/// A histogram with equal-width bins over `[lo, hi]`.
+/// A histogram of sample counts in equal-width bins over `[lo, hi]`, in the unit of the values.
+/// Its distance, [`CountHistogram::wasserstein`], is in that unit too and compares histograms of
+/// any range and bin count. (Not to be confused with `relief_orometry::FractionHistogram`,
+/// fractions over explicit edges compared bin by bin, nor with `relief_contours::Histogram`, a
+/// target elevation distribution.)
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Histogram {
+pub struct CountHistogram {
     /// Lower edge of the first bin.
     pub lo: f64,
     /// Upper edge of the last bin.
@@ -19,7 +24,7 @@ pub struct Histogram {
     pub counts: Vec<u64>,
 }
 
-impl Histogram {
+impl CountHistogram {
     /// Bins `values` (finite ones only) into `bins` equal bins (clamped to 1..=[`MAX_BINS`])
     /// spanning their range. A single distinct value gets a unit-wide range around it.
     pub fn of(values: impl Iterator<Item = f64> + Clone, bins: usize) -> Self {
@@ -70,7 +75,8 @@ impl Histogram {
     }
 
     /// Earth mover's (1-Wasserstein) distance between the two distributions, in the unit of the
-    /// values: ∫|F₁ − F₂|, exact for histograms (both CDFs are piecewise linear, so between
+    /// values: ∫|F₁ − F₂|, exact for histograms ([`earth_movers_distance`] with
+    /// [`CdfShape::Linear`] over the edges of both: both CDFs are piecewise linear, so between
     /// consecutive edges of either the integrand is linear but for one possible sign change).
     /// Histograms with different ranges and bin counts compare fine; an empty one is at distance 0
     /// from anything.
@@ -81,13 +87,7 @@ impl Histogram {
         let mut xs: Vec<f64> = self.edges().chain(other.edges()).collect();
         xs.sort_by(f64::total_cmp);
         xs.dedup();
-        xs.windows(2)
-            .map(|w| {
-                let (a, b) = (self.cdf(w[0]) - other.cdf(w[0]), self.cdf(w[1]) - other.cdf(w[1]));
-                let dx = w[1] - w[0];
-                if a * b >= 0.0 { 0.5 * (a.abs() + b.abs()) * dx } else { 0.5 * (a * a + b * b) / (a - b).abs() * dx }
-            })
-            .sum()
+        earth_movers_distance(xs.iter().map(|&x| (x, self.cdf(x) - other.cdf(x))), CdfShape::Linear)
     }
 }
 
@@ -121,11 +121,11 @@ impl Default for DescriptorOptions {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Descriptors {
     /// Elevations of valid cells.
-    pub elevation: Histogram,
+    pub elevation: CountHistogram,
     /// Slopes of valid cells, degrees.
-    pub slope_deg: Histogram,
+    pub slope_deg: CountHistogram,
     /// log₁₀ of the drainage area (m²) of valid cells, on the depression-filled DEM.
-    pub log10_drainage_area: Histogram,
+    pub log10_drainage_area: CountHistogram,
     /// The largest Strahler order of the D8 stream network.
     pub max_strahler: u8,
     /// The stream threshold used, m².
@@ -159,17 +159,17 @@ impl Descriptors {
         let filled = fill(hf, options.outlets)?;
         let z = hf.samples();
         let cells = z.iter().filter(|v| !v.is_nan()).count();
-        let elevation = Histogram::of(z.iter().map(|&v| f64::from(v)), options.bins);
+        let elevation = CountHistogram::of(z.iter().map(|&v| f64::from(v)), options.bins);
         let (nx, ny) = (hf.nx(), hf.ny());
         let slopes: Vec<f64> = (0..ny)
             .flat_map(|j| (0..nx).map(move |i| (i, j)))
             .filter_map(|(i, j)| hf.slope(i, j))
             .map(|s| s.atan().to_degrees())
             .collect();
-        let slope_deg = Histogram::of(slopes.iter().copied(), options.bins);
+        let slope_deg = CountHistogram::of(slopes.iter().copied(), options.bins);
         let area = mfd_drainage_area(&filled, options.routing)?;
         let log_area =
-            Histogram::of(area.iter().zip(z).filter(|(_, v)| !v.is_nan()).map(|(a, _)| a.log10()), options.bins);
+            CountHistogram::of(area.iter().zip(z).filter(|(_, v)| !v.is_nan()).map(|(a, _)| a.log10()), options.bins);
         let d8 = D8::new(&filled)?;
         // Everything drains to a sink of the filled DEM, so the sinks hold the whole valid area.
         let stream_area_m2 = options

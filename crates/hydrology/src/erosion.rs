@@ -10,9 +10,11 @@ use crate::flow::{D8, NO_RECEIVER};
 use crate::grid8::Grid8;
 use crate::{HydrologyError, Outlets, fill};
 
-/// A per-cell parameter: one value everywhere, or a map with one value per cell.
+/// A per-cell parameter: one value everywhere, or a map with one value per cell. In JSON, a
+/// number or an array of numbers.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub enum Field {
     /// The same value on every cell.
     Uniform(f64),
@@ -41,28 +43,38 @@ impl Field {
 }
 
 /// The stream-power law ∂h/∂t = U − K·A^m·S^n, integrated implicitly along D8 receivers
-/// (Braun & Willett 2013): unconditionally stable, O(N) per step.
+/// (Braun & Willett 2013): unconditionally stable, O(N) per step. A run is `iterations` steps.
+///
+/// In JSON every field is optional (the defaults below); `outlets` is not part of it, because
+/// where water leaves depends on the terrain the run is applied to (a scene's sea and border).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct StreamPower {
-    /// Erodibility K (per year, in units that make K·A^m·S^n metres per year with A in m²).
+    /// Time steps of a [`StreamPower::run`] (default 20).
+    pub iterations: usize,
+    /// Erodibility K (per year, in units that make K·A^m·S^n metres per year with A in m²;
+    /// default 2·10⁻⁵).
     pub erodibility: Field,
-    /// Uplift rate U, metres per year.
+    /// Uplift rate U, metres per year (default 0).
     pub uplift: Field,
-    /// Drainage-area exponent m.
+    /// Drainage-area exponent m (default 0.4).
     pub m: f64,
-    /// Slope exponent n.
+    /// Slope exponent n (default 1).
     pub n: f64,
-    /// Time step, years.
+    /// Time step, years (default 1000).
     pub dt: f64,
     /// Where water leaves the terrain: these cells are the fixed base level.
+    #[serde(skip)]
     pub outlets: Outlets,
 }
 
 impl Default for StreamPower {
-    /// K = 2·10⁻⁵, no uplift, m = 0.4, n = 1 (m/n = 0.4, the usual concavity), dt = 1000 years.
+    /// 20 steps of K = 2·10⁻⁵, no uplift, m = 0.4, n = 1 (m/n = 0.4, the usual concavity),
+    /// dt = 1000 years.
     fn default() -> Self {
         Self {
+            iterations: 20,
             erodibility: Field::Uniform(2e-5),
             uplift: Field::Uniform(0.0),
             m: 0.4,
@@ -91,19 +103,18 @@ impl StreamPower {
     /// [`HydrologyError::InvalidParameter`] / [`HydrologyError::LengthMismatch`] for bad
     /// parameters, [`HydrologyError::AllNoData`].
     pub fn step(&self, hf: &mut Heightfield) -> Result<(), HydrologyError> {
-        self.run(hf, 1, |_| {})
+        self.steps(hf, 1, |_| {})
     }
 
-    /// `steps` implicit steps, calling `progress(done)` after each.
+    /// [`StreamPower::iterations`] implicit steps, calling `progress(done)` after each.
     ///
     /// # Errors
     /// As [`StreamPower::step`].
-    pub fn run(
-        &self,
-        hf: &mut Heightfield,
-        steps: usize,
-        mut progress: impl FnMut(usize),
-    ) -> Result<(), HydrologyError> {
+    pub fn run(&self, hf: &mut Heightfield, progress: impl FnMut(usize)) -> Result<(), HydrologyError> {
+        self.steps(hf, self.iterations, progress)
+    }
+
+    fn steps(&self, hf: &mut Heightfield, steps: usize, mut progress: impl FnMut(usize)) -> Result<(), HydrologyError> {
         self.check(hf.grid().len())?;
         for done in 1..=steps {
             let routed = D8::new(&fill(hf, self.outlets)?)?;
@@ -160,8 +171,10 @@ fn newton(h0: f64, hr: f64, f: f64, n: f64) -> f64 {
 /// the excess height slides down to it. Each iteration reads the old field and writes a new one
 /// (parallel over rows, identical to serial); material moves between valid cells only, so the
 /// total volume is conserved and no-data stays no-data.
+/// In JSON every field is optional (the defaults below).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Thermal {
     /// Angle of repose, degrees (default 33°).
     pub talus_deg: f64,

@@ -57,3 +57,17 @@ pub(crate) fn check_param(
 ) -> Result<(), HydrologyError> {
     if value.is_finite() && ok(value) { Ok(()) } else { Err(HydrologyError::InvalidParameter { name, value, reason }) }
 }
+
+impl HydrologyError {
+    /// Where the offending value is, as a JSON path relative to the value the failing call was
+    /// given (the parameter of a [`crate::StreamPower`] or [`crate::Thermal`]); empty when the error
+    /// concerns the terrain or the call as a whole. The `relief` facade prefixes it with the
+    /// value's own path in the scene.
+    pub fn location(&self) -> String {
+        match self {
+            Self::InvalidParameter { name, .. } => (*name).to_owned(),
+            Self::LengthMismatch { what, .. } => (*what).to_owned(),
+            _ => String::new(),
+        }
+    }
+}

@@ -10,9 +10,15 @@
 //!   flow accumulation, stream extraction and Strahler order; [`mfd_drainage_area`] for multiple
 //!   flow directions (Freeman 1991, Quinn et al. 1991).
 //! - [`StreamPower`]: the implicit stream-power law of Braun & Willett (2013), O(N) per step, with
-//!   uplift and erodibility maps; [`Thermal`] talus erosion. Post-processes for any generator.
-//! - [`Descriptors`]: histograms of elevation, slope and drainage area and the maximum Strahler
-//!   order, with an earth mover's distance between two terrains (contours paper §6.5).
+//!   uplift and erodibility maps; [`Thermal`] talus erosion. Post-processes for any generator:
+//!   both are serde types in the shape of `relief` scenes' `post` entries (the optional `schemars`
+//!   feature derives their JSON Schemas), and [`HydrologyError::location`] names the parameter an
+//!   error is about.
+//! - [`Descriptors`]: histograms of elevation, slope and drainage area ([`CountHistogram`]: counts
+//!   in equal-width bins) and the maximum Strahler order, with an earth mover's distance between
+//!   two terrains (contours paper §6.5). [`earth_movers_distance`] is the one EMD of the
+//!   workspace: `∫|F₁ − F₂|` over piecewise-linear or step CDFs, which
+//!   [`CountHistogram::wasserstein`] and `relief_orometry`'s descriptor distance both call.
 //!
 //! The filling itself lives in `relief-heightfield` ([`relief_heightfield::fill_depressions_with`])
 //! because the contour reconstruction needs it and may not depend on this crate; here it gains
@@ -46,13 +52,15 @@
 
 mod depressions;
 mod descriptors;
+mod emd;
 mod erosion;
 mod error;
 mod flow;
 mod grid8;
 
 pub use depressions::{Basin, Depressions, NoData, Outlets, depressions, endorheic_nodes, fill, has_endorheic_basins};
-pub use descriptors::{DescriptorDistance, DescriptorOptions, Descriptors, Histogram, MAX_BINS};
+pub use descriptors::{CountHistogram, DescriptorDistance, DescriptorOptions, Descriptors, MAX_BINS};
+pub use emd::{CdfShape, earth_movers_distance};
 pub use erosion::{Field, StreamPower, Thermal};
 pub use error::HydrologyError;
 pub use flow::{D8, Mfd, NO_RECEIVER, mfd_drainage_area, strahler};

@@ -7,7 +7,7 @@ use proptest::prelude::*;
 use relief_heightfield::noise::Fbm;
 use relief_heightfield::{GridSpec, Heightfield};
 use relief_hydrology::{
-    D8, DescriptorOptions, Descriptors, Field, Histogram, HydrologyError, Mfd, NO_RECEIVER, NoData, Outlets,
+    CountHistogram, D8, DescriptorOptions, Descriptors, Field, HydrologyError, Mfd, NO_RECEIVER, NoData, Outlets,
     StreamPower, Thermal, depressions, fill, has_endorheic_basins, mfd_drainage_area, strahler,
 };
 
@@ -84,7 +84,7 @@ proptest! {
         prop_assume!(dem.no_data_count() < dem.grid().len());
         let sp = StreamPower { uplift: Field::Uniform(uplift), n, dt: 500.0, erodibility: Field::Uniform(1e-3), ..StreamPower::default() };
         let mut out = dem.clone();
-        sp.run(&mut out, 3, |_| {}).unwrap();
+        StreamPower { iterations: 3, ..sp }.run(&mut out, |_| {}).unwrap();
         let rise = (3.0 * uplift * 500.0) as f32 * (1.0 + 1e-5) + 1e-4;
         for (k, (a, b)) in out.samples().iter().zip(dem.samples()).enumerate() {
             prop_assert_eq!(a.is_nan(), b.is_nan(), "no-data changed at {}", k);
@@ -206,7 +206,7 @@ fn stream_power_incises_valleys_and_keeps_outlets() {
     let sinks: Vec<_> = D8::new(&fill(&dem, Outlets::new()).unwrap()).unwrap().sinks().collect();
     sp.step(&mut eroded).unwrap();
     assert!(sinks.iter().all(|&(i, j)| eroded.get(i, j) == dem.get(i, j)));
-    sp.run(&mut eroded, 9, |_| {}).unwrap();
+    StreamPower { iterations: 9, ..sp.clone() }.run(&mut eroded, |_| {}).unwrap();
     let lowered = eroded.samples().iter().zip(dem.samples()).filter(|(a, b)| a < b).count();
     assert!(lowered > 64 * 64 / 4, "only {lowered} cells eroded");
     let bad = StreamPower { uplift: Field::Map(vec![0.0; 3]), ..StreamPower::default() };
@@ -240,16 +240,16 @@ fn descriptors_compare_terrains() {
 
 #[test]
 fn wasserstein_of_histograms() {
-    let a = Histogram { lo: 0.0, hi: 1.0, counts: vec![1] };
-    let b = Histogram { lo: 2.0, hi: 3.0, counts: vec![5] };
+    let a = CountHistogram { lo: 0.0, hi: 1.0, counts: vec![1] };
+    let b = CountHistogram { lo: 2.0, hi: 3.0, counts: vec![5] };
     assert!((a.wasserstein(&b) - 2.0).abs() < 1e-12);
     // Two bins against one covering both: uniform on [0, 2] either way.
-    let c = Histogram { lo: 0.0, hi: 2.0, counts: vec![3, 3] };
-    let d = Histogram { lo: 0.0, hi: 2.0, counts: vec![1] };
+    let c = CountHistogram { lo: 0.0, hi: 2.0, counts: vec![3, 3] };
+    let d = CountHistogram { lo: 0.0, hi: 2.0, counts: vec![1] };
     assert!(c.wasserstein(&d).abs() < 1e-12);
     // Half the mass moved by 1: distance 0.5, crossing CDFs handled.
-    let e = Histogram { lo: 0.0, hi: 2.0, counts: vec![1, 1] };
-    let f = Histogram { lo: 0.0, hi: 2.0, counts: vec![0, 2] };
+    let e = CountHistogram { lo: 0.0, hi: 2.0, counts: vec![1, 1] };
+    let f = CountHistogram { lo: 0.0, hi: 2.0, counts: vec![0, 2] };
     assert!((e.wasserstein(&f) - 0.5).abs() < 1e-12);
     assert!((f.wasserstein(&e) - 0.5).abs() < 1e-12);
 }

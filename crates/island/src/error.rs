@@ -80,6 +80,10 @@ pub enum IslandError {
         /// Why it is refused.
         reason: &'static str,
     },
+    /// The island's state breaks one of its invariants ([`crate::Island::check_invariants`]):
+    /// a bug, never the user's input.
+    #[error("island invariant broken: {0}")]
+    Invariant(String),
     /// An operation of a replayed list failed.
     #[error("operation {index}: {source}")]
     Operation {
@@ -88,4 +92,18 @@ pub enum IslandError {
         /// What went wrong.
         source: Box<IslandError>,
     },
+}
+
+impl IslandError {
+    /// Where the offending value is, as a JSON path relative to the inputs laid out as a scene's
+    /// `island` generator lays them out: `operations[3]` for a failed operation (its message says
+    /// what in it), `settings.height`…; empty when the error concerns the grid or the island as a
+    /// whole. The `relief` facade prefixes it with the generator's path.
+    pub fn location(&self) -> String {
+        match self {
+            Self::Operation { index, .. } => format!("operations[{index}]"),
+            Self::InvalidParameter { name, .. } => format!("settings.{name}"),
+            _ => String::new(),
+        }
+    }
 }

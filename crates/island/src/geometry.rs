@@ -1,31 +1,11 @@
-//! Polygon geometry of the coastline: orientation, containment, crossings, and the stroke
-//! operations of §3.1 (cut and supplement).
+//! Polygon geometry of the coastline: crossings, validation, and the stroke operations of §3.1
+//! (cut and supplement). Containment and signed area are relief-poisson-sampling's
+//! ([`ring_contains`], [`signed_area`]), the exact tests every crate shares.
 
 use glam::DVec2;
+use relief_poisson_sampling::{ring_contains, signed_area};
 
 use crate::IslandError;
-
-/// Twice the signed area (positive counter-clockwise, y up).
-pub(crate) fn signed_area(p: &[DVec2]) -> f64 {
-    let n = p.len();
-    (0..n).map(|i| p[i].perp_dot(p[(i + 1) % n])).sum::<f64>() * 0.5
-}
-
-/// Even-odd containment of `q` in the closed polygon `p`.
-pub(crate) fn contains(p: &[DVec2], q: DVec2) -> bool {
-    let n = p.len();
-    let mut inside = false;
-    for i in 0..n {
-        let (a, b) = (p[i], p[(i + 1) % n]);
-        if (a.y > q.y) != (b.y > q.y) {
-            let x = a.x + (q.y - a.y) / (b.y - a.y) * (b.x - a.x);
-            if q.x < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
-}
 
 /// Closest point to `q` on segment `ab` and its parameter along it.
 pub(crate) fn project(a: DVec2, b: DVec2, q: DVec2) -> (DVec2, f64) {
@@ -234,22 +214,24 @@ impl Coast {
         Ok(pieces)
     }
 
-    /// Applies one piece (its ends on the coast, the rest strictly inside or outside the land).
+    /// Applies one piece (its ends on the coast, the rest strictly inside or outside the land):
+    /// its ends become coast vertices, the piece and the coast between them form two loops, and
+    /// the one the edit keeps becomes the coast.
     pub(crate) fn apply(&mut self, piece: &[DVec2]) -> Result<EditKind, IslandError> {
-        let (a, b) = (piece[0], piece[piece.len() - 1]);
-        // Inside or outside: the middle of the piece by arc length.
-        let total: f64 = piece.windows(2).map(|w| w[0].distance(w[1])).sum();
-        let mut walked = 0.0;
-        let mut mid = a;
-        for w in piece.windows(2) {
-            let l = w[0].distance(w[1]);
-            if walked + l >= 0.5 * total {
-                mid = w[0] + (w[1] - w[0]) * ((0.5 * total - walked) / l.max(f64::MIN_POSITIVE));
-                break;
-            }
-            walked += l;
-        }
-        let inside = contains(&self.points, mid);
+        let inside = ring_contains(&self.points, arc_midpoint(piece));
+        let (ia, ib) = self.attach(piece[0], piece[piece.len() - 1])?;
+        let inner = &piece[1..piece.len() - 1];
+        let forward = self.loop_through(ia, ib, inner, true);
+        let backward = self.loop_through(ia, ib, inner, false);
+        let (kind, (points, fresh)) = choose_loop(inside, forward, backward);
+        (self.points, self.fresh) = counter_clockwise(points, fresh)?;
+        Ok(kind)
+    }
+
+    /// Inserts the piece's ends `a` and `b`, projected onto the coast, as vertices; returns their
+    /// vertex indices. A piece whose ends land on one vertex is a loop from one coast point back
+    /// to itself: a closed sketch, not an edit.
+    fn attach(&mut self, a: DVec2, b: DVec2) -> Result<(usize, usize), IslandError> {
         let (_, ea, qa) = nearest_on_boundary(&self.points, a);
         self.insert(ea, qa);
         let (_, eb, qb) = nearest_on_boundary(&self.points, b);
@@ -258,65 +240,94 @@ impl Coast {
             (0..self.points.len()).min_by(|&i, &j| self.points[i].distance(q).total_cmp(&self.points[j].distance(q)))
         };
         let (ia, ib) = (vertex(qa).unwrap_or(0), vertex(qb).unwrap_or(0));
-        let n = self.points.len();
         if ia == ib {
-            // A loop from one coast point back to itself: a closed sketch, not an edit.
             return Err(IslandError::StrokeMissesCoast { snap: 0.0 });
         }
-        // The two loops: the piece a → b, then the coast from b back to a forwards or backwards.
-        let inner = &piece[1..piece.len() - 1];
-        let loop_with = |forward: bool| -> (Vec<DVec2>, Vec<bool>) {
-            let mut pts: Vec<DVec2> = Vec::with_capacity(n + inner.len() + 1);
-            let mut fresh = Vec::with_capacity(n + inner.len() + 1);
-            pts.push(self.points[ia]);
-            fresh.push(true);
-            for &q in inner {
-                pts.push(q);
-                fresh.push(true);
-            }
-            let mut k = ib;
-            loop {
-                pts.push(self.points[k]);
-                let next = if forward { (k + 1) % n } else { (k + n - 1) % n };
-                // The coast edge k → next keeps its flag (edge k forwards, edge next backwards).
-                fresh.push(if forward { self.fresh[k] } else { self.fresh[next] });
-                if next == ia {
-                    break;
-                }
-                k = next;
-            }
-            (pts, fresh)
-        };
-        let (f, b_) = (loop_with(true), loop_with(false));
-        let (af, ab) = (signed_area(&f.0), signed_area(&b_.0));
-        let (kind, (mut pts, mut fresh)) = if inside {
-            // Cut: the loop left of the stroke is counter-clockwise; keep the other one.
-            (EditKind::Cut, if af > 0.0 { b_ } else { f })
-        } else {
-            // Supplement: the smaller loop is the area the piece encloses with the coast; its
-            // orientation is the stroke's.
-            let (region, region_area, union) = if af.abs() < ab.abs() { (f, af, b_) } else { (b_, ab, f) };
-            if region_area < 0.0 { (EditKind::Add, union) } else { (EditKind::Replace, region) }
-        };
-        if signed_area(&pts) < 0.0 {
-            // Reverse the ring and its edge flags (edge i of the reversed ring is old edge n−2−i).
-            pts.reverse();
-            let m = fresh.len();
-            let old = fresh.clone();
-            for (i, f) in fresh.iter_mut().enumerate() {
-                *f = old[(2 * m - 2 - i) % m];
-            }
-        }
-        let pts_checked = simple_polygon(&pts)?;
-        if pts_checked.len() != pts.len() {
-            // Repeated points were dropped: rebuild the flags by matching edges.
-            fresh = rebuild_flags(&pts, &fresh, &pts_checked);
-            pts = pts_checked;
-        }
-        self.points = pts;
-        self.fresh = fresh;
-        Ok(kind)
+        Ok((ia, ib))
     }
+
+    /// The loop through vertex `ia`, the piece's `inner` points, vertex `ib`, then the coast from
+    /// `ib` back to `ia` forwards or backwards, with its edge flags: the piece's edges are fresh,
+    /// coast edges keep theirs.
+    fn loop_through(&self, ia: usize, ib: usize, inner: &[DVec2], forward: bool) -> (Vec<DVec2>, Vec<bool>) {
+        let n = self.points.len();
+        let mut pts: Vec<DVec2> = Vec::with_capacity(n + inner.len() + 1);
+        let mut fresh = Vec::with_capacity(n + inner.len() + 1);
+        pts.push(self.points[ia]);
+        fresh.push(true);
+        for &q in inner {
+            pts.push(q);
+            fresh.push(true);
+        }
+        let mut k = ib;
+        loop {
+            pts.push(self.points[k]);
+            let next = if forward { (k + 1) % n } else { (k + n - 1) % n };
+            // The coast edge k → next keeps its flag (edge k forwards, edge next backwards).
+            fresh.push(if forward { self.fresh[k] } else { self.fresh[next] });
+            if next == ia {
+                break;
+            }
+            k = next;
+        }
+        (pts, fresh)
+    }
+}
+
+/// The point halfway along `piece` by arc length: where a piece that runs strictly inside or
+/// outside the land tells which it does.
+fn arc_midpoint(piece: &[DVec2]) -> DVec2 {
+    let total: f64 = piece.windows(2).map(|w| w[0].distance(w[1])).sum();
+    let mut walked = 0.0;
+    for w in piece.windows(2) {
+        let l = w[0].distance(w[1]);
+        if walked + l >= 0.5 * total {
+            return w[0] + (w[1] - w[0]) * ((0.5 * total - walked) / l.max(f64::MIN_POSITIVE));
+        }
+        walked += l;
+    }
+    piece[0]
+}
+
+/// Which of a piece's two loops (with their edge flags) the edit keeps, and what the edit is.
+/// A piece through the land cuts: the loop left of the stroke is counter-clockwise, the other
+/// one stays. A piece outside supplements: the smaller loop is the area the piece encloses with
+/// the coast, oriented as the stroke; clockwise adds it (the larger loop stays), counter-
+/// clockwise keeps only it.
+fn choose_loop(
+    inside: bool,
+    forward: (Vec<DVec2>, Vec<bool>),
+    backward: (Vec<DVec2>, Vec<bool>),
+) -> (EditKind, (Vec<DVec2>, Vec<bool>)) {
+    let (af, ab) = (signed_area(&forward.0), signed_area(&backward.0));
+    if inside {
+        (EditKind::Cut, if af > 0.0 { backward } else { forward })
+    } else {
+        let (region, region_area, union) =
+            if af.abs() < ab.abs() { (forward, af, backward) } else { (backward, ab, forward) };
+        if region_area < 0.0 { (EditKind::Add, union) } else { (EditKind::Replace, region) }
+    }
+}
+
+/// The ring `pts` with edge flags `fresh`, turned counter-clockwise and validated as a coast
+/// ([`simple_polygon`]), the flags following their edges.
+fn counter_clockwise(mut pts: Vec<DVec2>, mut fresh: Vec<bool>) -> Result<(Vec<DVec2>, Vec<bool>), IslandError> {
+    if signed_area(&pts) < 0.0 {
+        // Reverse the ring and its edge flags (edge i of the reversed ring is old edge n−2−i).
+        pts.reverse();
+        let m = fresh.len();
+        let old = fresh.clone();
+        for (i, f) in fresh.iter_mut().enumerate() {
+            *f = old[(2 * m - 2 - i) % m];
+        }
+    }
+    let pts_checked = simple_polygon(&pts)?;
+    if pts_checked.len() != pts.len() {
+        // Repeated points were dropped: rebuild the flags by matching edges.
+        fresh = rebuild_flags(&pts, &fresh, &pts_checked);
+        pts = pts_checked;
+    }
+    Ok((pts, fresh))
 }
 
 /// Edge flags of `clean` (a copy of `ring` with repeated points removed), taken from the edge of
@@ -327,6 +338,8 @@ fn rebuild_flags(ring: &[DVec2], flags: &[bool], clean: &[DVec2]) -> Vec<bool> {
 
 #[cfg(test)]
 mod tests {
+    use relief_poisson_sampling::{ring_contains as contains, signed_area};
+
     use super::*;
 
     fn square() -> Coast {

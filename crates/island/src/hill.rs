@@ -97,16 +97,18 @@ impl Shape {
         if q < 1.0 { self.height * (1.0 - q) } else { 0.0 }
     }
 
-    /// Adds the paraboloid's heights at the points `(x0 + k·dx, y)` to `out[k]` (0 beyond the
-    /// ellipse). Linear along the row in the shape's frame, so each point costs a few
-    /// multiply-adds and no branch.
+    /// Adds the paraboloid's heights at the points `(x0 + (skip + k)·dx, y)` to `out[k]` (0
+    /// beyond the ellipse). Linear along the row in the shape's frame, so each point costs a few
+    /// multiply-adds and no branch. The walk always starts at `x0` (the span's first sample) and
+    /// `skip` only says where `out` begins, so a window that clips the span gets the same bits as
+    /// a whole row.
     #[inline]
-    pub(crate) fn add_row(&self, x0: f64, dx: f64, y: f64, out: &mut [f64]) {
+    pub(crate) fn add_row(&self, x0: f64, dx: f64, y: f64, skip: usize, out: &mut [f64]) {
         let d = DVec2::new(x0, y) - self.center;
         let (x, y) = (d.dot(self.u), d.dot(self.v));
         let (sx, sy) = (dx * self.u.x, dx * self.v.x);
         for (k, o) in out.iter_mut().enumerate() {
-            let t = k as f64;
+            let t = (skip + k) as f64;
             let (a, b) = (x + t * sx, y + t * sy);
             let q = a * a + b * b;
             *o += if q < 1.0 { self.height * (1.0 - q) } else { 0.0 };

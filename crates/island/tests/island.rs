@@ -26,7 +26,13 @@ fn at(island: &Island, p: [f64; 2]) -> (bool, f32) {
     (island.land()[k], island.terrain()[k])
 }
 
-fn sea_is_zero_and_land_positive(island: &Island) {
+/// The island's own invariants ([`Island::check_invariants`]), then sea exactly +0 and land
+/// above 0 as this suite states them.
+#[track_caller]
+fn check_island(island: &Island) {
+    if let Err(e) = island.check_invariants() {
+        panic!("{e}");
+    }
     for (k, (&land, &h)) in island.land().iter().zip(island.terrain()).enumerate() {
         if land {
             assert!(h > 0.0, "land sample {k} at {h}");
@@ -39,7 +45,7 @@ fn sea_is_zero_and_land_positive(island: &Island) {
 #[test]
 fn the_start_is_a_conical_island() {
     let i = island(129);
-    sea_is_zero_and_land_positive(&i);
+    check_island(&i);
     let (land, top) = at(&i, [500.0, 500.0]);
     assert!(land && (top - 100.0).abs() < 2.0, "{top}");
     let (_, half) = at(&i, [700.0, 500.0]);
@@ -55,8 +61,8 @@ fn a_cut_removes_the_left_side_of_the_stroke() {
     let mut down = island(129);
     down.stroke(&pts(&[[400.0, 1010.0], [400.0, -10.0]])).unwrap();
     assert!(at(&down, [300.0, 500.0]).0 && !at(&down, [600.0, 500.0]).0);
-    sea_is_zero_and_land_positive(&up);
-    sea_is_zero_and_land_positive(&down);
+    check_island(&up);
+    check_island(&down);
 }
 
 #[test]
@@ -73,8 +79,8 @@ fn clockwise_supplements_add_and_counter_clockwise_ones_replace() {
     assert_eq!(replace.stroke(&pts(&back)).unwrap(), vec![EditKind::Replace]);
     assert!(replace.area() < area);
     assert!(at(&replace, [850.0, 850.0]).0 && !at(&replace, [500.0, 500.0]).0);
-    sea_is_zero_and_land_positive(&add);
-    sea_is_zero_and_land_positive(&replace);
+    check_island(&add);
+    check_island(&replace);
 }
 
 #[test]
@@ -85,6 +91,7 @@ fn one_stroke_can_supplement_then_cut() {
     assert_eq!(i.stroke(&pts(&stroke)).unwrap(), vec![EditKind::Add, EditKind::Cut]);
     assert!(at(&i, [250.0, 850.0]).0, "added");
     assert!(at(&i, [300.0, 500.0]).0 && !at(&i, [700.0, 500.0]).0, "east half cut off");
+    check_island(&i);
 }
 
 #[test]
@@ -92,6 +99,7 @@ fn heights_by_unchanged_coast_stay_and_a_cut_keeps_at_most_half() {
     let mut i = island(257);
     let before = i.heights().to_vec();
     i.stroke(&pts(&[[350.0, -10.0], [350.0, 1010.0]])).unwrap();
+    check_island(&i);
     let g = *i.grid();
     let mut checked = 0;
     for (k, &h) in i.heights().iter().enumerate() {
@@ -125,7 +133,7 @@ fn a_volcano_has_its_crater_below_its_rim() {
     let (_, centre) = at(&i, [500.0, 500.0]);
     let (_, rim) = at(&i, [600.0, 500.0]);
     assert!(centre + 50.0 < rim, "crater {centre}, rim {rim}");
-    sea_is_zero_and_land_positive(&i);
+    check_island(&i);
 }
 
 fn session() -> Vec<Operation> {
@@ -164,12 +172,15 @@ fn replays_are_byte_identical_for_any_thread_count() {
 #[test]
 fn incremental_updates_equal_a_rebuild_after_a_session() {
     let mut i = island(193);
-    i.replay(&session()).unwrap();
+    for op in &session() {
+        i.apply(op).unwrap();
+        check_island(&i);
+    }
     assert!(!i.filters().is_empty());
     let mut full = i.clone();
     full.rebuild();
     assert_eq!(i.terrain(), full.terrain());
-    sea_is_zero_and_land_positive(&i);
+    check_island(&i);
 }
 
 proptest! {
@@ -184,10 +195,12 @@ proptest! {
         let mut i = island(97);
         for &(x, y, a, ratio, rot, h) in &hills {
             i.add_hill(Hill { center: [x, y], radii: [a, a * ratio], rotation: rot, height: h }).unwrap();
+            check_island(&i);
         }
         for &(k, x, y) in &moves {
             if k < i.hills().len() {
                 i.move_hill(k, DVec2::new(x, y)).unwrap();
+                check_island(&i);
             }
         }
         if let Some(k) = remove && k < i.hills().len() {
@@ -196,7 +209,7 @@ proptest! {
         let mut full = i.clone();
         full.rebuild();
         prop_assert_eq!(i.terrain(), full.terrain());
-        sea_is_zero_and_land_positive(&i);
+        check_island(&i);
     }
 }
 
@@ -226,6 +239,7 @@ fn bad_input_is_a_typed_error() {
         Err(IslandError::StrokeMissesCoast { .. } | IslandError::NoLand)
     ));
     // Failed edits leave the island as it was.
+    check_island(&i);
     let fresh = island(65);
     assert_eq!(i.terrain(), fresh.terrain());
     // Replays name the failing operation.
@@ -249,7 +263,7 @@ fn coast_beyond_the_grid_still_shapes_the_heights() {
     let mut i = island(129);
     i.set_coastline(&pts(&[[-600.0, -600.0], [900.0, -600.0], [900.0, 900.0], [-600.0, 900.0], [-600.0, -600.0]]))
         .unwrap();
-    sea_is_zero_and_land_positive(&i);
+    check_island(&i);
     // The tallest point of a fresh island is its centre (150, 150), farthest from the coast.
     let g = *i.grid();
     let (k, _) = i.heights().iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
@@ -268,6 +282,7 @@ fn coast_beyond_the_grid_still_shapes_the_heights() {
         ]))
         .unwrap();
     assert!(inland.land().iter().all(|&l| l));
+    check_island(&inland);
     assert!(inland.terrain().iter().all(|h| h.is_finite() && *h > 0.0), "finite heights inland");
     // All four sides are off the grid, 3 km away on each: the summit is the grid's centre.
     let g = *inland.grid();
@@ -283,6 +298,7 @@ fn a_coast_astronomically_larger_than_the_grid_is_cheap_and_finite() {
     let mut i = island(65);
     let r = 1e8;
     i.set_coastline(&pts(&[[-r, -r], [r, -r], [r, r], [-r, r], [-r, -r]])).unwrap();
+    check_island(&i);
     assert!(i.land().iter().all(|&l| l));
     assert!(i.terrain().iter().all(|h| h.is_finite() && *h > 0.0));
 }

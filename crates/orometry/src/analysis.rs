@@ -28,6 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::OrometryError;
 use crate::isolation::{Isolation, isolation};
+use crate::union_find::find;
 
 /// The most samples the analysis indexes (`u32` cell indices).
 pub const MAX_CELLS: usize = u32::MAX as usize;
@@ -171,53 +172,48 @@ const NEAR_SEA: u8 = 2;
 ///    union–find over the basins: the component with the highest peak absorbs the others, whose
 ///    top peaks get the cell as key saddle.
 ///
-/// Returns the raw peaks, highest first, with their prominences; `None` without land.
+/// Returns the raw peaks, highest first, with their prominences; `None` without land. Each
+/// intermediate map is dropped as soon as the next stage no longer needs it, which keeps the
+/// peak memory of a 3601² tile down.
 fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPeak>, Vec<f64>)> {
-    // Elevations as the high half of `order_key` (smaller is higher); not land: `NONE`, which no
-    // land value maps to (it is the key of one NaN bit pattern).
-    let ord: Vec<u32> = z
-        .par_iter()
-        .map(|&h| if h.is_nan() || sea.is_some_and(|s| h <= s) { NONE } else { (order_key(h, 0) >> 32) as u32 })
-        .collect();
+    let ord = elevation_keys(z, sea);
     let cells = Cells { z, ord: &ord, nx, ny };
     let (up, flags) = cells.ascent();
-    let mut peaks: Vec<u64> =
-        (0..z.len()).into_par_iter().filter(|&k| up[k] == k as u32).map(|k| cells.key(k)).collect();
-    if peaks.is_empty() {
-        return None;
-    }
-    peaks.par_sort_unstable();
+    let peaks = cells.local_maxima(&up)?;
     let lab = basins(&up, &peaks);
     drop(up);
-
-    // Per basin: its highest outlet cell (as a key), its lowest outlet elevation, sea contact.
-    let m = peaks.len();
-    let mut first_outlet = vec![u64::MAX; m];
-    let mut low_outlet = vec![f32::INFINITY; m];
-    let mut sea_touch = vec![false; m];
-    for (c, &f) in flags.iter().enumerate() {
-        if f != 0 {
-            let b = lab[c] as usize;
-            first_outlet[b] = first_outlet[b].min(cells.key(c));
-            low_outlet[b] = low_outlet[b].min(z[c]);
-            sea_touch[b] |= f & NEAR_SEA != 0;
-        }
-    }
+    let mut outlets = BasinOutlets::new(&cells, &flags, &lab, peaks.len());
     drop(flags);
     let edges = cells.joins(&lab);
     drop(lab);
+    let raw = join_basins(&peaks, &edges, &mut outlets);
+    let prominence = outlets.prominences(z, &raw, sea);
+    Some((raw, prominence))
+}
 
-    // Step 3: Kruskal over the basins; a component's root is its highest basin (the lowest rank).
+/// Per cell, its elevation as the high half of `order_key` (smaller is higher); not land: `NONE`,
+/// which no land value maps to (it is the key of one NaN bit pattern). In parallel.
+fn elevation_keys(z: &[f32], sea: Option<f32>) -> Vec<u32> {
+    z.par_iter()
+        .map(|&h| if h.is_nan() || sea.is_some_and(|s| h <= s) { NONE } else { (order_key(h, 0) >> 32) as u32 })
+        .collect()
+}
+
+/// Step 3: Kruskal over the basins (`edges` highest first, all edges of one cell at once); a
+/// component's root is its highest basin, the lowest rank. Every absorbed component's top peak
+/// gets the joining cell as key saddle and the absorbing top as parent, and its outlet facts
+/// pass to the absorbing root.
+fn join_basins(peaks: &[u64], edges: &[(u64, u32, u32)], outlets: &mut BasinOutlets) -> Vec<RawPeak> {
     let mut raw: Vec<RawPeak> =
         peaks.iter().map(|&kk| RawPeak { cell: cell_of_key(kk), saddle: None, parent: None, edge: false }).collect();
-    let mut uf: Vec<u32> = (0..m as u32).collect();
+    let mut uf: Vec<u32> = (0..peaks.len() as u32).collect();
     let mut roots: Vec<u32> = Vec::with_capacity(8);
     for group in edges.chunk_by(|a, b| a.0 == b.0) {
         let kk = group[0].0;
         roots.clear();
         for &(_, a, b) in group {
             for l in [a, b] {
-                let r = crate::tree::find(&mut uf, l);
+                let r = find(&mut uf, l);
                 if !roots.contains(&r) {
                     roots.push(r);
                 }
@@ -231,30 +227,68 @@ fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPe
             let (r, bi) = (r as usize, best as usize);
             raw[r].saddle = Some(cell_of_key(kk));
             raw[r].parent = Some(best);
-            raw[r].edge = first_outlet[r] < kk;
+            raw[r].edge = outlets.first[r] < kk;
             uf[r] = best;
-            first_outlet[bi] = first_outlet[bi].min(first_outlet[r]);
-            low_outlet[bi] = low_outlet[bi].min(low_outlet[r]);
-            sea_touch[bi] |= sea_touch[r];
+            outlets.absorb(bi, r);
         }
     }
-    let prominence = (0..m)
-        .map(|r| {
-            let p = &raw[r];
-            let h = f64::from(z[p.cell as usize]);
-            let base = if let Some(s) = p.saddle {
-                f64::from(z[s as usize])
-            } else {
-                // Never absorbed, so still its component's root.
-                match (sea_touch[r], sea) {
-                    (true, Some(s)) => f64::from(s).min(f64::from(low_outlet[r])),
-                    _ => f64::from(low_outlet[r]),
-                }
-            };
-            h - base
-        })
-        .collect();
-    Some((raw, prominence))
+    raw
+}
+
+/// Per basin (and, once Kruskal has merged them, per component root): where water leaves it.
+struct BasinOutlets {
+    /// The highest outlet cell, as an order key (`u64::MAX`: none).
+    first: Vec<u64>,
+    /// The lowest outlet elevation.
+    low: Vec<f32>,
+    /// Whether an outlet lies beside the sea.
+    sea_touch: Vec<bool>,
+}
+
+impl BasinOutlets {
+    /// The outlets of each of the `m` basins, from the cells' outlet flags and basin labels.
+    fn new(cells: &Cells<'_>, flags: &[u8], lab: &[u32], m: usize) -> Self {
+        let mut first = vec![u64::MAX; m];
+        let mut low = vec![f32::INFINITY; m];
+        let mut sea_touch = vec![false; m];
+        for (c, &f) in flags.iter().enumerate() {
+            if f != 0 {
+                let b = lab[c] as usize;
+                first[b] = first[b].min(cells.key(c));
+                low[b] = low[b].min(cells.z[c]);
+                sea_touch[b] |= f & NEAR_SEA != 0;
+            }
+        }
+        Self { first, low, sea_touch }
+    }
+
+    /// Root `into` absorbs root `from`'s outlets.
+    fn absorb(&mut self, into: usize, from: usize) {
+        self.first[into] = self.first[into].min(self.first[from]);
+        self.low[into] = self.low[into].min(self.low[from]);
+        self.sea_touch[into] |= self.sea_touch[from];
+    }
+
+    /// Each raw peak's prominence: down to its key saddle, or, for a component's top (never
+    /// absorbed, so still its root), down to the component's lowest outlet, or the sea level if
+    /// lower and the component touches the sea.
+    fn prominences(&self, z: &[f32], raw: &[RawPeak], sea: Option<f32>) -> Vec<f64> {
+        raw.iter()
+            .enumerate()
+            .map(|(r, p)| {
+                let h = f64::from(z[p.cell as usize]);
+                let base = if let Some(s) = p.saddle {
+                    f64::from(z[s as usize])
+                } else {
+                    match (self.sea_touch[r], sea) {
+                        (true, Some(s)) => f64::from(s).min(f64::from(self.low[r])),
+                        _ => f64::from(self.low[r]),
+                    }
+                };
+                h - base
+            })
+            .collect()
+    }
 }
 
 /// The cell index in an order key.
@@ -304,6 +338,18 @@ impl Cells<'_> {
             }
         });
         (up, flags)
+    }
+
+    /// The local maxima (cells whose ascent pointer is themselves) as order keys, highest
+    /// first; `None` without land.
+    fn local_maxima(&self, up: &[u32]) -> Option<Vec<u64>> {
+        let mut peaks: Vec<u64> =
+            (0..self.z.len()).into_par_iter().filter(|&k| up[k] == k as u32).map(|k| self.key(k)).collect();
+        if peaks.is_empty() {
+            return None;
+        }
+        peaks.par_sort_unstable();
+        Some(peaks)
     }
 
     /// Step 2: where the flood joins basins: for each cell, one edge `(cell key, own basin, other)`
@@ -507,27 +553,85 @@ mod tests {
 
     /// The flood by its definition: every cell from the highest down, a union–find over cells.
     fn flood_by_sort(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPeak>, Vec<f64>)> {
-        let n = z.len();
-        let land = |k: usize| !z[k].is_nan() && sea.is_none_or(|s| z[k] > s);
-        let mut order: Vec<u64> = (0..n).filter(|&k| land(k)).map(|k| order_key(z[k], k)).collect();
+        let mut flood = CellFlood::new(z, nx, ny, sea);
+        let mut order: Vec<u64> = (0..z.len()).filter(|&k| flood.land(k)).map(|k| order_key(z[k], k)).collect();
         if order.is_empty() {
             return None;
         }
         order.sort_unstable();
-        let mut parent = vec![NONE; n];
-        let find = |parent: &mut Vec<u32>, mut x: u32| {
-            while parent[x as usize] != x {
-                x = parent[x as usize];
+        for &key in &order {
+            flood.visit((key & 0xffff_ffff) as usize);
+        }
+        Some(flood.finish())
+    }
+
+    /// The cell-by-cell flood's state: a union–find over the cells flooded so far, whose roots
+    /// carry their component's top raw peak, border contact, lowest outlet and sea contact.
+    struct CellFlood<'a> {
+        z: &'a [f32],
+        nx: usize,
+        ny: usize,
+        sea: Option<f32>,
+        parent: Vec<u32>,
+        top: Vec<u32>,
+        edge: Vec<bool>,
+        outlet: Vec<f32>,
+        sea_touch: Vec<bool>,
+        raw: Vec<RawPeak>,
+    }
+
+    impl<'a> CellFlood<'a> {
+        fn new(z: &'a [f32], nx: usize, ny: usize, sea: Option<f32>) -> Self {
+            let n = z.len();
+            Self {
+                z,
+                nx,
+                ny,
+                sea,
+                parent: vec![NONE; n],
+                top: vec![NONE; n],
+                edge: vec![false; n],
+                outlet: vec![f32::INFINITY; n],
+                sea_touch: vec![false; n],
+                raw: Vec::new(),
+            }
+        }
+
+        fn land(&self, k: usize) -> bool {
+            !self.z[k].is_nan() && self.sea.is_none_or(|s| self.z[k] > s)
+        }
+
+        /// The root of `x`'s component (no path compression: the reference stays plain).
+        fn root(&self, mut x: u32) -> u32 {
+            while self.parent[x as usize] != x {
+                x = self.parent[x as usize];
             }
             x
-        };
-        let mut top = vec![NONE; n];
-        let mut edge = vec![false; n];
-        let mut outlet = vec![f32::INFINITY; n];
-        let mut sea_touch = vec![false; n];
-        let mut raw: Vec<RawPeak> = Vec::new();
-        for &key in &order {
-            let k = (key & 0xffff_ffff) as usize;
+        }
+
+        /// Floods cell `k`: a new peak, or a join of its flooded neighbours' components, then
+        /// its outlet and sea contact go to the component's root.
+        fn visit(&mut self, k: usize) {
+            let (roots, is_outlet, near_sea) = self.neighbours(k);
+            let root = if roots.is_empty() {
+                self.parent[k] = k as u32;
+                self.top[k] = self.raw.len() as u32;
+                self.raw.push(RawPeak { cell: k as u32, saddle: None, parent: None, edge: false });
+                k as u32
+            } else {
+                self.join(k, &roots)
+            };
+            if is_outlet {
+                self.edge[root as usize] = true;
+                self.outlet[root as usize] = self.outlet[root as usize].min(self.z[k]);
+            }
+            self.sea_touch[root as usize] |= near_sea;
+        }
+
+        /// The distinct components among `k`'s flooded neighbours, whether `k` is an outlet (on
+        /// the border or beside a cell that is not land) and whether one of those is sea.
+        fn neighbours(&self, k: usize) -> (Vec<u32>, bool, bool) {
+            let (nx, ny) = (self.nx, self.ny);
             let (i, j) = (k % nx, k / nx);
             let mut roots: Vec<u32> = Vec::new();
             let mut is_outlet = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
@@ -538,63 +642,63 @@ mod tests {
                     continue;
                 }
                 let w = b as usize * nx + a as usize;
-                if !land(w) {
+                if !self.land(w) {
                     is_outlet = true;
-                    near_sea |= !z[w].is_nan();
+                    near_sea |= !self.z[w].is_nan();
                     continue;
                 }
-                if parent[w] != NONE {
-                    let r = find(&mut parent, w as u32);
+                if self.parent[w] != NONE {
+                    let r = self.root(w as u32);
                     if !roots.contains(&r) {
                         roots.push(r);
                     }
                 }
             }
-            let root = if roots.is_empty() {
-                parent[k] = k as u32;
-                top[k] = raw.len() as u32;
-                raw.push(RawPeak { cell: k as u32, saddle: None, parent: None, edge: false });
-                k as u32
-            } else {
-                let best = *roots.iter().min_by_key(|&&r| top[r as usize]).unwrap();
-                for &r in &roots {
-                    if r != best {
-                        let p = &mut raw[top[r as usize] as usize];
-                        p.saddle = Some(k as u32);
-                        p.parent = Some(top[best as usize]);
-                        p.edge = edge[r as usize];
-                        parent[r as usize] = best;
-                        edge[best as usize] |= edge[r as usize];
-                        sea_touch[best as usize] |= sea_touch[r as usize];
-                        outlet[best as usize] = outlet[best as usize].min(outlet[r as usize]);
-                    }
-                }
-                parent[k] = best;
-                best
-            };
-            if is_outlet {
-                edge[root as usize] = true;
-                outlet[root as usize] = outlet[root as usize].min(z[k]);
-            }
-            sea_touch[root as usize] |= near_sea;
+            (roots, is_outlet, near_sea)
         }
-        let prominence = raw
-            .iter()
-            .map(|p| {
-                let h = f64::from(z[p.cell as usize]);
-                let base = if let Some(s) = p.saddle {
-                    f64::from(z[s as usize])
-                } else {
-                    let r = find(&mut parent, p.cell) as usize;
-                    match (sea_touch[r], sea) {
-                        (true, Some(s)) => f64::from(s).min(f64::from(outlet[r])),
-                        _ => f64::from(outlet[r]),
-                    }
-                };
-                h - base
-            })
-            .collect();
-        Some((raw, prominence))
+
+        /// Joins the components `roots` at cell `k`: the one whose top peak is highest absorbs
+        /// the others, whose tops get `k` as key saddle. Returns the surviving root.
+        fn join(&mut self, k: usize, roots: &[u32]) -> u32 {
+            let best = *roots.iter().min_by_key(|&&r| self.top[r as usize]).unwrap();
+            for &r in roots {
+                if r != best {
+                    let p = &mut self.raw[self.top[r as usize] as usize];
+                    p.saddle = Some(k as u32);
+                    p.parent = Some(self.top[best as usize]);
+                    p.edge = self.edge[r as usize];
+                    self.parent[r as usize] = best;
+                    self.edge[best as usize] |= self.edge[r as usize];
+                    self.sea_touch[best as usize] |= self.sea_touch[r as usize];
+                    self.outlet[best as usize] = self.outlet[best as usize].min(self.outlet[r as usize]);
+                }
+            }
+            self.parent[k] = best;
+            best
+        }
+
+        /// The raw peaks with their prominences: down to the key saddle, or for a land mass's
+        /// top to its lowest outlet (or the sea level if lower and it touches the sea).
+        fn finish(self) -> (Vec<RawPeak>, Vec<f64>) {
+            let prominence = self
+                .raw
+                .iter()
+                .map(|p| {
+                    let h = f64::from(self.z[p.cell as usize]);
+                    let base = if let Some(s) = p.saddle {
+                        f64::from(self.z[s as usize])
+                    } else {
+                        let r = self.root(p.cell) as usize;
+                        match (self.sea_touch[r], self.sea) {
+                            (true, Some(s)) => f64::from(s).min(f64::from(self.outlet[r])),
+                            _ => f64::from(self.outlet[r]),
+                        }
+                    };
+                    h - base
+                })
+                .collect();
+            (self.raw, prominence)
+        }
     }
 
     fn dem() -> impl Strategy<Value = (usize, usize, Vec<f32>, Option<f32>)> {

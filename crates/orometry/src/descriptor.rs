@@ -21,13 +21,20 @@
 //!
 //! The distance between two histograms is the earth mover's distance of their bins, normalized to
 //! [0, 1] (the mean absolute difference of the cumulative fractions); for the two direction
-//! histograms it is the circular EMD (the cumulative differences less their median). A histogram
-//! compared with an empty one is at distance 1, two empty ones at 0.
+//! histograms it is the circular EMD (the cumulative differences less their median, which
+//! minimizes the sum: Rabin, Delon & Gousseau 2008). A histogram compared with an empty one is at
+//! distance 1, two empty ones at 0. It is the workspace's one EMD,
+//! [`relief_hydrology::earth_movers_distance`], measured in bins rather than in the values' unit:
+//! bin `k`'s fraction sits at `x = k`, so the CDFs are steps ([`CdfShape::Step`]) whose difference
+//! on `[k, k + 1)` is the cumulative difference through bin `k`; the integral over `[0, bins]`,
+//! divided by `bins`, is the mean above. Counting in bins makes features with different units
+//! (metres, degrees, ratios) comparable, so [`Descriptor::distance`] can average them.
 
 use std::f64::consts::TAU;
 
 use glam::DVec2;
 use relief_heightfield::Heightfield;
+use relief_hydrology::{CdfShape, earth_movers_distance};
 use serde::{Deserialize, Serialize};
 
 use crate::{AnalysisOptions, Orometry, OrometryError, analyze};
@@ -51,9 +58,12 @@ pub const FEATURES: [&str; 10] = [
     "relevance",
 ];
 
-/// A normalized histogram over explicit bin edges.
+/// A normalized histogram: the fraction of the values in each bin over explicit bin edges,
+/// compared with others of the same bins by [`FractionHistogram::emd`] (in bins, so in [0, 1]).
+/// (Not to be confused with [`relief_hydrology::CountHistogram`], counts in equal-width bins
+/// compared in the values' unit.)
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Histogram {
+pub struct FractionHistogram {
     /// `bins + 1` increasing edges.
     pub edges: Vec<f64>,
     /// Fraction of the values in each bin; sums to 1, or all zero for an empty histogram.
@@ -63,7 +73,7 @@ pub struct Histogram {
     pub circular: bool,
 }
 
-impl Histogram {
+impl FractionHistogram {
     /// `bins` equal bins over `[lo, hi]`.
     pub fn uniform(lo: f64, hi: f64, bins: usize) -> Self {
         let edges = (0..=bins).map(|k| lo + (hi - lo) * k as f64 / bins as f64).collect();
@@ -127,7 +137,10 @@ impl Histogram {
         Ok(())
     }
 
-    /// Earth mover's distance to `other` in [0, 1] (see the module docs); `None` when the bins differ.
+    /// Earth mover's distance to `other` in [0, 1] (see the module docs): with `D_k` the
+    /// cumulative difference of the fractions through bin `k`, `Σ_k |D_k − c| / bins`, where `c`
+    /// is 0, or for a circular histogram (either one) the median of the `D_k`. `None` when the
+    /// bins differ.
     pub fn emd(&self, other: &Self) -> Option<f64> {
         if self.fractions.len() != other.fractions.len() {
             return None;
@@ -139,7 +152,7 @@ impl Histogram {
         }
         let bins = self.fractions.len();
         let mut cum = 0.0;
-        let mut diffs: Vec<f64> = self
+        let diffs: Vec<f64> = self
             .fractions
             .iter()
             .zip(&other.fractions)
@@ -155,10 +168,10 @@ impl Histogram {
         } else {
             0.0
         };
-        for d in &mut diffs {
-            *d = (*d - shift).abs();
-        }
-        Some(diffs.iter().sum::<f64>() / bins as f64)
+        // Step CDFs over bin indices: the difference is `diffs[k]` on `[k, k + 1)`, and the last
+        // breakpoint, `bins`, only closes the last interval.
+        let steps = diffs.iter().enumerate().map(|(k, &d)| (k as f64, d - shift)).chain([(bins as f64, 0.0)]);
+        Some(earth_movers_distance(steps, CdfShape::Step) / bins as f64)
     }
 
     /// The largest difference between matching bins (the paper's "maximum histogram error").
@@ -244,7 +257,9 @@ impl DomainStats {
 
 /// The orometric descriptor of a domain: Table 1's ten histograms plus the peak density and the
 /// elevation range they were measured over (which synthesis needs to turn them back into metres).
+/// Deserializing validates it ([`Descriptor::validate`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(remote = "Self")]
 pub struct Descriptor {
     /// The domain the peaks came from.
     pub domain: DomainStats,
@@ -253,25 +268,39 @@ pub struct Descriptor {
     /// Peaks per km².
     pub density_per_km2: f64,
     /// `δ`, 20 bins over [0, 1].
-    pub dominance: Histogram,
+    pub dominance: FractionHistogram,
     /// `δ` in percent over Jurgalski's groups ([`DOMINANCE_GROUP_EDGES`]).
-    pub dominance_groups: Histogram,
+    pub dominance_groups: FractionHistogram,
     /// `ĥ`, 20 bins over [0, 1].
-    pub normalized_elevation: Histogram,
+    pub normalized_elevation: FractionHistogram,
     /// Isolation azimuth, degrees clockwise from north, 12 bins.
-    pub isolation_direction: Histogram,
+    pub isolation_direction: FractionHistogram,
     /// Isolation distance / R, 20 bins over [0, 1].
-    pub isolation_distance: Histogram,
+    pub isolation_distance: FractionHistogram,
     /// Azimuth from the key saddle to the peak, 12 bins.
-    pub saddle_direction: Histogram,
+    pub saddle_direction: FractionHistogram,
     /// Key-saddle distance / R, 20 bins over [0, 1].
-    pub saddle_distance: Histogram,
+    pub saddle_distance: FractionHistogram,
     /// Prominence, metres, 20 bins over [0, 2000].
-    pub prominence: Histogram,
+    pub prominence: FractionHistogram,
     /// `π̃`, 20 bins over [0, 1].
-    pub relative_prominence: Histogram,
+    pub relative_prominence: FractionHistogram,
     /// `ρ`, 20 bins over [0, 1].
-    pub relevance: Histogram,
+    pub relevance: FractionHistogram,
+}
+
+impl Serialize for Descriptor {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        Descriptor::serialize(self, s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Descriptor {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let descriptor = Descriptor::deserialize(d)?;
+        descriptor.validate().map_err(serde::de::Error::custom)?;
+        Ok(descriptor)
+    }
 }
 
 /// How two descriptors differ, feature by feature.
@@ -305,7 +334,7 @@ impl Descriptor {
         let peaks = &oro.peaks;
         let r = domain.radius_m.max(f64::MIN_POSITIVE);
         let span = (domain.max_elevation - domain.min_elevation).max(f64::MIN_POSITIVE);
-        let unit = |lo: f64, hi: f64| Histogram::uniform(lo, hi, 20);
+        let unit = |lo: f64, hi: f64| FractionHistogram::uniform(lo, hi, 20);
         let saddle = |p: &crate::Peak| {
             p.key_saddle.map(|s| {
                 let s = &oro.saddles[s];
@@ -317,15 +346,15 @@ impl Descriptor {
             peaks: peaks.len(),
             density_per_km2: if domain.area_km2 > 0.0 { peaks.len() as f64 / domain.area_km2 } else { 0.0 },
             dominance: unit(0.0, 1.0).filled(peaks.iter().map(|p| p.dominance)),
-            dominance_groups: Histogram::with_edges(DOMINANCE_GROUP_EDGES.to_vec())
+            dominance_groups: FractionHistogram::with_edges(DOMINANCE_GROUP_EDGES.to_vec())
                 .filled(peaks.iter().map(|p| 100.0 * p.dominance)),
             normalized_elevation: unit(0.0, 1.0)
                 .filled(peaks.iter().map(|p| (p.elevation - domain.min_elevation) / span)),
-            isolation_direction: Histogram::uniform(0.0, 360.0, 12)
+            isolation_direction: FractionHistogram::uniform(0.0, 360.0, 12)
                 .circular()
                 .filled(peaks.iter().filter_map(|p| p.isolation.map(|i| i.azimuth))),
             isolation_distance: unit(0.0, 1.0).filled(peaks.iter().filter_map(|p| p.isolation.map(|i| i.distance / r))),
-            saddle_direction: Histogram::uniform(0.0, 360.0, 12)
+            saddle_direction: FractionHistogram::uniform(0.0, 360.0, 12)
                 .circular()
                 .filled(peaks.iter().filter_map(|p| saddle(p).map(|(_, az)| az))),
             saddle_distance: unit(0.0, 1.0).filled(peaks.iter().filter_map(|p| saddle(p).map(|(d, _)| d / r))),
@@ -370,7 +399,7 @@ impl Descriptor {
     }
 
     /// The histograms in [`FEATURES`] order.
-    pub fn histograms(&self) -> [&Histogram; 10] {
+    pub fn histograms(&self) -> [&FractionHistogram; 10] {
         [
             &self.dominance,
             &self.dominance_groups,

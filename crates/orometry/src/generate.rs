@@ -23,8 +23,9 @@ use relief_heightfield::{Extent, GridSpec, Heightfield, distance_transform_seede
 use relief_tin::Tin;
 use serde::{Deserialize, Serialize};
 
-use crate::descriptor::Histogram;
-use crate::tree::{DivideTree, TreePeak, TreeSaddle, find};
+use crate::descriptor::FractionHistogram;
+use crate::tree::{DivideTree, TreeOrometry, TreePeak, TreeSaddle};
+use crate::union_find::find;
 use crate::{Descriptor, OrometryError};
 
 /// The most peaks a synthesis places.
@@ -209,7 +210,7 @@ impl PointGrid {
 
 /// `n` stratified samples of a histogram's inverse CDF (one per equal-probability stratum, jittered
 /// inside it), in random order.
-fn stratified(h: &Histogram, n: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
+fn stratified(h: &FractionHistogram, n: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
     let mut v: Vec<f64> =
         (0..n).map(|k| h.quantile((k as f64 + rng.random::<f64>()) / n as f64).unwrap_or(0.0)).collect();
     for k in (1..v.len()).rev() {
@@ -228,7 +229,6 @@ fn stratified(h: &Histogram, n: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
 /// elevation histogram, [`OrometryError::InvalidOption`] for bad options or an extent with no area,
 /// [`OrometryError::TooManyPeaks`], control-map errors ([`OrometryError::ControlMapExtent`],
 /// [`OrometryError::InvalidControlMap`]) and [`OrometryError::InvalidPinnedPeak`].
-#[allow(clippy::too_many_lines)] // one pass per §5 step, in the paper's order
 pub fn generate_tree(
     descriptor: &Descriptor,
     extent: Extent,
@@ -236,6 +236,36 @@ pub fn generate_tree(
     pinned: &[TreePeak],
     options: &TreeOptions,
 ) -> Result<DivideTree, OrometryError> {
+    let n = check_inputs(descriptor, extent, controls, pinned, options)?;
+    // One generator for every step, drawn from in this order: elevations, darts, saddles, targets.
+    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
+    let peaks = peak_elevations(descriptor, pinned, n, &mut rng);
+    let placement = Placement::new(descriptor, extent, controls, options);
+    let (positions, ridges) = placement.place(&peaks, &mut rng);
+    let mut tree = DivideTree {
+        peaks: positions
+            .iter()
+            .zip(&peaks)
+            .map(|(&position, &(elevation, _))| TreePeak { position, elevation })
+            .collect(),
+        saddles: Vec::with_capacity(ridges.len()),
+    };
+    placement.split_ridges(&mut tree, &ridges, &mut rng);
+    for round in 0..options.saddle_rounds {
+        assign_saddles(&mut tree, descriptor, placement.base, round % 2 == 0, &mut rng);
+    }
+    Ok(tree)
+}
+
+/// Checks everything [`generate_tree`] is given (options, descriptor, extent, control maps,
+/// pinned peaks) and returns the number of peaks to place.
+fn check_inputs(
+    descriptor: &Descriptor,
+    extent: Extent,
+    controls: &ControlMaps,
+    pinned: &[TreePeak],
+    options: &TreeOptions,
+) -> Result<usize, OrometryError> {
     options.validate()?;
     descriptor.validate()?;
     let size = extent.size();
@@ -244,8 +274,25 @@ pub fn generate_tree(
     }
     check_control("peak_density", controls.peak_density.as_ref(), &extent, true)?;
     check_control("elevation", controls.elevation.as_ref(), &extent, false)?;
-    let d = &descriptor.domain;
-    let base = d.min_elevation;
+    check_pinned(pinned, &extent, descriptor.domain.min_elevation)?;
+    let n = options.peak_count(descriptor, extent, pinned.len());
+    if n > MAX_PEAKS {
+        return Err(OrometryError::TooManyPeaks { peaks: n, limit: MAX_PEAKS });
+    }
+    if n == 0 {
+        return Err(invalid("peaks", 0.0, "no peaks to place: the descriptor has none and none were asked for"));
+    }
+    if descriptor.normalized_elevation.is_empty() && n > pinned.len() {
+        return Err(OrometryError::InvalidDescriptor {
+            feature: "normalized_elevation",
+            reason: "is empty, so there are no peak elevations to sample",
+        });
+    }
+    Ok(n)
+}
+
+/// Pinned peaks must be finite, inside the domain and above its base.
+fn check_pinned(pinned: &[TreePeak], extent: &Extent, base: f64) -> Result<(), OrometryError> {
     for (index, p) in pinned.iter().enumerate() {
         if !(p.position.is_finite() && p.elevation.is_finite()) {
             return Err(OrometryError::InvalidPinnedPeak { index, reason: "position and elevation must be finite" });
@@ -260,126 +307,185 @@ pub fn generate_tree(
             });
         }
     }
-    let n = options.peak_count(descriptor, extent, pinned.len());
-    if n > MAX_PEAKS {
-        return Err(OrometryError::TooManyPeaks { peaks: n, limit: MAX_PEAKS });
-    }
-    if n == 0 {
-        return Err(invalid("peaks", 0.0, "no peaks to place: the descriptor has none and none were asked for"));
-    }
-    if descriptor.normalized_elevation.is_empty() && n > pinned.len() {
-        return Err(OrometryError::InvalidDescriptor {
-            feature: "normalized_elevation",
-            reason: "is empty, so there are no peak elevations to sample",
-        });
-    }
-    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-    let span = d.max_elevation - d.min_elevation;
+    Ok(())
+}
 
-    // Elevations, highest first; pinned peaks take their place in the order.
-    let mut peaks: Vec<(f64, Option<DVec2>)> = stratified(&descriptor.normalized_elevation, n - pinned.len(), &mut rng)
+/// §5, the peaks' elevations: `n` less the pinned ones drawn from the descriptor's normalized
+/// elevation histogram by stratified sampling and scaled to the domain's range, plus the pinned
+/// ones (with their positions); highest first, a pinned peak before a free one of equal height.
+fn peak_elevations(
+    descriptor: &Descriptor,
+    pinned: &[TreePeak],
+    n: usize,
+    rng: &mut ChaCha8Rng,
+) -> Vec<(f64, Option<DVec2>)> {
+    let d = &descriptor.domain;
+    let (base, span) = (d.min_elevation, d.max_elevation - d.min_elevation);
+    let mut peaks: Vec<(f64, Option<DVec2>)> = stratified(&descriptor.normalized_elevation, n - pinned.len(), rng)
         .into_iter()
         .map(|u| (base + u * span, None))
         .chain(pinned.iter().map(|p| (p.elevation, Some(p.position))))
         .collect();
     peaks.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.is_none().cmp(&b.1.is_none())));
+    peaks
+}
 
-    // Pass sizes 1 : 2 : 4 : ...
-    let passes = options.passes.min(n);
+/// The end of each placement pass among `n` peaks: sizes 1 : 2 : 4 : … over `passes` passes
+/// (fewer when there are fewer peaks), the last ending at `n`.
+fn pass_ends(passes: usize, n: usize) -> Vec<usize> {
+    let passes = passes.min(n);
     let unit = n as f64 / ((1u64 << passes) - 1) as f64;
     let mut ends: Vec<usize> =
         (1..=passes).map(|p| ((((1u64 << p) - 1) as f64 * unit).round() as usize).min(n)).collect();
     ends[passes - 1] = n;
+    ends
+}
 
-    let c_p = Control { map: controls.peak_density.as_ref() };
-    let c_h = Control { map: controls.elevation.as_ref() };
-    let (cp_max, sigma_h) = {
-        let cp_max = controls.peak_density.as_ref().and_then(Heightfield::min_max).map_or(1.0, |(_, hi)| f64::from(hi));
-        let sigma = controls
+/// What peak placement (§5.1: dart throwing steered by the descriptor and the control maps;
+/// multi-pass with the Eq. 1 ridges between passes) works with, fixed for one generation.
+struct Placement<'a> {
+    descriptor: &'a Descriptor,
+    options: &'a TreeOptions,
+    extent: Extent,
+    /// The descriptor's lowest elevation: ridges lift and saddles drop relative to it.
+    base: f64,
+    /// `C_P` and its largest value (1 without a map): densities are relative to it.
+    density: Control<'a>,
+    density_max: f64,
+    /// `C_H` and the spread a peak's height may differ from it by (a twentieth of its range).
+    elevation: Control<'a>,
+    sigma_h: f64,
+}
+
+impl<'a> Placement<'a> {
+    fn new(descriptor: &'a Descriptor, extent: Extent, controls: &'a ControlMaps, options: &'a TreeOptions) -> Self {
+        let density_max =
+            controls.peak_density.as_ref().and_then(Heightfield::min_max).map_or(1.0, |(_, hi)| f64::from(hi));
+        let sigma_h = controls
             .elevation
             .as_ref()
             .and_then(Heightfield::min_max)
             .map_or(1.0, |(lo, hi)| (f64::from(hi - lo) / 20.0).max(1e-6));
-        (cp_max, sigma)
-    };
-    let radius = d.radius_m;
-    let mut positions: Vec<DVec2> = Vec::with_capacity(n);
-    let mut grid = PointGrid::new(&extent, n);
-    let mut ridges: Vec<[u32; 2]> = Vec::new();
-    let mut start = 0;
-    for &end in &ends {
-        let ridge_field = (start > 0).then(|| RidgeField::new(&extent, &positions, &ridges));
-        let spacing = (size.x * size.y / end as f64).sqrt();
-        for &(h, pin) in &peaks[start..end] {
-            let p = if let Some(p) = pin {
-                p
-            } else {
-                let mut best = (f64::NEG_INFINITY, extent.min + size * 0.5);
-                // If every dart lands too close to a placed peak, the one with the most room wins.
-                let mut roomiest = (f64::NEG_INFINITY, best.1);
-                let mut chosen = None;
-                for _ in 0..options.dart_attempts {
-                    let c = extent.min + DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * size;
-                    let mut prob = c_p.at(c).map_or(1.0, |v| v / cp_max);
-                    if let Some(ch) = c_h.at(c) {
-                        let x = (ch - h) / sigma_h;
-                        prob *= (-0.5 * x * x).exp();
-                    }
-                    if let Some((k, dist)) = grid.nearest(c, &positions) {
-                        if dist > roomiest.0 {
-                            roomiest = (dist, c);
-                        }
-                        if dist < options.min_spacing_m {
-                            continue;
-                        }
-                        let az = crate::descriptor::azimuth(positions[k as usize] - c).to_degrees();
-                        prob *= descriptor.isolation_distance.relative_density(dist / radius).max(0.02);
-                        prob *= descriptor.isolation_direction.relative_density(az).max(0.02);
-                    }
-                    if let Some(f) = &ridge_field {
-                        prob *= 0.2 + 0.8 * (-(f.distance(c) / spacing).powi(2)).exp();
-                    }
-                    if prob > best.0 {
-                        best = (prob, c);
-                    }
-                    if rng.random::<f64>() < prob {
-                        chosen = Some(c);
-                        break;
-                    }
-                }
-                chosen.unwrap_or(if best.0 > f64::NEG_INFINITY { best.1 } else { roomiest.1 })
-            };
-            grid.insert(positions.len() as u32, p);
-            positions.push(p);
+        Self {
+            descriptor,
+            options,
+            extent,
+            base: descriptor.domain.min_elevation,
+            density: Control { map: controls.peak_density.as_ref() },
+            density_max,
+            elevation: Control { map: controls.elevation.as_ref() },
+            sigma_h,
         }
-        let heights: Vec<f64> = peaks[..end].iter().map(|p| p.0).collect();
-        ridges = spanning_ridges(&positions, &heights, base, options.rho, &ridges);
-        start = end;
     }
 
-    // One saddle per ridge, split at a random point and nudged sideways.
-    let mut tree = DivideTree {
-        peaks: positions
-            .iter()
-            .zip(&peaks)
-            .map(|(&position, &(elevation, _))| TreePeak { position, elevation })
-            .collect(),
-        saddles: Vec::with_capacity(ridges.len()),
-    };
-    for &[a, b] in &ridges {
-        let (pa, pb) = (positions[a as usize], positions[b as usize]);
-        let t = rng.random_range(0.3..0.7);
-        let side = rng.random_range(-0.1..0.1);
-        let dir = pb - pa;
-        let position = (pa + dir * t + dir.perp() * side).clamp(extent.min, extent.max);
-        let top = tree.peaks[a as usize].elevation.min(tree.peaks[b as usize].elevation);
-        let elevation = base + (top - base) * rng.random_range(0.5..0.9);
-        tree.saddles.push(TreeSaddle { position, elevation, peaks: [a, b] });
+    /// Multi-pass placement (§5): each pass places its peaks (pinned ones where they are pinned,
+    /// free ones by [`Placement::throw`], biased towards the earlier passes' ridges), then the
+    /// ridges are recomputed over every peak placed so far as the Eq. 1 spanning tree. Returns
+    /// the positions, in `peaks`' order, and the final ridges.
+    fn place(&self, peaks: &[(f64, Option<DVec2>)], rng: &mut ChaCha8Rng) -> (Vec<DVec2>, Vec<[u32; 2]>) {
+        let n = peaks.len();
+        let size = self.extent.size();
+        let mut placed = Placed { positions: Vec::with_capacity(n), grid: PointGrid::new(&self.extent, n) };
+        let mut ridges: Vec<[u32; 2]> = Vec::new();
+        let mut start = 0;
+        for end in pass_ends(self.options.passes, n) {
+            let ridge_field = (start > 0).then(|| RidgeField::new(&self.extent, &placed.positions, &ridges));
+            let spacing = (size.x * size.y / end as f64).sqrt();
+            for &(h, pin) in &peaks[start..end] {
+                let p = if let Some(p) = pin { p } else { self.throw(h, &placed, ridge_field.as_ref(), spacing, rng) };
+                placed.push(p);
+            }
+            let heights: Vec<f64> = peaks[..end].iter().map(|p| p.0).collect();
+            ridges = spanning_ridges(&placed.positions, &heights, self.base, self.options.rho, &ridges);
+            start = end;
+        }
+        (placed.positions, ridges)
     }
-    for round in 0..options.saddle_rounds {
-        assign_saddles(&mut tree, descriptor, base, round % 2 == 0, &mut rng);
+
+    /// Dart throwing for one peak of height `h` (§5.1): a uniform candidate is accepted with the
+    /// probability `C_P`/max × the `C_H` Gaussian `exp(−½((C_H − h)/σ)²)` × the descriptor's
+    /// relative isolation distance and direction densities (each at least 0.02) towards the
+    /// nearest placed peak × the earlier-ridge bias `0.2 + 0.8·exp(−(d/spacing)²)`; candidates
+    /// closer than the minimum spacing are refused. Without an accepted dart, the most probable
+    /// candidate wins, or, when every one was too close, the one with the most room.
+    fn throw(
+        &self,
+        h: f64,
+        placed: &Placed,
+        ridge_field: Option<&RidgeField>,
+        spacing: f64,
+        rng: &mut ChaCha8Rng,
+    ) -> DVec2 {
+        let (extent, size) = (self.extent, self.extent.size());
+        let descriptor = self.descriptor;
+        let radius = descriptor.domain.radius_m;
+        let mut best = (f64::NEG_INFINITY, extent.min + size * 0.5);
+        let mut roomiest = (f64::NEG_INFINITY, best.1);
+        for _ in 0..self.options.dart_attempts {
+            let c = extent.min + DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * size;
+            let mut prob = self.density.at(c).map_or(1.0, |v| v / self.density_max);
+            if let Some(ch) = self.elevation.at(c) {
+                let x = (ch - h) / self.sigma_h;
+                prob *= (-0.5 * x * x).exp();
+            }
+            if let Some((k, dist)) = placed.nearest(c) {
+                if dist > roomiest.0 {
+                    roomiest = (dist, c);
+                }
+                if dist < self.options.min_spacing_m {
+                    continue;
+                }
+                let az = crate::descriptor::azimuth(placed.positions[k as usize] - c).to_degrees();
+                prob *= descriptor.isolation_distance.relative_density(dist / radius).max(0.02);
+                prob *= descriptor.isolation_direction.relative_density(az).max(0.02);
+            }
+            if let Some(f) = ridge_field {
+                prob *= 0.2 + 0.8 * (-(f.distance(c) / spacing).powi(2)).exp();
+            }
+            if prob > best.0 {
+                best = (prob, c);
+            }
+            if rng.random::<f64>() < prob {
+                return c;
+            }
+        }
+        if best.0 > f64::NEG_INFINITY { best.1 } else { roomiest.1 }
     }
-    Ok(tree)
+
+    /// One saddle per ridge of `tree`'s peaks: at a random point between 30 % and 70 % of the
+    /// way, nudged sideways by up to a tenth of the ridge's length, kept inside the domain, at a
+    /// random 50–90 % of the lower peak's height above the base. §5.4 then moves them vertically.
+    fn split_ridges(&self, tree: &mut DivideTree, ridges: &[[u32; 2]], rng: &mut ChaCha8Rng) {
+        let base = self.base;
+        for &[a, b] in ridges {
+            let (pa, pb) = (tree.peaks[a as usize].position, tree.peaks[b as usize].position);
+            let t = rng.random_range(0.3..0.7);
+            let side = rng.random_range(-0.1..0.1);
+            let dir = pb - pa;
+            let position = (pa + dir * t + dir.perp() * side).clamp(self.extent.min, self.extent.max);
+            let top = tree.peaks[a as usize].elevation.min(tree.peaks[b as usize].elevation);
+            let elevation = base + (top - base) * rng.random_range(0.5..0.9);
+            tree.saddles.push(TreeSaddle { position, elevation, peaks: [a, b] });
+        }
+    }
+}
+
+/// The peaks placed so far, bucketed for nearest-neighbour queries.
+struct Placed {
+    positions: Vec<DVec2>,
+    grid: PointGrid,
+}
+
+impl Placed {
+    fn push(&mut self, p: DVec2) {
+        self.grid.insert(self.positions.len() as u32, p);
+        self.positions.push(p);
+    }
+
+    /// The nearest placed peak to `p` and its distance.
+    fn nearest(&self, p: DVec2) -> Option<(u32, f64)> {
+        self.grid.nearest(p, &self.positions)
+    }
 }
 
 /// Distance to earlier ridges on a coarse raster (for the multi-pass density bias).
@@ -475,9 +581,30 @@ fn assign_saddles(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, dom
     }
     let mut targets = stratified(hist, m, rng);
     targets.sort_by(f64::total_cmp);
-    let datum = descriptor.domain.datum;
+    let persons = persons(tree, &oro, &people, dominance, descriptor.domain.datum, base);
+    let round = Round { hist, persons, targets };
+    let assignment = auction(&normalized_costs(&round.candidates()), m);
+    for (i, p) in round.persons.iter().enumerate() {
+        let t = round.targets[assignment[i] as usize];
+        let s = round.shift(p, t).clamp(p.lo_shift, p.hi_shift);
+        let saddle = &mut tree.saddles[p.saddle];
+        saddle.elevation -= s;
+    }
+}
+
+/// The persons of a §5.4 round, one per peak in `people` (those with a key saddle): its current
+/// dominance (heights above `datum`) or prominence, how far its key saddle moves per unit of
+/// target, the moves that keep the saddle between `base` and its lower peak, its ridge's length.
+fn persons(
+    tree: &DivideTree,
+    oro: &TreeOrometry,
+    people: &[usize],
+    dominance: bool,
+    datum: f64,
+    base: f64,
+) -> Vec<Person> {
     let dom = oro.dominance(tree, datum);
-    let persons: Vec<Person> = people
+    people
         .iter()
         .map(|&k| {
             let s = oro.key_saddle[k].unwrap_or(0) as usize;
@@ -497,14 +624,35 @@ fn assign_saddles(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, dom
                 length: pa.position.distance(pb.position).max(1e-6),
             }
         })
-        .collect();
-    // The descriptor only knows bins: a target in the peak's current bin needs no move, so a
-    // round never undoes what the other round matched within a bin.
-    let bin = |v: f64| hist.edges[1..hist.edges.len() - 1].partition_point(|&e| e <= v);
-    let shift = |p: &Person, t: f64| if bin(t) == bin(p.current) { 0.0 } else { p.scale * (t - p.current) };
-    // Raw cost s²/L and, for an infeasible target, how far (metres) the saddle would leave its range.
-    let cost = |p: &Person, t: f64| {
-        let s = shift(p, t);
+        .collect()
+}
+
+/// One §5.4 assignment problem: persons (peaks with key saddles), sorted targets drawn from
+/// `hist`, and the cost of giving a target to a person.
+struct Round<'a> {
+    hist: &'a FractionHistogram,
+    persons: Vec<Person>,
+    targets: Vec<f64>,
+}
+
+impl Round<'_> {
+    /// The histogram bin of `v`.
+    fn bin(&self, v: f64) -> usize {
+        let edges = &self.hist.edges;
+        edges[1..edges.len() - 1].partition_point(|&e| e <= v)
+    }
+
+    /// How far `p`'s saddle moves down to reach target `t`. The descriptor only knows bins: a
+    /// target in the peak's current bin needs no move, so a round never undoes what the other
+    /// round matched within a bin.
+    fn shift(&self, p: &Person, t: f64) -> f64 {
+        if self.bin(t) == self.bin(p.current) { 0.0 } else { p.scale * (t - p.current) }
+    }
+
+    /// The raw cost s²/L of target `t` for `p` and, for an infeasible target, how far (metres)
+    /// the saddle would leave its range.
+    fn cost(&self, p: &Person, t: f64) -> (f64, f64) {
+        let s = self.shift(p, t);
         let gap = if s < p.lo_shift {
             p.lo_shift - s
         } else if s > p.hi_shift {
@@ -513,49 +661,52 @@ fn assign_saddles(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, dom
             0.0
         };
         (s * s / p.length, gap)
-    };
-    // Candidates: targets nearest each person's current value, plus the rank-matched one.
-    let mut order: Vec<usize> = (0..m).collect();
-    order.sort_by(|&a, &b| persons[a].current.total_cmp(&persons[b].current).then(a.cmp(&b)));
-    let mut rank = vec![0; m];
-    for (r, &p) in order.iter().enumerate() {
-        rank[p] = r;
     }
-    let raw: Vec<Vec<(u32, f64, f64)>> = persons
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let at = targets.partition_point(|&t| t < p.current);
-            let lo = at.saturating_sub(WINDOW);
-            let hi = (at + WINDOW).min(m);
-            let mut c: Vec<usize> = (lo..hi).collect();
-            if !(lo..hi).contains(&rank[i]) {
-                c.push(rank[i]);
-            }
-            c.into_iter()
-                .map(|j| {
-                    let (v, gap) = cost(p, targets[j]);
-                    (j as u32, v, gap)
-                })
-                .collect()
-        })
-        .collect();
-    // Feasible costs scale to [0, 1]; infeasible ones cost 2 + a growing share of 1, so any
-    // feasible assignment beats any infeasible one and nearer misses beat farther ones.
+
+    /// Each person's candidates `(target, raw cost, gap)`: the [`WINDOW`] targets on either side
+    /// of its current value, plus the rank-matched target (the one at its rank among the
+    /// persons' current values), which guarantees a perfect matching exists.
+    fn candidates(&self) -> Vec<Vec<(u32, f64, f64)>> {
+        let (persons, targets) = (&self.persons, &self.targets);
+        let m = persons.len();
+        let mut order: Vec<usize> = (0..m).collect();
+        order.sort_by(|&a, &b| persons[a].current.total_cmp(&persons[b].current).then(a.cmp(&b)));
+        let mut rank = vec![0; m];
+        for (r, &p) in order.iter().enumerate() {
+            rank[p] = r;
+        }
+        persons
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let at = targets.partition_point(|&t| t < p.current);
+                let lo = at.saturating_sub(WINDOW);
+                let hi = (at + WINDOW).min(m);
+                let mut c: Vec<usize> = (lo..hi).collect();
+                if !(lo..hi).contains(&rank[i]) {
+                    c.push(rank[i]);
+                }
+                c.into_iter()
+                    .map(|j| {
+                        let (v, gap) = self.cost(p, targets[j]);
+                        (j as u32, v, gap)
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+/// Auction costs from raw ones: feasible costs scale to [0, 1]; infeasible ones cost 2 + a
+/// growing share of 1, so any feasible assignment beats any infeasible one and nearer misses beat
+/// farther ones.
+fn normalized_costs(raw: &[Vec<(u32, f64, f64)>]) -> Vec<Vec<(u32, f64)>> {
     let scale = raw.iter().flatten().filter(|c| c.2 == 0.0).map(|c| c.1).fold(0.0_f64, f64::max).max(1e-300);
-    let candidates: Vec<Vec<(u32, f64)>> = raw
-        .iter()
+    raw.iter()
         .map(|c| {
             c.iter().map(|&(j, v, gap)| (j, if gap > 0.0 { 2.0 + gap / (gap + 1.0) } else { v / scale })).collect()
         })
-        .collect();
-    let assignment = auction(&candidates, m);
-    for (i, p) in persons.iter().enumerate() {
-        let t = targets[assignment[i] as usize];
-        let s = shift(p, t).clamp(p.lo_shift, p.hi_shift);
-        let saddle = &mut tree.saddles[p.saddle];
-        saddle.elevation -= s;
-    }
+        .collect()
 }
 
 /// Forward auction with ε-scaling for a sparse assignment problem: person `i` may take object `j`

@@ -11,15 +11,22 @@
 //! - Isolation searches a pyramid of block maxima best-first (module `isolation`), opening only
 //!   blocks that hold higher ground.
 //! - [`Orometry::pruned`] cuts the divide tree at a prominence threshold (Fig. 6).
-//! - [`Descriptor`] (§4.2, Table 1) summarizes a domain's peaks in ten histograms;
-//!   [`Descriptor::distance`] compares two (EMD and max bin error) and [`classify`] finds the
-//!   nearest labelled reference.
+//! - [`Descriptor`] (§4.2, Table 1) summarizes a domain's peaks in ten [`FractionHistogram`]s
+//!   (fractions over explicit bin edges); [`Descriptor::distance`] compares two (EMD in bins,
+//!   circular for directions, and max bin error) and [`classify`] finds the nearest labelled
+//!   reference. The EMD is [`relief_hydrology::earth_movers_distance`] over step CDFs in bin
+//!   units, the same integral [`relief_hydrology::CountHistogram::wasserstein`] takes in value
+//!   units.
 //! - Synthesis: [`generate_tree`] builds a [`DivideTree`] that follows a descriptor (§5: dart
 //!   throwing, multi-pass placement, Delaunay MST ridges, saddle heights by optimal assignment),
 //!   [`terrain_from_tree`] turns a tree into a heightfield (§6: dual rivers, refinement, Poisson
 //!   fill, constrained TIN, noise, erosion with uplift compensation), and [`synthesize`] does both.
 //!   [`relief_tin`] triangulates and [`relief_hydrology`] routes and erodes; `rand_chacha` seeds
 //!   every random choice, so a seed gives identical bytes for any thread count.
+//! - Editing (§7.2): [`TreeEdit`] (insert, move or delete peaks, saddles and ridges) as data,
+//!   applied with [`DivideTree::apply`]. Trees, descriptors and edits are serde types that
+//!   validate as they deserialize; the optional `schemars` feature derives the JSON Schemas of
+//!   the synthesis options, pinned peaks and edits for `relief` scenes.
 //!
 //! # Example
 //! ```
@@ -45,16 +52,19 @@
 
 mod analysis;
 mod descriptor;
+mod edit;
 mod error;
 mod generate;
 mod isolation;
 mod terrain;
 mod tree;
+mod union_find;
 
 pub use analysis::{AnalysisOptions, MAX_CELLS, Orometry, Peak, Saddle, analyze};
 pub use descriptor::{
-    DOMINANCE_GROUP_EDGES, Descriptor, DescriptorDistance, DomainStats, FEATURES, Histogram, classify,
+    DOMINANCE_GROUP_EDGES, Descriptor, DescriptorDistance, DomainStats, FEATURES, FractionHistogram, classify,
 };
+pub use edit::TreeEdit;
 pub use error::OrometryError;
 pub use generate::{ControlMaps, MAX_PEAKS, TreeOptions, generate_tree};
 pub use isolation::Isolation;

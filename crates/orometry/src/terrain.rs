@@ -221,7 +221,6 @@ fn falloff(r: f64) -> f64 {
 /// [`OrometryError::InvalidTree`] for a malformed tree or a peak or saddle outside the grid,
 /// [`OrometryError::InvalidOption`] for bad options or a non-finite base, and wrapped
 /// triangulation or hydrology errors (which validated input does not produce).
-#[allow(clippy::too_many_lines)] // the §6 pipeline, step by step
 pub fn terrain_from_tree(
     tree: &DivideTree,
     base: f64,
@@ -229,6 +228,38 @@ pub fn terrain_from_tree(
     options: &TerrainOptions,
     mut progress: impl FnMut(&str, f64),
 ) -> Result<Heightfield, OrometryError> {
+    check_inputs(tree, base, grid, options)?;
+    // One generator for every stage, drawn from in this order: ridge jitter, river jitter, the
+    // Poisson fill's seed, the noise's seed.
+    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
+    let (mut ridges, first_saddle) = snap_anchors(tree, grid);
+    let anchors: Vec<DVec2> = ridges.points.clone();
+    refine_ridges(&mut ridges, tree, first_saddle, options, &mut rng);
+    progress("ridges", 1.0);
+    let mut networks = Networks::new(ridges, grid.extent(), base, options)?;
+    networks.rivers = networks.route_rivers(&mut rng)?;
+    networks.river_label = networks.rivers.nearest_segments(&networks.coarse);
+    progress("rivers", 1.0);
+    let samples = networks.fill_samples(&mut rng)?;
+    let mut hf = networks.triangulate(&samples, grid)?;
+    progress("triangulation", 1.0);
+    let uplift = uplift_mask(&anchors, grid, options.uplift_radius_m);
+    if options.noise_m > 0.0 {
+        add_noise(&mut hf, &uplift, options, &mut rng);
+    }
+    progress("noise", 1.0);
+    if options.erosion_steps > 0 && options.erodibility > 0.0 {
+        erode(&mut hf, &uplift, options, &mut progress)?;
+    }
+    let hf = settle(hf, tree, base, &anchors, &networks.ridges.heights)?;
+    progress("done", 1.0);
+    Ok(hf)
+}
+
+/// Checks what [`terrain_from_tree`] is given: options, the tree, a finite base, every peak and
+/// saddle inside the grid and no peak below the base, and a mesh at λ within
+/// [`MAX_MESH_SAMPLES`] (before anything is allocated).
+fn check_inputs(tree: &DivideTree, base: f64, grid: &GridSpec, options: &TerrainOptions) -> Result<(), OrometryError> {
     options.validate()?;
     tree.validate()?;
     check("base", base, true, "must be finite")?;
@@ -248,10 +279,13 @@ pub fn terrain_from_tree(
     if samples.is_nan() || samples > MAX_MESH_SAMPLES as f64 {
         return Err(OrometryError::MeshTooFine { lambda: options.lambda_m, samples, limit: MAX_MESH_SAMPLES });
     }
-    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-    let lambda = options.lambda_m;
+    Ok(())
+}
 
-    // Snap peaks, then saddles, to free grid samples (a sample already taken keeps the first).
+/// The anchors of the ridge network: peaks, then saddles, each snapped to a free sample of `grid`
+/// (a sample already taken keeps the first) so the grid can hold its exact height. Returns the
+/// network (points only) and the index of the first saddle.
+fn snap_anchors(tree: &DivideTree, grid: &GridSpec) -> (Network, u32) {
     let mut taken = HashSet::new();
     let mut snap = |p: DVec2| match grid.nearest_sample(p) {
         Some((i, j)) if taken.insert((i, j)) => grid.position(i, j),
@@ -267,9 +301,20 @@ pub fn terrain_from_tree(
         let q = snap(s.position);
         ridges.push(q, s.elevation);
     }
-    let anchors: Vec<DVec2> = ridges.points.clone();
+    (ridges, first_saddle)
+}
 
-    // §6.2: ridges refined below λ with tapered sideways jitter.
+/// §6.2, ridge refinement: every ridge (peak → saddle) is split into segments shorter than λ,
+/// heights linear along it, nodes jittered sideways by up to `jitter·λ` tapered to zero at both
+/// ends by `sin(πt)`.
+fn refine_ridges(
+    ridges: &mut Network,
+    tree: &DivideTree,
+    first_saddle: u32,
+    options: &TerrainOptions,
+    rng: &mut ChaCha8Rng,
+) {
+    let lambda = options.lambda_m;
     for (s, saddle) in tree.saddles.iter().enumerate() {
         let sv = first_saddle + s as u32;
         for &peak in &saddle.peaks {
@@ -292,30 +337,69 @@ pub fn terrain_from_tree(
             }
         }
     }
-    progress("ridges", 1.0);
+}
 
-    // §6.1: the dual river network, routed on a raster at λ/2.
-    let size = extent.size();
-    let cell = lambda * 0.5;
-    let (cx, cy) = (((size.x / cell).ceil() as usize + 1).max(2), ((size.y / cell).ceil() as usize + 1).max(2));
-    let coarse = GridSpec::from_extent(cx, cy, extent)?;
-    let ridge_label = ridges.nearest_segments(&coarse);
-    let ridge_at = |p: DVec2, label: &[u32]| {
-        let (i, j) = coarse.nearest_sample(p).unwrap_or((0, 0));
-        ridges.project(label[coarse.index(i, j)], p)
-    };
-    let flank = |d: f64, h: f64| (h - options.flank_slope * d).max(base);
-    let mut rivers = Network::default();
-    if let Some(label) = &ridge_label {
+/// The refined ridge and river networks with their nearest-segment labels on the routing raster
+/// (spacing λ/2): what the river routing, the fill and the valley-width interpolation consult.
+struct Networks<'a> {
+    options: &'a TerrainOptions,
+    /// The lowest elevation.
+    base: f64,
+    /// The output grid's extent.
+    extent: Extent,
+    /// The routing raster, at λ/2 over `extent`.
+    coarse: GridSpec,
+    ridges: Network,
+    /// The nearest ridge segment per `coarse` sample; `None` without ridges.
+    ridge_label: Option<Vec<u32>>,
+    rivers: Network,
+    /// The nearest river segment per `coarse` sample; `None` without rivers.
+    river_label: Option<Vec<u32>>,
+}
+
+impl<'a> Networks<'a> {
+    /// The refined `ridges` on the routing raster over `extent`, without rivers yet.
+    fn new(ridges: Network, extent: Extent, base: f64, options: &'a TerrainOptions) -> Result<Self, OrometryError> {
+        let size = extent.size();
+        let cell = options.lambda_m * 0.5;
+        let (cx, cy) = (((size.x / cell).ceil() as usize + 1).max(2), ((size.y / cell).ceil() as usize + 1).max(2));
+        let coarse = GridSpec::from_extent(cx, cy, extent)?;
+        let ridge_label = ridges.nearest_segments(&coarse);
+        Ok(Self { options, base, extent, coarse, ridges, ridge_label, rivers: Network::default(), river_label: None })
+    }
+
+    /// The distance from `p` to its nearest ridge segment (by `label`, the ridge labels) and the
+    /// height of the closest point on it.
+    fn ridge_at(&self, p: DVec2, label: &[u32]) -> (f64, f64) {
+        let (i, j) = self.coarse.nearest_sample(p).unwrap_or((0, 0));
+        self.ridges.project(label[self.coarse.index(i, j)], p)
+    }
+
+    /// The flank surface `max(base, h − s·d)` at distance `d` from a ridge point at height `h`.
+    fn flank(&self, d: f64, h: f64) -> f64 {
+        (h - self.options.flank_slope * d).max(self.base)
+    }
+
+    /// §6.1, the dual river network: the flank surface of the ridges on the routing raster,
+    /// filled (Priority-Flood+ε) and routed by D8; each cell draining at least
+    /// [`TerrainOptions::river_area_km2`] and more than λ from a ridge, as is its receiver, gives
+    /// a river segment to its receiver, with the valley width `c·A^exponent`. River nodes sit on
+    /// the raster, jittered, at their filled heights.
+    fn route_rivers(&self, rng: &mut ChaCha8Rng) -> Result<Network, OrometryError> {
+        let mut rivers = Network::default();
+        let Some(label) = &self.ridge_label else { return Ok(rivers) };
+        let (options, coarse, extent) = (self.options, &self.coarse, self.extent);
+        let lambda = options.lambda_m;
+        let cell = lambda * 0.5;
         let h0: Vec<f32> = (0..coarse.len())
             .into_par_iter()
             .map(|k| {
                 let (i, j) = coarse.coords(k);
-                let (d, h) = ridge_at(coarse.position(i, j), label);
-                flank(d, h) as f32
+                let (d, h) = self.ridge_at(coarse.position(i, j), label);
+                self.flank(d, h) as f32
             })
             .collect();
-        let filled = fill(&Heightfield::from_samples(coarse, h0)?, Outlets::default())?;
+        let filled = fill(&Heightfield::from_samples(*coarse, h0)?, Outlets::default())?;
         let routed = D8::new(&filled)?;
         let (receivers, area) = (routed.receivers(), routed.drainage_area());
         let min_area = options.river_area_km2 * 1e6;
@@ -339,139 +423,166 @@ pub fn terrain_from_tree(
             // Keep rivers off the ridges: a channel within λ of a ridge would cut it.
             let (i, j) = coarse.coords(k);
             let (ir, jr) = coarse.coords(r as usize);
-            if ridge_at(coarse.position(i, j), label).0 < lambda || ridge_at(coarse.position(ir, jr), label).0 < lambda
+            if self.ridge_at(coarse.position(i, j), label).0 < lambda
+                || self.ridge_at(coarse.position(ir, jr), label).0 < lambda
             {
                 continue;
             }
-            let a = river_node(k, &mut rivers, &mut rng);
-            let b = river_node(r as usize, &mut rivers, &mut rng);
+            let a = river_node(k, &mut rivers, rng);
+            let b = river_node(r as usize, &mut rivers, rng);
             rivers.segments.push([a, b]);
             let km2 = area[k] / 1e6;
             rivers.widths.push(options.valley_width_m * km2.powf(options.valley_exponent));
         }
+        Ok(rivers)
     }
-    let river_label = rivers.nearest_segments(&coarse);
-    progress("rivers", 1.0);
 
-    // §6.2: Poisson-disc fill plus the border, away from the networks.
-    let mut samples = PoissonDisc::new(lambda)
-        .map_err(|_| OrometryError::InvalidOption {
-            name: "lambda_m",
-            value: lambda,
-            reason: "must be finite and > 0",
-        })?
-        .with_seed(rng.random())
-        .with_max_points(50_000_000)
-        .sample(&Rect::new(extent.min, extent.max))
-        .map_err(|e| OrometryError::InvalidTree(format!("sampling the domain failed: {e}")))?;
-    let border = |n: f64| (n / lambda).ceil().max(1.0) as usize;
-    let (bx, by) = (border(size.x), border(size.y));
-    for i in 0..=bx {
-        let x = extent.min.x + size.x * i as f64 / bx as f64;
-        samples.push(DVec2::new(x, extent.min.y));
-        samples.push(DVec2::new(x, extent.max.y));
+    /// §6.2, the fill: Poisson-disc samples at radius λ plus the border every λ or less, less
+    /// those within λ/2 of a ridge or river (the corners always stay).
+    fn fill_samples(&self, rng: &mut ChaCha8Rng) -> Result<Vec<DVec2>, OrometryError> {
+        let (extent, lambda) = (self.extent, self.options.lambda_m);
+        let size = extent.size();
+        let mut samples = PoissonDisc::new(lambda)
+            .map_err(|_| OrometryError::InvalidOption {
+                name: "lambda_m",
+                value: lambda,
+                reason: "must be finite and > 0",
+            })?
+            .with_seed(rng.random())
+            .with_max_points(50_000_000)
+            .sample(&Rect::new(extent.min, extent.max))
+            .map_err(|e| OrometryError::InvalidTree(format!("sampling the domain failed: {e}")))?;
+        let border = |n: f64| (n / lambda).ceil().max(1.0) as usize;
+        let (bx, by) = (border(size.x), border(size.y));
+        for i in 0..=bx {
+            let x = extent.min.x + size.x * i as f64 / bx as f64;
+            samples.push(DVec2::new(x, extent.min.y));
+            samples.push(DVec2::new(x, extent.max.y));
+        }
+        for j in 1..by {
+            let y = extent.min.y + size.y * j as f64 / by as f64;
+            samples.push(DVec2::new(extent.min.x, y));
+            samples.push(DVec2::new(extent.max.x, y));
+        }
+        let corners =
+            [extent.min, extent.max, DVec2::new(extent.min.x, extent.max.y), DVec2::new(extent.max.x, extent.min.y)];
+        samples.retain(|&p| corners.contains(&p) || !self.near_network(p));
+        Ok(samples)
     }
-    for j in 1..by {
-        let y = extent.min.y + size.y * j as f64 / by as f64;
-        samples.push(DVec2::new(extent.min.x, y));
-        samples.push(DVec2::new(extent.max.x, y));
+
+    /// Whether `p` lies within λ/2 of a ridge or a river.
+    fn near_network(&self, p: DVec2) -> bool {
+        let near = |net: &Network, label: &Option<Vec<u32>>| {
+            label.as_ref().is_some_and(|l| {
+                let (i, j) = self.coarse.nearest_sample(p).unwrap_or((0, 0));
+                net.project(l[self.coarse.index(i, j)], p).0 < 0.5 * self.options.lambda_m
+            })
+        };
+        near(&self.ridges, &self.ridge_label) || near(&self.rivers, &self.river_label)
     }
-    let elevation = |p: DVec2| -> (f64, f64) {
-        let Some(label) = &ridge_label else { return (base, f64::INFINITY) };
-        let (d_t, h_t) = ridge_at(p, label);
-        let h = match &river_label {
-            None => flank(d_t, h_t),
+
+    /// §6.2, the valley-width interpolation at `p`, and `p`'s distance to the ridges: with `d_T`,
+    /// `h(q)` the nearest ridge point's distance and height and `d_R`, `h(r)` the nearest river
+    /// point's, `h = (1 − α)h(q) + α·h(r)`, `α = d_T / (d_R + d_T − w)`, and the river's height
+    /// within its valley width `w`; the flank surface where there are no rivers, the base where
+    /// there are no ridges. Kept between the base and `h(q)`.
+    fn elevation(&self, p: DVec2) -> (f64, f64) {
+        let Some(label) = &self.ridge_label else { return (self.base, f64::INFINITY) };
+        let (d_t, h_t) = self.ridge_at(p, label);
+        let h = match &self.river_label {
+            None => self.flank(d_t, h_t),
             Some(rl) => {
-                let (i, j) = coarse.nearest_sample(p).unwrap_or((0, 0));
-                let s = rl[coarse.index(i, j)];
-                let (d_r, h_r) = rivers.project(s, p);
-                let w = rivers.widths[s as usize];
+                let (i, j) = self.coarse.nearest_sample(p).unwrap_or((0, 0));
+                let s = rl[self.coarse.index(i, j)];
+                let (d_r, h_r) = self.rivers.project(s, p);
+                let w = self.rivers.widths[s as usize];
                 let h = if d_r < w {
                     h_r
                 } else {
                     let alpha = d_t / (d_r + d_t - w).max(f64::MIN_POSITIVE);
                     (1.0 - alpha) * h_t + alpha * h_r
                 };
-                h.clamp(base, h_t.max(base))
+                h.clamp(self.base, h_t.max(self.base))
             }
         };
         (h, d_t)
-    };
-    let near_net = |p: DVec2| {
-        let near = |net: &Network, label: &Option<Vec<u32>>| {
-            label.as_ref().is_some_and(|l| {
-                let (i, j) = coarse.nearest_sample(p).unwrap_or((0, 0));
-                net.project(l[coarse.index(i, j)], p).0 < 0.5 * lambda
-            })
-        };
-        near(&ridges, &ridge_label) || near(&rivers, &river_label)
-    };
-    let corners =
-        [extent.min, extent.max, DVec2::new(extent.min.x, extent.max.y), DVec2::new(extent.max.x, extent.min.y)];
-    samples.retain(|&p| corners.contains(&p) || !near_net(p));
+    }
 
-    // The constrained TIN: ridges, rivers, samples; duplicates (rare coincidences) dropped.
-    let mut points = ridges.points.clone();
-    let mut values = ridges.heights.clone();
-    let mut constraints = ridges.segments.clone();
-    let offset = points.len() as u32;
-    points.extend_from_slice(&rivers.points);
-    values.extend_from_slice(&rivers.heights);
-    constraints.extend(rivers.segments.iter().map(|&[a, b]| [a + offset, b + offset]));
-    let sample_values: Vec<f64> = samples.par_iter().map(|&p| elevation(p).0).collect();
-    points.extend_from_slice(&samples);
-    values.extend_from_slice(&sample_values);
-    let (points, values, constraints) = dedup(points, values, constraints);
-    let (tin, _skipped) = Tin::constrained(points, &constraints)?;
-    let mut hf = tin.rasterize(&values, grid)?;
-    progress("triangulation", 1.0);
+    /// The constrained TIN of ridges, rivers (both kept as edges) and the fill `samples` valued
+    /// by [`Networks::elevation`], exact duplicates (rare coincidences) dropped, rasterized on
+    /// `grid`.
+    fn triangulate(&self, samples: &[DVec2], grid: &GridSpec) -> Result<Heightfield, OrometryError> {
+        let (ridges, rivers) = (&self.ridges, &self.rivers);
+        let mut points = ridges.points.clone();
+        let mut values = ridges.heights.clone();
+        let mut constraints = ridges.segments.clone();
+        let offset = points.len() as u32;
+        points.extend_from_slice(&rivers.points);
+        values.extend_from_slice(&rivers.heights);
+        constraints.extend(rivers.segments.iter().map(|&[a, b]| [a + offset, b + offset]));
+        let sample_values: Vec<f64> = samples.par_iter().map(|&p| self.elevation(p).0).collect();
+        points.extend_from_slice(samples);
+        values.extend_from_slice(&sample_values);
+        let (points, values, constraints) = dedup(points, values, constraints);
+        let (tin, _skipped) = Tin::constrained(points, &constraints)?;
+        Ok(tin.rasterize(&values, grid)?)
+    }
+}
 
-    // Distance to peaks and saddles, for the noise fade and the uplift.
-    let (nx, ny) = (grid.nx(), grid.ny());
+/// The uplift compensation `U = g(d/R)` on `grid`, `d` the distance to the nearest peak or saddle
+/// (`anchors`), `R` = `radius_m`: 1 on them, fading to 0 at `R`. It also fades the noise.
+fn uplift_mask(anchors: &[DVec2], grid: &GridSpec, radius_m: f64) -> Vec<f64> {
     let mut sq = vec![f64::INFINITY; grid.len()];
-    for &p in &anchors {
+    for &p in anchors {
         if let Some((i, j)) = grid.nearest_sample(p) {
             sq[grid.index(i, j)] = 0.0;
         }
     }
-    distance_transform_seeded(nx, ny, grid.cell_size(), &mut sq, None);
-    let uplift: Vec<f64> = sq.par_iter().map(|&d2| falloff(d2.sqrt() / options.uplift_radius_m)).collect();
+    distance_transform_seeded(grid.nx(), grid.ny(), grid.cell_size(), &mut sq, None);
+    sq.par_iter().map(|&d2| falloff(d2.sqrt() / radius_m)).collect()
+}
 
-    // §6.3: multi-fractal noise below the prominence threshold, faded at peaks and saddles.
-    if options.noise_m > 0.0 {
-        let (lo, hi) = hf.min_max().map_or((0.0, 1.0), |(a, b)| (f64::from(a), f64::from(b)));
-        let span = (hi - lo).max(1e-9);
-        let noise =
-            Fbm { octaves: 6, frequency: 1.0 / options.noise_wavelength_m, seed: rng.random(), ..Fbm::default() };
-        hf.samples_mut().par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-            for (i, v) in row.iter_mut().enumerate() {
-                let k = j * nx + i;
-                let rise = (f64::from(*v) - lo) / span;
-                let amp = options.noise_m * (0.25 + 0.75 * rise) * (1.0 - uplift[k]);
-                *v += (amp * noise.sample(grid.position(i, j)).clamp(-1.0, 1.0)) as f32;
-            }
-        });
-    }
-    progress("noise", 1.0);
+/// §6.3, noise: fBm of six octaves whose amplitude grows from a quarter to all of
+/// [`TerrainOptions::noise_m`] with the height, faded by `1 − U` so peaks and saddles keep their
+/// heights. Rows in parallel.
+fn add_noise(hf: &mut Heightfield, uplift: &[f64], options: &TerrainOptions, rng: &mut ChaCha8Rng) {
+    let grid = *hf.grid();
+    let nx = grid.nx();
+    let (lo, hi) = hf.min_max().map_or((0.0, 1.0), |(a, b)| (f64::from(a), f64::from(b)));
+    let span = (hi - lo).max(1e-9);
+    let noise = Fbm { octaves: 6, frequency: 1.0 / options.noise_wavelength_m, seed: rng.random(), ..Fbm::default() };
+    hf.samples_mut().par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+        for (i, v) in row.iter_mut().enumerate() {
+            let k = j * nx + i;
+            let rise = (f64::from(*v) - lo) / span;
+            let amp = options.noise_m * (0.25 + 0.75 * rise) * (1.0 - uplift[k]);
+            *v += (amp * noise.sample(grid.position(i, j)).clamp(-1.0, 1.0)) as f32;
+        }
+    });
+}
 
-    if options.erosion_steps > 0 && options.erodibility > 0.0 {
-        erode(&mut hf, &uplift, options, &mut progress)?;
-    }
-    // Noise never lifts ground above the highest peak nor sinks it below the base.
+/// The last touches: every sample clamped between the base and the highest peak (noise never
+/// lifts ground above it nor sinks it below the base), peaks and saddles pinned to their exact
+/// `heights` where they were snapped to a sample, then every basin drained (Priority-Flood+ε).
+fn settle(
+    mut hf: Heightfield,
+    tree: &DivideTree,
+    base: f64,
+    anchors: &[DVec2],
+    heights: &[f64],
+) -> Result<Heightfield, OrometryError> {
+    let grid = *hf.grid();
     let top = tree.peaks.iter().map(|p| p.elevation).fold(base, f64::max);
     hf.samples_mut().iter_mut().for_each(|v| *v = v.clamp(base as f32, top as f32));
-    // Pin peaks and saddles exactly, then drain every basin.
     let samples_mut = hf.samples_mut();
     for (k, p) in anchors.iter().enumerate() {
         if let Some((i, j)) = grid.nearest_sample(*p)
             && grid.position(i, j) == *p
         {
-            samples_mut[grid.index(i, j)] = ridges.heights[k] as f32;
+            samples_mut[grid.index(i, j)] = heights[k] as f32;
         }
     }
-    let hf = fill(&hf, Outlets::default())?;
-    progress("done", 1.0);
-    Ok(hf)
+    Ok(fill(&hf, Outlets::default())?)
 }
 
 /// Drops exact duplicate points (keeping the first) and remaps constraints.

@@ -9,12 +9,16 @@
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
+use crate::union_find::find;
 use crate::{Orometry, OrometryError};
 
 /// A summit of the tree.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct TreePeak {
-    /// World position, metres.
+    /// World position `[x, y]`, metres.
+    #[cfg_attr(feature = "schemars", schemars(with = "[f64; 2]"))]
     pub position: DVec2,
     /// Elevation, metres.
     pub elevation: f64,
@@ -32,13 +36,28 @@ pub struct TreeSaddle {
 }
 
 /// Peaks joined by saddles. Usually a tree; edits may leave a forest, which every function here
-/// accepts (each component has its own top).
+/// accepts (each component has its own top). Deserializing validates it ([`DivideTree::validate`]).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(remote = "Self")]
 pub struct DivideTree {
     /// Peaks.
     pub peaks: Vec<TreePeak>,
     /// Saddles, one per ridge pair.
     pub saddles: Vec<TreeSaddle>,
+}
+
+impl Serialize for DivideTree {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        DivideTree::serialize(self, s)
+    }
+}
+
+impl<'de> Deserialize<'de> for DivideTree {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let tree = DivideTree::deserialize(d)?;
+        tree.validate().map_err(serde::de::Error::custom)?;
+        Ok(tree)
+    }
 }
 
 /// Prominence and its companions for every peak of a [`DivideTree`].
@@ -63,16 +82,6 @@ impl TreeOrometry {
             })
             .collect()
     }
-}
-
-/// Union–find root of `x` with path halving.
-pub(crate) fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let up = parent[parent[x as usize] as usize];
-        parent[x as usize] = up;
-        x = up;
-    }
-    x
 }
 
 impl DivideTree {

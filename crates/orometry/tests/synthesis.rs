@@ -8,8 +8,8 @@ use relief_heightfield::noise::Fbm;
 use relief_heightfield::{Extent, GridSpec, Heightfield};
 use relief_hydrology::{NoData, has_endorheic_basins};
 use relief_orometry::{
-    AnalysisOptions, ControlMaps, Descriptor, DivideTree, Histogram, OrometryError, SynthesisOptions, TreeOptions,
-    TreePeak, TreeSaddle, analyze, classify, generate_tree, synthesize, terrain_from_tree,
+    AnalysisOptions, ControlMaps, Descriptor, DivideTree, FractionHistogram, OrometryError, SynthesisOptions,
+    TreeOptions, TreePeak, TreeSaddle, analyze, classify, generate_tree, synthesize, terrain_from_tree,
 };
 
 /// An fBm DEM at 30 m: `frequency` cycles per metre, `relief` metres of amplitude.
@@ -30,7 +30,7 @@ fn target() -> Descriptor {
 
 #[test]
 fn histogram_fractions_quantiles_and_emd() {
-    let h = Histogram::uniform(0.0, 10.0, 10).filled([0.5, 1.5, 1.7, 9.9, 25.0, f64::NAN]);
+    let h = FractionHistogram::uniform(0.0, 10.0, 10).filled([0.5, 1.5, 1.7, 9.9, 25.0, f64::NAN]);
     assert_eq!(h.fractions.iter().sum::<f64>(), 1.0);
     assert_eq!(h.fractions[1], 0.4, "1.5 and 1.7 share bin 1 of five finite values");
     assert_eq!(h.fractions[9], 0.4, "9.9 and the clamped 25 share the last bin");
@@ -39,8 +39,8 @@ fn histogram_fractions_quantiles_and_emd() {
     assert!((h.quantile(1.0).unwrap() - 10.0).abs() < 1e-12);
 
     // All mass in the first bin against all in the last: 11/12 apart on a line, 1/12 on a circle.
-    let first = Histogram::uniform(0.0, 360.0, 12).filled([10.0]);
-    let last = Histogram::uniform(0.0, 360.0, 12).filled([350.0]);
+    let first = FractionHistogram::uniform(0.0, 360.0, 12).filled([10.0]);
+    let last = FractionHistogram::uniform(0.0, 360.0, 12).filled([350.0]);
     assert!((first.emd(&last).unwrap() - 11.0 / 12.0).abs() < 1e-12);
     let mut cf = first.clone();
     let mut cl = last.clone();
@@ -49,10 +49,10 @@ fn histogram_fractions_quantiles_and_emd() {
     assert!((cf.emd(&cl).unwrap() - 1.0 / 12.0).abs() < 1e-12);
     assert_eq!(first.max_bin_error(&last), Some(1.0));
     // Empty histograms: 0 from each other, 1 from anything else; different bins do not compare.
-    let empty = Histogram::uniform(0.0, 360.0, 12);
+    let empty = FractionHistogram::uniform(0.0, 360.0, 12);
     assert_eq!(empty.emd(&empty), Some(0.0));
     assert_eq!(empty.emd(&first), Some(1.0));
-    assert_eq!(Histogram::uniform(0.0, 1.0, 5).emd(&first), None);
+    assert_eq!(FractionHistogram::uniform(0.0, 1.0, 5).emd(&first), None);
 }
 
 #[test]
@@ -65,14 +65,14 @@ fn descriptor_of_a_dem_is_at_distance_zero_from_itself_and_validates() {
     assert_eq!(dist.mean_emd, 0.0);
     assert_eq!(dist.features.len(), 10);
     // Everything but the top peak has a key saddle and an isolation.
-    let counted = |h: &Histogram| h.fractions.iter().sum::<f64>();
+    let counted = |h: &FractionHistogram| h.fractions.iter().sum::<f64>();
     assert!((counted(&d.isolation_distance) - 1.0).abs() < 1e-9);
     // A corrupted histogram is a typed error naming the feature.
     let mut bad = d.clone();
     bad.prominence.fractions[0] += 0.5;
     assert!(matches!(bad.validate(), Err(OrometryError::InvalidDescriptor { feature: "prominence", .. })));
     let mut bins = d.clone();
-    bins.relevance = Histogram::uniform(0.0, 1.0, 7);
+    bins.relevance = FractionHistogram::uniform(0.0, 1.0, 7);
     assert!(matches!(d.distance(&bins), Err(OrometryError::InvalidDescriptor { feature: "relevance", .. })));
     // A JSON round trip keeps it.
     let back: Descriptor = serde_json::from_str(&serde_json::to_string(&d).unwrap()).unwrap();
@@ -186,8 +186,8 @@ fn generated_trees_match_the_target_prominence_and_dominance() {
     assert_eq!(tree.saddles.len(), expected - 1, "one spanning tree");
     let base = target.domain.min_elevation;
     let oro = tree.orometry(base);
-    let prominence = Histogram::uniform(0.0, 2000.0, 20).filled(oro.prominence.iter().copied());
-    let dominance = Histogram::uniform(0.0, 1.0, 20).filled(oro.dominance(&tree, target.domain.datum));
+    let prominence = FractionHistogram::uniform(0.0, 2000.0, 20).filled(oro.prominence.iter().copied());
+    let dominance = FractionHistogram::uniform(0.0, 1.0, 20).filled(oro.dominance(&tree, target.domain.datum));
     let (pe, pm) = (prominence.emd(&target.prominence).unwrap(), prominence.max_bin_error(&target.prominence).unwrap());
     let (de, dm) = (dominance.emd(&target.dominance).unwrap(), dominance.max_bin_error(&target.dominance).unwrap());
     println!("tree: prominence EMD {pe:.4} max {pm:.4}; dominance EMD {de:.4} max {dm:.4}");
@@ -318,7 +318,7 @@ fn bad_synthesis_input_is_a_typed_error() {
     ));
     // Empty histograms: nothing to sample elevations from.
     let mut empty = target.clone();
-    empty.normalized_elevation = Histogram::uniform(0.0, 1.0, 20);
+    empty.normalized_elevation = FractionHistogram::uniform(0.0, 1.0, 20);
     assert!(matches!(
         generate_tree(&empty, extent, &none, &[], &opts),
         Err(OrometryError::InvalidDescriptor { feature: "normalized_elevation", .. })

@@ -105,10 +105,28 @@ pub fn segments_touch(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
     (o1 == 0.0 && on(a, b, c)) || (o2 == 0.0 && on(a, b, d)) || (o3 == 0.0 && on(c, d, a)) || (o4 == 0.0 && on(c, d, b))
 }
 
-/// Twice the signed area of a ring (positive when counter-clockwise).
-fn twice_signed_area(ring: &[DVec2]) -> f64 {
+/// Twice the signed area of a ring (positive when counter-clockwise): the shoelace sum
+/// `Σ pᵢ × pᵢ₊₁` in ring order. The one implementation behind [`signed_area`] and
+/// [`Polygon::area`].
+fn twice_signed_area<P: Copy + Into<DVec2>>(ring: &[P]) -> f64 {
     let n = ring.len();
-    (0..n).map(|i| ring[i].perp_dot(ring[(i + 1) % n])).sum()
+    (0..n).map(|i| ring[i].into().perp_dot(ring[(i + 1) % n].into())).sum()
+}
+
+/// Signed area of the closed ring `ring` (the closing edge from the last point to the first is
+/// implied): `½·Σ pᵢ × pᵢ₊₁`, positive when the ring runs counter-clockwise (y up), negative
+/// clockwise. Takes `DVec2` or `[f64; 2]` points, so plain coordinate lists need no copy.
+///
+/// ```
+/// use glam::DVec2;
+/// use relief_poisson_sampling::signed_area;
+///
+/// let square = [DVec2::ZERO, DVec2::new(2.0, 0.0), DVec2::new(2.0, 2.0), DVec2::new(0.0, 2.0)];
+/// assert_eq!(signed_area(&square), 4.0);
+/// assert_eq!(signed_area(&[[0.0, 0.0], [0.0, 2.0], [2.0, 0.0]]), -2.0);
+/// ```
+pub fn signed_area<P: Copy + Into<DVec2>>(ring: &[P]) -> f64 {
+    0.5 * twice_signed_area(ring)
 }
 
 /// Horizontal bands over a set of edges: a point-in-polygon query tests only the edges whose
@@ -295,6 +313,7 @@ impl SegmentIndex {
 /// Point-in-polygon runs in O(edges in one horizontal band), not O(all edges).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(try_from = "PolygonRepr", into = "PolygonRepr")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub struct Polygon {
     exterior: Vec<DVec2>,
     holes: Vec<Vec<DVec2>>,
@@ -309,11 +328,18 @@ impl PartialEq for Polygon {
     }
 }
 
+/// The JSON form of a [`Polygon`]: an exterior ring and optional holes, `[x, y]` vertices,
+/// closed implicitly.
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema), schemars(rename = "Polygon"))]
 struct PolygonRepr {
+    /// The exterior ring (any orientation; a repeated closing vertex is dropped).
+    #[cfg_attr(feature = "schemars", schemars(with = "Vec<[f64; 2]>"))]
     exterior: Vec<DVec2>,
+    /// Holes, strictly inside the exterior and outside each other.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[cfg_attr(feature = "schemars", schemars(with = "Vec<Vec<[f64; 2]>>"))]
     holes: Vec<Vec<DVec2>>,
 }
 
@@ -398,10 +424,23 @@ fn check_simple(rings: &[&[DVec2]]) -> Result<(), PolygonError> {
     Ok(())
 }
 
-/// Brute-force even-odd test against a single ring.
-fn ring_contains(ring: &[DVec2], p: DVec2) -> bool {
+/// Whether `p` is inside the closed ring `ring` by the even-odd rule, scanning every edge: O(edges),
+/// no index and no validation, for a ring tested a few times or one known to be simple. The same
+/// exact test as [`Polygon::contains`] and [`RingIndex::contains`] (they share one crossing
+/// predicate), so all three agree bit for bit, points on the boundary included. Takes `DVec2` or
+/// `[f64; 2]` points.
+///
+/// ```
+/// use glam::DVec2;
+/// use relief_poisson_sampling::ring_contains;
+///
+/// let triangle = [[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]];
+/// assert!(ring_contains(&triangle, DVec2::new(1.0, 1.0)));
+/// assert!(!ring_contains(&triangle, DVec2::new(3.0, 3.0)));
+/// ```
+pub fn ring_contains<P: Copy + Into<DVec2>>(ring: &[P], p: DVec2) -> bool {
     let n = ring.len();
-    (0..n).filter(|&i| crosses_ray(p, ring[i], ring[(i + 1) % n])).count() % 2 == 1
+    (0..n).filter(|&i| crosses_ray(p, ring[i].into(), ring[(i + 1) % n].into())).count() % 2 == 1
 }
 
 impl Polygon {
@@ -424,7 +463,7 @@ impl Polygon {
         check_simple(&rings.iter().map(Vec::as_slice).collect::<Vec<_>>())?;
         for (r, ring) in rings.iter_mut().enumerate() {
             // A simple ring with three non-collinear vertices encloses area; only overflow is left.
-            let a2 = twice_signed_area(ring);
+            let a2 = twice_signed_area(ring.as_slice());
             if a2 == 0.0 || !a2.is_finite() {
                 return Err(PolygonError::ZeroArea { ring: r });
             }
@@ -436,15 +475,15 @@ impl Polygon {
         let views: Vec<&[DVec2]> = rings.iter().map(Vec::as_slice).collect();
         for h in 1..rings.len() {
             let probe = rings[h][0];
-            if !ring_contains(&rings[0], probe) {
+            if !ring_contains(rings[0].as_slice(), probe) {
                 return Err(PolygonError::HoleOutside { ring: h });
             }
-            if (1..rings.len()).any(|o| o != h && ring_contains(&rings[o], probe)) {
+            if (1..rings.len()).any(|o| o != h && ring_contains(rings[o].as_slice(), probe)) {
                 return Err(PolygonError::HoleOutside { ring: h });
             }
         }
         let bounds = Rect::bounding(&rings[0]);
-        let area = 0.5 * rings.iter().map(|r| twice_signed_area(r)).sum::<f64>();
+        let area = 0.5 * rings.iter().map(|r| twice_signed_area(r.as_slice())).sum::<f64>();
         let bands = EdgeBands::new(&views, bounds.min.y, bounds.max.y);
         let mut rings = rings.into_iter();
         let exterior = rings.next().unwrap_or_default();

@@ -1,15 +1,14 @@
 //! Deterministic blue-noise (Poisson-disc) point sets in rectangles, polygons with holes, arbitrary
-//! predicate domains and the *extended domain* Ω ⊕ B(m), with fixed or spatially varying radius.
+//! predicate domains and the *extended domain* Ω ⊕ B(m), with a fixed radius.
 //!
 //! Implements the sampling step of the contours paper (Huftier et al. 2025, §4.3: "a Poisson disc
-//! distribution over Ω ⊕ B(4r)", nodes tagged inside/outside Ω) with Bridson's algorithm, and the
-//! variable-density sampling the orometry synthesis (Argudo et al. 2019, §6) refines with.
+//! distribution over Ω ⊕ B(4r)", nodes tagged inside/outside Ω) with Bridson's algorithm.
 //!
-//! Main types: [`PoissonDisc`] (fixed radius), [`VariablePoissonDisc`] (radius function),
-//! [`Domain`] (what can be sampled: [`Rect`], [`Polygon`], [`PolygonSet`], [`FnDomain`],
-//! [`ExtendedDomain`]), [`TaggedSamples`]. The polygon types and the exact 2-D predicates
-//! ([`orient`], [`segments_touch`], [`SegmentIndex`]) live here because this is the lowest crate
-//! that needs them; `relief-tin` re-exports the crate for the crates above it.
+//! Main types: [`PoissonDisc`], [`Domain`] (what can be sampled: [`Rect`], [`Polygon`],
+//! [`PolygonSet`], [`FnDomain`], [`ExtendedDomain`]), [`TaggedSamples`]. The polygon types and the
+//! exact 2-D predicates ([`orient`], [`segments_touch`], [`SegmentIndex`]) and ring measures
+//! ([`ring_contains`], [`signed_area`]) live here because this is the lowest crate that needs them;
+//! `relief-tin` re-exports the crate for the crates above it.
 //!
 //! ```
 //! use glam::DVec2;
@@ -38,8 +37,8 @@ mod sampler;
 
 pub use domain::{Domain, ExtendedDomain, FnDomain};
 pub use error::{PolygonError, SamplingError};
-pub use geometry::{Polygon, PolygonSet, Rect, RingIndex, SegmentIndex, orient, segment_distance_sq, segments_touch};
-pub use sampler::{
-    DEFAULT_ATTEMPTS, DEFAULT_MAX_POINTS, DENSITY, PoissonDisc, TaggedSamples, VariablePoissonDisc, VariableSamples,
-    radius_for_count,
+pub use geometry::{
+    Polygon, PolygonSet, Rect, RingIndex, SegmentIndex, orient, ring_contains, segment_distance_sq, segments_touch,
+    signed_area,
 };
+pub use sampler::{DEFAULT_ATTEMPTS, DEFAULT_MAX_POINTS, DENSITY, PoissonDisc, TaggedSamples, radius_for_count};

@@ -1,4 +1,4 @@
-use std::f64::consts::{SQRT_2, TAU};
+use std::f64::consts::{PI, SQRT_2, TAU};
 
 use glam::DVec2;
 use rand::{RngExt, SeedableRng};
@@ -46,15 +46,6 @@ impl TaggedSamples {
     pub fn inside_count(&self) -> usize {
         self.inside.iter().filter(|&&b| b).count()
     }
-}
-
-/// Points with a per-point exclusion radius, from [`VariablePoissonDisc`].
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct VariableSamples {
-    /// Sample positions, in background-grid order.
-    pub points: Vec<DVec2>,
-    /// `radii[k]` is the exclusion radius evaluated at `points[k]`.
-    pub radii: Vec<f64>,
 }
 
 /// The radius that yields about `count` samples over `area`: `r = √(DENSITY · area / count)`.
@@ -156,9 +147,7 @@ impl PoissonDisc {
     /// [`SamplingError::InvalidBounds`] for empty or non-finite bounds,
     /// [`SamplingError::TooManyPoints`] when the run would exceed the point budget.
     pub fn sample<D: Domain + ?Sized>(&self, domain: &D) -> Result<Vec<DVec2>, SamplingError> {
-        let spacing = FixedSpacing { r2: self.radius * self.radius, ring: self.radius * RING_SLACK };
-        let run = Run { seed: self.seed, attempts: self.attempts, max_points: self.max_points };
-        Ok(run.execute(domain, &spacing, self.radius, self.radius, 2)?.0)
+        Run::new(self, domain)?.execute()
     }
 
     /// Samples `domain` and tags each point with `tag(point)` (e.g. membership of a core domain).
@@ -186,188 +175,37 @@ impl PoissonDisc {
     }
 }
 
-/// Blue-noise sampling with a radius that varies over the domain, `r(p) ∈ [r_min, r_max]`.
-///
-/// Two samples `p`, `q` respect `|p − q| ≥ max(r(p), r(q))`: no sample lies inside another's disc.
-/// To sample a density `ρ(p)` (points per unit area), use `r(p) = √(DENSITY / ρ(p))`.
-/// The background grid has cells of `r_min/√2` and each test scans a `r_max`-wide window, so the
-/// cost grows with `(r_max / r_min)²`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct VariablePoissonDisc {
-    r_min: f64,
-    r_max: f64,
-    seed: u64,
-    attempts: u32,
-    max_points: u64,
-}
+/// Padding of the background grid, in cells: a sample conflicting with a candidate lies within
+/// `r = cell·√2`, so in the 5×5 cells around the candidate's cell.
+const PAD: usize = 2;
 
-impl VariablePoissonDisc {
-    /// A sampler for radii within `[r_min, r_max]`.
-    ///
-    /// # Errors
-    /// [`SamplingError::InvalidRadiusRange`] unless `0 < r_min ≤ r_max < ∞`.
-    pub fn new(r_min: f64, r_max: f64) -> Result<Self, SamplingError> {
-        if !(r_min > 0.0 && r_min <= r_max && r_max.is_finite()) {
-            return Err(SamplingError::InvalidRadiusRange { min: r_min, max: r_max });
-        }
-        Ok(Self { r_min, r_max, seed: 0, attempts: DEFAULT_ATTEMPTS, max_points: DEFAULT_MAX_POINTS })
-    }
-
-    /// Sets the random seed.
-    #[must_use]
-    pub fn with_seed(mut self, seed: u64) -> Self {
-        self.seed = seed;
-        self
-    }
-
-    /// Sets the largest number of points a run may produce.
-    #[must_use]
-    pub fn with_max_points(mut self, max_points: u64) -> Self {
-        self.max_points = max_points;
-        self
-    }
-
-    /// Samples `domain` with exclusion radius `radius(p)`.
-    ///
-    /// # Errors
-    /// [`SamplingError::RadiusOutOfRange`] when `radius` leaves `[r_min, r_max]` (or is NaN) at a
-    /// candidate, or as [`PoissonDisc::sample`].
-    pub fn sample<D: Domain + ?Sized>(
-        &self,
-        domain: &D,
-        radius: impl Fn(DVec2) -> f64,
-    ) -> Result<VariableSamples, SamplingError> {
-        let cell = self.r_min / SQRT_2;
-        let reach = (self.r_max / cell).ceil() as usize;
-        let spacing = VariableSpacing { r_min: self.r_min, r_max: self.r_max, reach: reach as isize, radius };
-        let run = Run { seed: self.seed, attempts: self.attempts, max_points: self.max_points };
-        let (points, radii) = run.execute(domain, &spacing, self.r_min, self.r_max, reach)?;
-        Ok(VariableSamples { points, radii })
-    }
-}
-
-/// The spacing rule: which radius a new sample gets and whether it conflicts with the grid.
-trait Spacing {
-    /// Whether per-point radii must be stored.
-    const VARIABLE: bool;
-    /// A candidate in direction `u` from parent `p` (radius `rp`), with its own radius.
-    fn candidate(&self, p: DVec2, rp: f64, u: DVec2) -> Result<(DVec2, f64), SamplingError>;
-    /// The radius of a sample at `q`.
-    fn radius_at(&self, q: DVec2) -> Result<f64, SamplingError>;
-    /// Whether `q` (radius `rq`) is far enough from every stored sample.
-    fn is_free(&self, grid: &Grid, q: DVec2, rq: f64) -> bool;
-}
-
-struct FixedSpacing {
-    r2: f64,
-    ring: f64,
-}
-
-impl Spacing for FixedSpacing {
-    const VARIABLE: bool = false;
-
-    #[inline]
-    fn candidate(&self, p: DVec2, _rp: f64, u: DVec2) -> Result<(DVec2, f64), SamplingError> {
-        Ok((p + self.ring * u, 0.0))
-    }
-
-    #[inline]
-    fn radius_at(&self, _q: DVec2) -> Result<f64, SamplingError> {
-        Ok(0.0)
-    }
-
-    #[inline]
-    fn is_free(&self, grid: &Grid, q: DVec2, _rq: f64) -> bool {
-        // A conflicting sample lies within r = cell·√2, i.e. in the 5×5 cells around q's cell. Each
-        // row of 5 is one contiguous slice tested without branches (the corner cells can never
-        // conflict, but testing them is cheaper than skipping them); empty cells hold NaN, whose
-        // comparison is false. Centre row first: that is where conflicts usually are.
-        let k = grid.cell_of(q);
-        [2usize, 1, 3, 0, 4].iter().all(|&row| {
-            let start = k + row * grid.stride - 2 * grid.stride - 2;
-            let cells: &[DVec2; 5] = grid.points[start..start + 5].try_into().expect("slice of 5");
-            !cells.iter().fold(false, |hit, p| hit | ((*p - q).length_squared() < self.r2))
-        })
-    }
-}
-
-struct VariableSpacing<F> {
-    r_min: f64,
-    r_max: f64,
-    reach: isize,
-    radius: F,
-}
-
-impl<F: Fn(DVec2) -> f64> Spacing for VariableSpacing<F> {
-    const VARIABLE: bool = true;
-
-    fn candidate(&self, p: DVec2, rp: f64, u: DVec2) -> Result<(DVec2, f64), SamplingError> {
-        // Step out far enough for both the parent's radius and the radius found out there.
-        let probe = self.radius_at(p + rp * RING_SLACK * u)?;
-        let q = p + rp.max(probe) * RING_SLACK * u;
-        Ok((q, self.radius_at(q)?))
-    }
-
-    fn radius_at(&self, q: DVec2) -> Result<f64, SamplingError> {
-        let r = (self.radius)(q);
-        if r >= self.r_min && r <= self.r_max {
-            Ok(r)
-        } else {
-            Err(SamplingError::RadiusOutOfRange { at: q, value: r, min: self.r_min, max: self.r_max })
-        }
-    }
-
-    fn is_free(&self, grid: &Grid, q: DVec2, rq: f64) -> bool {
-        let k = grid.cell_of(q);
-        for dy in -self.reach..=self.reach {
-            let row = k.wrapping_add_signed(dy * grid.stride as isize);
-            for dx in -self.reach..=self.reach {
-                let c = row.wrapping_add_signed(dx);
-                let d2 = (grid.points[c] - q).length_squared();
-                let r = rq.max(grid.radii[c]);
-                if d2 < r * r {
-                    return false;
-                }
-            }
-        }
-        true
-    }
-}
-
-/// Background grid with cells of `r_min/√2` (so each holds at most one sample), padded by `pad`
-/// cells on every side so neighbourhood scans need no bounds checks.
+/// Background grid with cells of `r/√2` (so each holds at most one sample), padded by [`PAD`]
+/// cells on every side so neighbourhood scans need no bounds checks. Empty cells hold NaN.
 struct Grid {
     origin: DVec2,
     inv_cell: f64,
     stride: usize,
     points: Vec<DVec2>,
-    radii: Vec<f64>,
 }
 
 impl Grid {
-    /// An empty grid over `bounds` with cells of `cell`, refusing sizes beyond the point budget.
-    fn new(
-        bounds: Rect,
-        cell: f64,
-        pad: usize,
-        variable: bool,
-        budget: &Budget,
-    ) -> Result<(Self, usize, usize), SamplingError> {
+    /// An empty grid over `bounds` with cells of `cell`, refusing sizes beyond the point budget;
+    /// with its unpadded width and height in cells.
+    fn new(bounds: Rect, cell: f64, budget: &Budget) -> Result<(Self, usize, usize), SamplingError> {
         let size = bounds.size();
         let (w, h) = ((size.x / cell).floor() + 1.0, (size.y / cell).floor() + 1.0);
-        let padded = (w + 2.0 * pad as f64) * (h + 2.0 * pad as f64);
+        let padded = (w + 2.0 * PAD as f64) * (h + 2.0 * PAD as f64);
         if padded > 4.0 * budget.max_points as f64 + f64::from(1u32 << 20) {
-            return Err(budget.exceeded((DENSITY * size.x * size.y / (budget.r_max * budget.r_max)).ceil() as u64));
+            return Err(budget.exceeded((DENSITY * size.x * size.y / (budget.radius * budget.radius)).ceil() as u64));
         }
         let (w, h) = (w as usize, h as usize);
-        let stride = w + 2 * pad;
-        let cells = stride * (h + 2 * pad);
+        let stride = w + 2 * PAD;
+        let cells = stride * (h + 2 * PAD);
         let grid = Grid {
-            origin: bounds.min - DVec2::splat(pad as f64 * cell),
+            origin: bounds.min - DVec2::splat(PAD as f64 * cell),
             inv_cell: 1.0 / cell,
             stride,
             points: vec![DVec2::NAN; cells],
-            radii: if variable { vec![0.0; cells] } else { Vec::new() },
         };
         Ok((grid, w, h))
     }
@@ -378,35 +216,41 @@ impl Grid {
         g.y as usize * self.stride + g.x as usize
     }
 
-    /// The stored samples (and radii, if variable) in row-major cell order.
-    fn into_samples(self, count: usize) -> (Vec<DVec2>, Vec<f64>) {
-        let variable = !self.radii.is_empty();
+    /// Whether `q` is at least `r` from every stored sample (`r2 = r²`).
+    ///
+    /// A conflicting sample lies in the 5×5 cells around q's cell. Each row of 5 is one contiguous
+    /// slice tested without branches (the corner cells can never conflict, but testing them is
+    /// cheaper than skipping them); empty cells hold NaN, whose comparison is false. Centre row
+    /// first: that is where conflicts usually are.
+    #[inline]
+    fn is_free(&self, q: DVec2, r2: f64) -> bool {
+        let k = self.cell_of(q);
+        [2usize, 1, 3, 0, 4].iter().all(|&row| {
+            let start = k + row * self.stride - PAD * self.stride - PAD;
+            let cells: &[DVec2; 5] = self.points[start..start + 5].try_into().expect("slice of 5");
+            !cells.iter().fold(false, |hit, p| hit | ((*p - q).length_squared() < r2))
+        })
+    }
+
+    /// The stored samples in row-major cell order.
+    fn into_samples(self, count: usize) -> Vec<DVec2> {
         let mut points = Vec::with_capacity(count);
-        let mut radii = Vec::with_capacity(if variable { count } else { 0 });
-        for (k, p) in self.points.iter().enumerate() {
-            if !p.is_nan() {
-                points.push(*p);
-                if variable {
-                    radii.push(self.radii[k]);
-                }
-            }
-        }
-        (points, radii)
+        points.extend(self.points.into_iter().filter(|p| !p.is_nan()));
+        points
     }
 }
 
 /// The point budget of a run, and what to report when it is exceeded.
 struct Budget {
     max_points: u64,
-    r_min: f64,
-    r_max: f64,
+    radius: f64,
     size: DVec2,
 }
 
 impl Budget {
     fn exceeded(&self, estimated: u64) -> SamplingError {
         SamplingError::TooManyPoints {
-            radius: self.r_min,
+            radius: self.radius,
             width: self.size.x,
             height: self.size.y,
             estimated,
@@ -415,98 +259,134 @@ impl Budget {
     }
 }
 
-struct Run {
-    seed: u64,
-    attempts: u32,
-    max_points: u64,
+/// One sampling run: the domain, the background grid, the generator and the active list, shared
+/// by the stages of [`Run::execute`].
+struct Run<'d, D: ?Sized> {
+    domain: &'d D,
+    bounds: Rect,
+    /// Side of a background cell, `r/√2`.
+    cell: f64,
+    grid: Grid,
+    /// Unpadded grid size in cells.
+    w: usize,
+    h: usize,
+    /// `r²`: samples closer than this conflict.
+    r2: f64,
+    /// Distance from a sample to its candidates, a hair over `r`.
+    ring: f64,
+    /// Candidate directions, evenly spaced on the unit circle (rotated at random per sample).
+    dirs: Vec<DVec2>,
+    /// Directions to skip after an accepted candidate (its next siblings are certain to conflict).
+    skip: usize,
+    rng: ChaCha8Rng,
+    /// Accepted samples not expanded yet.
+    active: Vec<DVec2>,
+    count: u64,
+    budget: Budget,
 }
 
-impl Run {
-    fn execute<D: Domain + ?Sized, S: Spacing>(
-        &self,
-        domain: &D,
-        spacing: &S,
-        r_min: f64,
-        r_max: f64,
-        pad: usize,
-    ) -> Result<(Vec<DVec2>, Vec<f64>), SamplingError> {
+impl<'d, D: Domain + ?Sized> Run<'d, D> {
+    /// A run of `sampler` over `domain`: checks the domain's bounds and allocates the grid.
+    fn new(sampler: &PoissonDisc, domain: &'d D) -> Result<Self, SamplingError> {
         let bounds = domain.bounds();
         let size = bounds.size();
         if !(bounds.min.is_finite() && bounds.max.is_finite() && size.x >= 0.0 && size.y >= 0.0) {
             return Err(SamplingError::InvalidBounds { min: bounds.min, max: bounds.max });
         }
-        let budget = Budget { max_points: self.max_points, r_min, r_max, size };
-        let cell = r_min / SQRT_2;
-        let (mut grid, w, h) = Grid::new(bounds, cell, pad, S::VARIABLE, &budget)?;
-        let stride = grid.stride;
-        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
-        let dirs: Vec<DVec2> = (0..self.attempts)
-            .map(|k| {
-                let t = TAU * f64::from(k) / f64::from(self.attempts);
+        let r = sampler.radius;
+        let budget = Budget { max_points: sampler.max_points, radius: r, size };
+        let cell = r / SQRT_2;
+        let (grid, w, h) = Grid::new(bounds, cell, &budget)?;
+        let k = f64::from(sampler.attempts);
+        let dirs = (0..sampler.attempts)
+            .map(|m| {
+                let t = TAU * f64::from(m) / k;
                 DVec2::new(t.cos(), t.sin())
             })
             .collect();
         // Candidates closer to an accepted sibling than the radius (chord 2ρ·sin(mπ/k) < r) are
-        // certain to fail: skip them. Only valid when every sample shares one radius.
-        let skip = if S::VARIABLE {
-            0
-        } else {
-            let k = f64::from(self.attempts);
-            (1..self.attempts)
-                .take_while(|&m| 2.0 * RING_SLACK * (f64::from(m) * std::f64::consts::PI / k).sin() < 1.0)
-                .count()
-        };
-        let mut active: Vec<(DVec2, f64)> = Vec::new();
-        let mut count = 0u64;
-        let mut accept = |grid: &mut Grid, q: DVec2, rq: f64| -> Result<(), SamplingError> {
-            count += 1;
-            if count > self.max_points {
-                return Err(budget.exceeded(count));
-            }
-            let k = grid.cell_of(q);
-            grid.points[k] = q;
-            if S::VARIABLE {
-                grid.radii[k] = rq;
-            }
-            Ok(())
-        };
-        // The gap-filling scan seeds every component and plugs holes the growth left: an empty
-        // cell tries a random point, then its centre.
-        for cj in 0..h {
-            for ci in 0..w {
-                let k = (cj + pad) * stride + ci + pad;
-                if !grid.points[k].is_nan() {
+        // certain to fail: skip them.
+        let skip =
+            (1..sampler.attempts).take_while(|&m| 2.0 * RING_SLACK * (f64::from(m) * PI / k).sin() < 1.0).count();
+        Ok(Self {
+            domain,
+            bounds,
+            cell,
+            grid,
+            w,
+            h,
+            r2: r * r,
+            ring: r * RING_SLACK,
+            dirs,
+            skip,
+            rng: ChaCha8Rng::seed_from_u64(sampler.seed),
+            active: Vec::new(),
+            count: 0,
+            budget,
+        })
+    }
+
+    /// The gap-filling scan over the background grid: every cell still empty tries a seed, and
+    /// each seed grows until no sample can expand further. This seeds every connected component
+    /// and plugs any hole the growth left.
+    fn execute(mut self) -> Result<Vec<DVec2>, SamplingError> {
+        let stride = self.grid.stride;
+        for cj in 0..self.h {
+            for ci in 0..self.w {
+                if !self.grid.points[(cj + PAD) * stride + ci + PAD].is_nan() {
                     continue;
                 }
-                let corner = bounds.min + DVec2::new(ci as f64, cj as f64) * cell;
-                let random = corner + DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * cell;
-                for q in [random, corner + DVec2::splat(0.5 * cell)] {
-                    let q = q.min(bounds.max);
-                    let rq = spacing.radius_at(q)?;
-                    if spacing.is_free(&grid, q, rq) && domain.contains(q) {
-                        accept(&mut grid, q, rq)?;
-                        active.push((q, rq));
-                        break;
-                    }
-                }
-                // Grow from the new seed until no sample can expand further.
-                while !active.is_empty() {
-                    let (p, rp) = active.swap_remove(rng.random_range(0..active.len()));
-                    let (s, c) = (rng.random::<f64>() * TAU).sin_cos();
-                    let rot = DVec2::new(c, s);
-                    let mut j = 0;
-                    while j < dirs.len() {
-                        let (q, rq) = spacing.candidate(p, rp, rot.rotate(dirs[j]))?;
-                        j += 1;
-                        if bounds.contains(q) && spacing.is_free(&grid, q, rq) && domain.contains(q) {
-                            accept(&mut grid, q, rq)?;
-                            active.push((q, rq));
-                            j += skip;
-                        }
-                    }
+                self.seed_cell(ci, cj)?;
+                self.grow()?;
+            }
+        }
+        Ok(self.grid.into_samples(self.count as usize))
+    }
+
+    /// Tries to seed the empty cell `(ci, cj)`: a random point in it, then its centre.
+    fn seed_cell(&mut self, ci: usize, cj: usize) -> Result<(), SamplingError> {
+        let corner = self.bounds.min + DVec2::new(ci as f64, cj as f64) * self.cell;
+        let random = corner + DVec2::new(self.rng.random::<f64>(), self.rng.random::<f64>()) * self.cell;
+        for q in [random, corner + DVec2::splat(0.5 * self.cell)] {
+            let q = q.min(self.bounds.max);
+            if self.grid.is_free(q, self.r2) && self.domain.contains(q) {
+                return self.accept(q);
+            }
+        }
+        Ok(())
+    }
+
+    /// Bridson growth with circle-boundary candidates: expands a random active sample once, with
+    /// `attempts` candidates on its circle under a random rotation, until none is left.
+    fn grow(&mut self) -> Result<(), SamplingError> {
+        while !self.active.is_empty() {
+            let pick = self.rng.random_range(0..self.active.len());
+            let p = self.active.swap_remove(pick);
+            let (s, c) = (self.rng.random::<f64>() * TAU).sin_cos();
+            let rot = DVec2::new(c, s);
+            let mut j = 0;
+            while j < self.dirs.len() {
+                let q = p + self.ring * rot.rotate(self.dirs[j]);
+                j += 1;
+                if self.bounds.contains(q) && self.grid.is_free(q, self.r2) && self.domain.contains(q) {
+                    self.accept(q)?;
+                    j += self.skip;
                 }
             }
         }
-        Ok(grid.into_samples(count as usize))
+        Ok(())
+    }
+
+    /// Stores `q` and makes it active, failing once the run exceeds its point budget.
+    #[inline]
+    fn accept(&mut self, q: DVec2) -> Result<(), SamplingError> {
+        self.count += 1;
+        if self.count > self.budget.max_points {
+            return Err(self.budget.exceeded(self.count));
+        }
+        let k = self.grid.cell_of(q);
+        self.grid.points[k] = q;
+        self.active.push(q);
+        Ok(())
     }
 }

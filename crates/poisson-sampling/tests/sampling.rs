@@ -1,4 +1,4 @@
-//! Properties of the Poisson-disc samplers: spacing, containment, coverage (maximality), determinism.
+//! Properties of the Poisson-disc sampler: spacing, containment, coverage (maximality), determinism.
 
 mod common;
 
@@ -6,8 +6,7 @@ use common::{PointIndex, closest_pair, polygon_with_holes, probe_points};
 use glam::DVec2;
 use proptest::prelude::*;
 use relief_poisson_sampling::{
-    DENSITY, Domain, ExtendedDomain, FnDomain, PoissonDisc, Polygon, PolygonSet, Rect, SamplingError,
-    VariablePoissonDisc, radius_for_count,
+    DENSITY, Domain, ExtendedDomain, FnDomain, PoissonDisc, Polygon, PolygonSet, Rect, SamplingError, radius_for_count,
 };
 
 /// Asserts the three guarantees of a fixed-radius set over `domain`.
@@ -100,7 +99,6 @@ fn bad_parameters_are_typed_errors() {
     let sampler = PoissonDisc::new(0.1).unwrap();
     assert!(matches!(sampler.sample_extended(&set, -1.0), Err(SamplingError::InvalidMargin { .. })));
     assert!(matches!(sampler.sample_extended(&PolygonSet::new(vec![]), 1.0), Err(SamplingError::InvalidBounds { .. })));
-    assert!(matches!(VariablePoissonDisc::new(2.0, 1.0), Err(SamplingError::InvalidRadiusRange { .. })));
 }
 
 #[test]
@@ -114,39 +112,6 @@ fn point_budget_is_enforced_before_allocating() {
     let rect = Rect::new(DVec2::ZERO, DVec2::splat(100.0));
     let err = PoissonDisc::new(1.0).unwrap().with_max_points(100).sample(&rect).unwrap_err();
     assert!(matches!(err, SamplingError::TooManyPoints { limit: 100, .. }), "{err}");
-}
-
-#[test]
-fn variable_radius_keeps_every_sample_outside_every_disc() {
-    let rect = Rect::new(DVec2::ZERO, DVec2::new(60.0, 40.0));
-    // Dense on the left, sparse on the right.
-    let radius = |p: DVec2| 0.5 + 1.5 * (p.x / 60.0).clamp(0.0, 1.0);
-    let s = VariablePoissonDisc::new(0.5, 2.0).unwrap().with_seed(9).sample(&rect, radius).unwrap();
-    assert_eq!(s.points.len(), s.radii.len());
-    for (k, (&p, &r)) in s.points.iter().zip(&s.radii).enumerate() {
-        assert!(rect.contains(p));
-        assert_eq!(r, radius(p));
-        for (&q, &rq) in s.points.iter().zip(&s.radii).skip(k + 1) {
-            assert!(p.distance(q) >= r.max(rq), "{p} and {q} violate max(r) spacing");
-        }
-    }
-    let left = s.points.iter().filter(|p| p.x < 15.0).count();
-    let right = s.points.iter().filter(|p| p.x > 45.0).count();
-    assert!(left > 4 * right, "density does not follow the radius: {left} vs {right}");
-    // Coverage: every probe has a sample within 2·r(probe)·1.5 (the radius varies by < 5 % over it).
-    let index = PointIndex::new(&s.points, 2.0);
-    for q in probe_points(&rect, 0.7, |_| true) {
-        assert!(index.any_within(q, 3.2 * radius(q)), "gap at {q}");
-    }
-}
-
-#[test]
-fn variable_radius_outside_its_range_is_an_error() {
-    let rect = Rect::new(DVec2::ZERO, DVec2::splat(10.0));
-    let sampler = VariablePoissonDisc::new(0.5, 1.0).unwrap();
-    let err = sampler.sample(&rect, |p| if p.x > 5.0 { 3.0 } else { 0.7 }).unwrap_err();
-    assert!(matches!(err, SamplingError::RadiusOutOfRange { value: 3.0, .. }), "{err}");
-    assert!(matches!(sampler.sample(&rect, |_| f64::NAN), Err(SamplingError::RadiusOutOfRange { .. })));
 }
 
 #[test]

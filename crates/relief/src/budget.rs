@@ -3,11 +3,9 @@
 //! allocate it. Scene files are untrusted input; the budget belongs to whoever runs them (the
 //! CLI's `--max-cells`, `--max-particles`, `--max-primitives` and `--max-peaks`).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::ReliefError;
-use crate::heightfield::Heightfield;
-use crate::io::{IoError, Limits, ReadOptions};
 use crate::scene::{GaussianSource, Generator, Scene};
 
 /// Caps on what generating one scene may allocate.
@@ -80,8 +78,8 @@ impl Budget {
                 }
             }
             Generator::Gaussian(g) => match &g.source {
-                GaussianSource::Primitives { primitives, .. } => {
-                    self.primitives(primitives.len() as u64, "generator.gaussian.source.primitives")?;
+                GaussianSource::Primitives(terrain) => {
+                    self.primitives(terrain.len() as u64, "generator.gaussian.source.primitives")?;
                 }
                 GaussianSource::Dem { primitives, resolution, .. } => {
                     self.primitives(*primitives as u64, "generator.gaussian.source.primitives")?;
@@ -141,33 +139,6 @@ fn over(requested: u64, limit: u64, what: &'static str, at: &str) -> Result<(), 
         return Err(ReliefError::OverBudget { path: at.to_owned(), what, requested, limit });
     }
     Ok(())
-}
-
-/// Where a scene's relative paths resolve, and the budget its inputs are read under.
-pub(crate) struct Env<'a> {
-    pub(crate) dir: &'a Path,
-    pub(crate) budget: Budget,
-}
-
-impl Env<'_> {
-    /// `path` resolved against the scene's directory.
-    pub(crate) fn join(&self, path: &Path) -> PathBuf {
-        self.dir.join(path)
-    }
-
-    fn options(&self) -> ReadOptions {
-        ReadOptions::default().with_limits(Limits::default().with_max_cells(self.budget.max_cells))
-    }
-
-    /// Reads a heightfield, refusing one over the cell budget before decoding it.
-    pub(crate) fn read(&self, path: &Path) -> Result<Heightfield, IoError> {
-        crate::io::read_with(self.join(path), &self.options())
-    }
-
-    /// Reads an image as gray levels (see [`crate::io::read_gray_image`]) under the cell budget.
-    pub(crate) fn read_gray(&self, path: &Path) -> Result<Heightfield, IoError> {
-        crate::io::read_gray_image(self.join(path), &self.options())
-    }
 }
 
 /// Largest JSON input read (scene, vector terrain, atlas, descriptor, divide tree): 1 GiB, room for

@@ -1,3 +1,13 @@
+//! Errors of the facade, and the one place where a library error gets its scene location.
+//!
+//! **Convention.** A library error that concerns one element of its input says which, as
+//! structured fields, and its `location()` turns them into a JSON path relative to the value the
+//! library was given, using the library types' own field names (`curves[3].constraints[1].slope.theta`,
+//! `regions[2].polygon`, `radius`). Since scenes embed the library types, that path continues the
+//! scene path of the value: [`ReliefError::located`] joins the two, whatever the error, and keeps
+//! the library error as the source.
+
+use std::error::Error;
 use std::path::PathBuf;
 
 use thiserror::Error;
@@ -6,14 +16,19 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum ReliefError {
-    /// The scene is malformed; `path` is the JSON path of the offending value
-    /// (e.g. `generator.contours.regions[2].polygon`).
-    #[error("{}: {message}", if path.is_empty() { "scene" } else { path.as_str() })]
+    /// The scene is malformed or a value in it is invalid. `path` is the JSON path of the
+    /// offending value (`generator.diffusion.curves[3].constraints[1].slope.theta`; empty for the
+    /// whole document); `source` says why: the `serde_json::Error` (with line and column) of JSON
+    /// that does not parse or does not fit the format, the library's own error for a value a
+    /// library refused, a [`SceneError`] for a rule of the scene format, or the I/O error of an
+    /// input file.
+    #[error("{}: {source}", if path.is_empty() { "scene" } else { path.as_str() })]
     Scene {
         /// JSON path of the offending value (empty for the whole document).
         path: String,
         /// What is wrong.
-        message: String,
+        #[source]
+        source: Box<dyn Error + Send + Sync>,
     },
     /// A file could not be read or written.
     #[error(transparent)]
@@ -24,6 +39,7 @@ pub enum ReliefError {
         /// The file.
         path: PathBuf,
         /// The failure.
+        #[source]
         source: std::io::Error,
     },
     /// The scene asks for more than the [`crate::Budget`] allows; `path` is the JSON path of the
@@ -42,23 +58,146 @@ pub enum ReliefError {
         limit: u64,
     },
     /// A step of the pipeline failed on valid input (a bug or an exhausted resource).
-    #[error("{step}: {message}")]
+    #[error("{step}: {source}")]
     Pipeline {
         /// The step.
         step: &'static str,
         /// What happened.
-        message: String,
+        #[source]
+        source: Box<dyn Error + Send + Sync>,
     },
 }
 
 impl ReliefError {
-    /// A scene error at `path`.
-    pub fn scene(path: impl Into<String>, message: impl std::fmt::Display) -> Self {
-        Self::Scene { path: path.into(), message: message.to_string() }
+    /// A scene error at `path`, caused by `source`.
+    pub(crate) fn at(path: impl Into<String>, source: impl Into<Box<dyn Error + Send + Sync>>) -> Self {
+        Self::Scene { path: path.into(), source: source.into() }
     }
 
-    /// A pipeline error in `step`.
-    pub fn pipeline(step: &'static str, message: impl std::fmt::Display) -> Self {
-        Self::Pipeline { step, message: message.to_string() }
+    /// A scene error for a library error about the value at `prefix`: the path is `prefix`
+    /// continued by the error's own [`Located::location`].
+    pub(crate) fn located<E: Located>(prefix: &str, error: E) -> Self {
+        let path = match error.location() {
+            rel if rel.is_empty() => prefix.to_owned(),
+            rel if prefix.is_empty() => rel,
+            rel => format!("{prefix}.{rel}"),
+        };
+        Self::at(path, error)
+    }
+
+    /// A failure of pipeline step `step`.
+    pub(crate) fn step(step: &'static str, source: impl Into<Box<dyn Error + Send + Sync>>) -> Self {
+        Self::Pipeline { step, source: source.into() }
+    }
+
+    /// The JSON path of the offending scene value, for scene and budget errors.
+    pub fn scene_path(&self) -> Option<&str> {
+        match self {
+            Self::Scene { path, .. } | Self::OverBudget { path, .. } => Some(path),
+            _ => None,
+        }
     }
 }
+
+/// A rule of the scene format (rather than of a library) that a scene breaks.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// The scene's `version` is not one this build reads.
+    #[error("version {found} is not supported (this build reads {supported})")]
+    UnsupportedVersion {
+        /// The version found.
+        found: u32,
+        /// The version read.
+        supported: u32,
+    },
+    /// Two alternatives were both given.
+    #[error("give `{0}` or `{1}`, not both")]
+    Conflict(&'static str, &'static str),
+    /// Something required is missing.
+    #[error("give {0}")]
+    Missing(&'static str),
+    /// A value is out of its range.
+    #[error("{value} {rule}")]
+    OutOfRange {
+        /// The value, as written.
+        value: String,
+        /// What it must be.
+        rule: &'static str,
+    },
+    /// A raster size is outside what a scene may ask for.
+    #[error("{nx} x {ny}: each side must be in 2..={max}")]
+    Resolution {
+        /// Samples along x.
+        nx: usize,
+        /// Samples along y.
+        ny: usize,
+        /// Largest side.
+        max: usize,
+    },
+    /// An output file's extension names no heightfield format.
+    #[error("{}: unknown extension (use .exr, .png, .r16, .r32, .asc, .tif or .hgt)", path.display())]
+    UnknownExtension {
+        /// The output path.
+        path: PathBuf,
+    },
+    /// The generator needs an explicit `domain`.
+    #[error("an {0} scene needs a domain in metres")]
+    NeedsDomain(&'static str),
+    /// A JSON input file (a vector terrain, atlas or descriptor) could not be read or parsed.
+    #[error("{}: {source}", file.display())]
+    JsonFile {
+        /// The file.
+        file: PathBuf,
+        /// Why.
+        #[source]
+        source: Box<dyn Error + Send + Sync>,
+    },
+}
+
+/// A library error that knows which element of its input it is about (see the module docs).
+pub(crate) trait Located: Error + Send + Sync + 'static {
+    /// JSON path of the offending value relative to the value the library was given; empty when
+    /// the error concerns that value as a whole.
+    fn location(&self) -> String;
+}
+
+/// Every library error with a `location()` of its own.
+macro_rules! located {
+    ($($error:ty),* $(,)?) => {$(
+        impl Located for $error {
+            fn location(&self) -> String {
+                <$error>::location(self)
+            }
+        }
+    )*};
+}
+
+located!(
+    crate::contours::ContoursError,
+    crate::diffusion::DiffusionError,
+    crate::eden_growth::EdenError,
+    crate::hydrology::HydrologyError,
+    crate::island::IslandError,
+    crate::warp::WarpError,
+);
+
+/// Errors about a value as a whole (no finer location).
+macro_rules! whole {
+    ($($error:ty),* $(,)?) => {$(
+        impl Located for $error {
+            fn location(&self) -> String {
+                String::new()
+            }
+        }
+    )*};
+}
+
+whole!(
+    crate::gaussian_terrain::GaussianError,
+    crate::heightfield::HeightfieldError,
+    crate::io::IoError,
+    crate::orometry::OrometryError,
+    crate::poisson_sampling::PolygonError,
+    SceneError,
+);

@@ -30,7 +30,7 @@ pub fn read(bytes: &[u8], format: Format) -> Result<Heightfield, IoError> {
 /// # Errors
 /// [`ReliefError::Scene`] for text that is not UTF-8 or not a valid scene.
 pub fn scene_json(bytes: &[u8]) -> Result<Scene, ReliefError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| ReliefError::scene("", e))?;
+    let text = std::str::from_utf8(bytes).map_err(|e| ReliefError::at("", e))?;
     Scene::from_json(text)
 }
 
@@ -41,12 +41,12 @@ pub fn scene_json(bytes: &[u8]) -> Result<Scene, ReliefError> {
 /// [`ReliefError::Scene`] at `label_image` wrapping the [`EdenError`]: a map that is not a label
 /// map, or a level that holds no node.
 pub fn label_image(bytes: &[u8]) -> Result<Graph, ReliefError> {
-    let fail = |e: EdenError| ReliefError::scene("label_image", e);
+    let fail = |e: EdenError| ReliefError::at("label_image", e);
     let (nx, ny, rest) = match bytes {
         [a, b, rest @ ..] => (usize::from(a % 48) + 1, usize::from(b % 48) + 1, rest),
         _ => (1, 1, &[][..]),
     };
-    let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).map_err(|e| ReliefError::scene("label_image", e))?;
+    let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).map_err(|e| ReliefError::at("label_image", e))?;
     let values: Vec<f32> = (0..nx * ny).map(|k| f32::from(rest.get(k).copied().unwrap_or(0)) / 255.0).collect();
     let labels =
         LabelMap::from_values(grid, &values).map_err(fail)?.with_depressions(rest.first().is_some_and(|v| v & 1 == 1));
@@ -70,7 +70,7 @@ pub fn polygon_regions(bytes: &[u8]) -> Result<Graph, ReliefError> {
         let ring: Vec<DVec2> =
             (0..n).map_while(|_| Some(DVec2::new(f64::from(bytes.next()?), f64::from(bytes.next()?)))).collect();
         let polygon = Polygon::from_exterior(ring)
-            .map_err(|e| ReliefError::scene(format!("regions[{}].polygon", regions.len()), e))?;
+            .map_err(|e| ReliefError::at(format!("regions[{}].polygon", regions.len()), e))?;
         let mut region = Region::new(polygon);
         if head & 0x80 != 0 {
             region = region.as_depression();
@@ -80,6 +80,6 @@ pub fn polygon_regions(bytes: &[u8]) -> Result<Graph, ReliefError> {
         }
         regions.push(region);
     }
-    let fail = |e: EdenError| ReliefError::scene("regions", e);
+    let fail = |e: EdenError| ReliefError::at("regions", e);
     Graph::from_regions(&RegionTree::new(regions).map_err(fail)?, &GraphOptions::particles(64)).map_err(fail)
 }

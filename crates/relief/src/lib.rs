@@ -2,19 +2,30 @@
 //! divide trees — into real terrain. This facade re-exports every relief crate under one name, so
 //! an application depends on `relief` alone (each crate can also be used on its own), and adds what
 //! composes them: the versioned JSON [`scene`] format, the [`pipeline`] that runs a scene end to end
-//! with progress and a run summary, and [`export`] of contours as GeoJSON and SVG.
+//! with progress and a run summary, resource [`budget`]s, and [`export`] of contours and divide
+//! trees as GeoJSON, SVG and CSV.
 //!
 //! | module | crate | what it does |
 //! |---|---|---|
 //! | [`heightfield`] | `relief-heightfield` | the shared grid type, sampling, gradients, noise, distance transform, depression filling |
-//! | [`poisson_sampling`] | `relief-poisson-sampling` | blue-noise points in polygons and extended domains |
+//! | [`poisson_sampling`] | `relief-poisson-sampling` | blue-noise points in polygons and extended domains, polygons and exact predicates |
 //! | [`tin`] | `relief-tin` | Delaunay TINs as flat arrays, location, interpolation, rasterization |
 //! | [`io`] | `relief-heightfield-io` | PNG/EXR/RAW/ASC/HGT/GeoTIFF heightfields and shaded previews |
 //! | [`eden_growth`] | `relief-eden-growth` | inward Open Eden Growth: region trees, label maps, probability maps |
-//! | [`contours`] | `relief-contours` | histogram heights, contour extraction, nesting, smoothing, reconstruction |
+//! | [`contours`] | `relief-contours` | histogram heights, contour levels and extraction, nesting, smoothing, reconstruction |
 //! | [`warp`] | `relief-warp` | bijective coherent warps and slope modulation |
-//! | [`hydrology`] | `relief-hydrology` | closed basins, the endorheic check, drainage, Strahler order, erosion, descriptors |
+//! | [`hydrology`] | `relief-hydrology` | closed basins, the endorheic check, drainage, Strahler order, erosion, descriptors, earth mover's distance |
 //! | [`diffusion`] | `relief-diffusion-multigrid` | feature curves diffused into terrain (Hnaidi et al. 2010) |
+//! | [`island`] | `relief-island` | sketched islands: coastline strokes, hills, perturbation filters (Puig-Centelles et al.) |
+//! | [`gaussian_terrain`] | `relief-gaussian-terrain` | vector terrains of generalized Gaussians: rasterize, vectorize, tools (Perche et al. 2025) |
+//! | [`orometry`] | `relief-orometry` | prominence, divide trees, orometric descriptors and synthesis (Argudo et al. 2019) |
+//!
+//! Its own items: [`Scene`] (and the rest of [`scene`]), [`pipeline::generate`] / [`pipeline::run`]
+//! with [`Progress`], [`Terrain`] and [`Summary`], [`Budget`], [`ReliefError`] with
+//! [`SceneError`], and [`vector::crest_skeleton`]. Scenes embed the library types themselves (a
+//! feature curve in a scene is a [`diffusion::FeatureCurve`]), so the scene format, the JSON Schema
+//! and the libraries never disagree; an error names the JSON path of the value at fault and keeps
+//! the library's error as its [`std::error::Error::source`].
 //!
 //! A scene is a few nested contours plus a histogram; [`pipeline::generate`] turns it into a
 //! heightfield and its contours:
@@ -71,7 +82,7 @@ pub mod scene;
 pub mod vector;
 
 pub use budget::Budget;
-pub use error::ReliefError;
+pub use error::{ReliefError, SceneError};
 pub use pipeline::{Progress, Summary, Terrain};
 pub use scene::Scene;
 

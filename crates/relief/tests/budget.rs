@@ -69,7 +69,8 @@ fn input_images_over_the_cell_cap_are_refused_by_their_header() {
     v["reconstruction"]["resolution"] = json!([8, 8]);
     let e = refused(&v, Budget::default().with_max_cells(100));
     match &e {
-        ReliefError::Scene { path, message } => {
+        ReliefError::Scene { path, source } => {
+            let message = source.to_string();
             assert_eq!(path, "generator.contours.label_image.path", "{e}");
             assert!(message.contains("100"), "{message}");
         }
@@ -96,7 +97,8 @@ fn particles_are_capped_whether_counted_or_from_a_radius() {
     obj.insert("radius".into(), json!(1.0));
     let e = refused(&v, Budget::default().with_max_particles(5_000));
     match &e {
-        ReliefError::Scene { path, message } => {
+        ReliefError::Scene { path, source } => {
+            let message = source.to_string();
             assert_eq!(path, "generator.contours.radius");
             assert!(message.contains("5000"), "{message}");
         }
@@ -233,7 +235,8 @@ fn source_dems_are_read_under_the_cell_cap() {
             v["generator"]["gaussian"]["source"]["resolution"] = json!(16);
         }
         match &refused(&v, Budget::default().with_max_cells(100_000)) {
-            ReliefError::Scene { path, message } => {
+            ReliefError::Scene { path, source } => {
+                let message = source.to_string();
                 assert!(path.starts_with(at), "{name}: {path}");
                 assert!(message.contains("138632") && message.contains("100000"), "{name}: {message}");
             }

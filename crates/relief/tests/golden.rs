@@ -68,7 +68,10 @@ fn every_fixture_scene_writes_its_golden_bytes() {
     for (name, scene, base) in scenes() {
         hashes(&name, &scene, &base, &mut found);
     }
-    let text: String = found.iter().map(|(k, v)| format!("{v}  {k}\n")).collect();
+    let text = found.iter().fold(String::new(), |mut text, (k, v)| {
+        let _ = writeln!(text, "{v}  {k}");
+        text
+    });
     let path = root().join(GOLDEN);
     if std::env::var_os("RELIEF_BLESS").is_some() {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();

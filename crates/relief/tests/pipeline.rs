@@ -6,14 +6,18 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec2;
 use proptest::prelude::*;
-use relief::contours::{Contour, ContourSet};
+use relief::contours::{Contour, ContourSet, Histogram, Levels, Smoothing};
+use relief::eden_growth::{FbmProbability, Region};
 use relief::heightfield::Heightfield;
-use relief::hydrology::{Outlets, depressions};
+use relief::heightfield::noise::Fbm;
+use relief::hydrology::{Field, Outlets, StreamPower, Thermal, depressions};
 use relief::pipeline::{Progress, generate, run};
+use relief::poisson_sampling::Polygon;
 use relief::scene::{
-    ContoursGenerator, Edit, Generator, HistogramSource, Levels, Outputs, PolygonSpec, PostProcess, Probability,
-    Reconstruction, ReconstructionMode, RegionSpec, Scene,
+    ContoursGenerator, Edit, Generator, HistogramSource, Outputs, PostProcess, Probability, Reconstruction,
+    ReconstructionMode, Scene,
 };
+use relief::warp::{PathOptions, PathWarp, SlopeModulation};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -21,21 +25,38 @@ fn root() -> PathBuf {
 
 /// A star-shaped ring: `n` vertices at radii `r·(0.7 + 0.3·wᵢ)` around `c`.
 fn star(c: [f64; 2], r: f64, wobble: &[f64]) -> Vec<[f64; 2]> {
-    let n = wobble.len();
-    (0..n)
-        .map(|k| {
-            let t = std::f64::consts::TAU * k as f64 / n as f64;
-            let rr = r * (0.7 + 0.3 * wobble[k]);
-            [c[0] + rr * t.cos(), c[1] + rr * t.sin()]
-        })
-        .collect()
+    relief_fixtures::star_ring(DVec2::from(c), r, 0.7, 0.3, wobble).into_iter().map(Into::into).collect()
 }
 
-fn region(exterior: Vec<[f64; 2]>, height: Option<f64>, depression: bool) -> RegionSpec {
-    RegionSpec { polygon: PolygonSpec { exterior, holes: Vec::new() }, height, depression }
+fn region(exterior: Vec<[f64; 2]>, height: Option<f64>, depression: bool) -> Region {
+    let polygon = Polygon::from_exterior(exterior.into_iter().map(DVec2::from).collect()).unwrap();
+    Region { polygon, height, depression }
 }
 
-fn scene(seed: u64, regions: Vec<RegionSpec>, edits: Vec<Edit>, mode: ReconstructionMode, size: usize) -> Scene {
+fn smooth(alpha: f64, k: usize, iterations: u32) -> Edit {
+    Edit::Smooth(Smoothing { alpha, k, iterations })
+}
+
+fn warp(stroke: &[[f64; 2]], radius: f64, strength: f64) -> Edit {
+    let stroke: Vec<DVec2> = stroke.iter().map(|&p| DVec2::from(p)).collect();
+    Edit::Warp(PathWarp::new(&stroke, &PathOptions::new(radius, strength)).unwrap())
+}
+
+fn slope_at(point: [f64; 2], radius: f64, strength: f64) -> Edit {
+    Edit::Slope(SlopeModulation::point(DVec2::from(point), radius, strength).unwrap())
+}
+
+fn slope_along(curve: &[[f64; 2]], radius: f64, strength: f64) -> Edit {
+    let curve: Vec<DVec2> = curve.iter().map(|&p| DVec2::from(p)).collect();
+    Edit::Slope(SlopeModulation::curve(&curve, radius, strength).unwrap())
+}
+
+fn stream_power(iterations: usize, n: f64, dt: f64) -> PostProcess {
+    let erodibility = Field::Uniform(1e-4);
+    PostProcess::StreamPower(StreamPower { iterations, erodibility, n, dt, ..StreamPower::default() })
+}
+
+fn scene(seed: u64, regions: Vec<Region>, edits: Vec<Edit>, mode: ReconstructionMode, size: usize) -> Scene {
     Scene {
         version: 1,
         description: None,
@@ -46,8 +67,13 @@ fn scene(seed: u64, regions: Vec<RegionSpec>, edits: Vec<Edit>, mode: Reconstruc
             label_image: None,
             particles: Some(3_000),
             radius: None,
-            histogram: HistogramSource::Bins { edges: vec![0.0, 100.0, 400.0, 900.0], weights: vec![3.0, 2.0, 1.0] },
-            probability: Probability::Fbm { octaves: 4, frequency: 0.002, lacunarity: 2.0, gain: 0.5, contrast: 2.0 },
+            histogram: HistogramSource::Histogram(
+                Histogram::from_bins(vec![0.0, 100.0, 400.0, 900.0], vec![3.0, 2.0, 1.0]).unwrap(),
+            ),
+            probability: Probability::Fbm(
+                FbmProbability::new(Fbm { octaves: 4, frequency: 0.002, lacunarity: 2.0, gain: 0.5, seed: 0 }, 2.0)
+                    .unwrap(),
+            ),
             levels: Levels::Count(12),
         }),
         edits,
@@ -85,13 +111,13 @@ proptest! {
             region(star([300.0, -200.0], 900.0, &range), None, false),
         ];
         // Random edits: smoothing, a warp stroke anywhere, a slope modulation anywhere.
-        let mut edits = if smooth { vec![Edit::Smooth { alpha: 0.5, k: 2, iterations: 3 }] } else { Vec::new() };
+        let mut edits = if smooth { vec![self::smooth(0.5, 2, 3)] } else { Vec::new() };
         if let Some(((x, y), (angle, length), radius, strength)) = warp {
             let end = [x + length * angle.cos(), y + length * angle.sin()];
-            edits.push(Edit::Warp { stroke: vec![[x, y], end], radius, strength, exponent: 2 });
+            edits.push(self::warp(&[[x, y], end], radius, strength));
         }
         if let Some(((x, y), radius, strength)) = slope {
-            edits.push(Edit::Slope { point: Some([x, y]), curve: None, radius, strength });
+            edits.push(slope_at([x, y], radius, strength));
         }
         let terrain = generate(&scene(seed, regions, edits, ReconstructionMode::Interpolated, 96), &root(), &mut ()).unwrap();
         terrain.contours.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
@@ -100,7 +126,7 @@ proptest! {
         let (fit, graph) = (terrain.summary.histogram_match.as_ref().unwrap(), terrain.summary.graph.as_ref().unwrap());
         prop_assert!(fit.nodes <= 0.5 / graph.inside as f64 + 1e-9);
         prop_assert!(fit.raster < 0.1, "raster KS {}", fit.raster);
-        prop_assert_eq!(closed_basins(&terrain.heightfield, terrain.sea_level as f32, |_| false), 0);
+        prop_assert_eq!(closed_basins(&terrain.heightfield, terrain.sea_level.unwrap() as f32, |_| false), 0);
         prop_assert_eq!(terrain.summary.drainage.closed_basins, 0);
     }
 }
@@ -115,15 +141,10 @@ fn full_scene(mode: ReconstructionMode) -> Scene {
         region(star([-1500.0, 0.0], 300.0, &wobble[5..13]), None, true),
     ];
     let edits = vec![
-        Edit::Smooth { alpha: 0.5, k: 2, iterations: 2 },
-        Edit::Warp { stroke: vec![[1600.0, -300.0], [1700.0, -900.0]], radius: 400.0, strength: 1.0, exponent: 2 },
-        Edit::Slope { point: Some([1600.0, 300.0]), curve: None, radius: 800.0, strength: 1.0 },
-        Edit::Slope {
-            point: None,
-            curve: Some(vec![[-2500.0, -1500.0], [-1500.0, -1800.0], [-500.0, -1500.0]]),
-            radius: 300.0,
-            strength: -0.5,
-        },
+        smooth(0.5, 2, 2),
+        warp(&[[1600.0, -300.0], [1700.0, -900.0]], 400.0, 1.0),
+        slope_at([1600.0, 300.0], 800.0, 1.0),
+        slope_along(&[[-2500.0, -1500.0], [-1500.0, -1800.0], [-500.0, -1500.0]], 300.0, -0.5),
     ];
     scene(9, regions, edits, mode, 128)
 }
@@ -144,7 +165,7 @@ fn every_reconstruction_mode_keeps_the_crater_and_drains_elsewhere() {
         if mode != ReconstructionMode::Stairs {
             // Away from the crater, every land cell drains.
             let crater = |p: DVec2| p.distance(DVec2::new(-1500.0, 0.0)) < 500.0;
-            assert_eq!(closed_basins(dem, terrain.sea_level as f32, crater), 0, "{mode:?}");
+            assert_eq!(closed_basins(dem, terrain.sea_level.unwrap() as f32, crater), 0, "{mode:?}");
             assert!(terrain.summary.drainage.closed_basins >= 1, "{mode:?}: the crater is a closed basin");
         }
     }
@@ -260,8 +281,8 @@ fn erosion_post_processes_carve_the_terrain_and_fill_closes_nothing() {
     let mut scene = full_scene(ReconstructionMode::Interpolated);
     let plain = generate(&scene, &root(), &mut ()).unwrap();
     scene.post = vec![
-        PostProcess::StreamPower { iterations: 10, erodibility: 1e-4, uplift: 0.0, m: 0.4, n: 1.0, dt: 1000.0 },
-        PostProcess::Thermal { talus_deg: 33.0, rate: 0.25, iterations: 10 },
+        stream_power(10, 1.0, 1000.0),
+        PostProcess::Thermal(Thermal { talus_deg: 33.0, rate: 0.25, iterations: 10 }),
     ];
     let eroded = generate(&scene, &root(), &mut ()).unwrap();
     let (a, b) = (plain.heightfield.samples(), eroded.heightfield.samples());
@@ -273,10 +294,9 @@ fn erosion_post_processes_carve_the_terrain_and_fill_closes_nothing() {
     scene.post.push(PostProcess::Fill {});
     let filled = generate(&scene, &root(), &mut ()).unwrap();
     assert_eq!(filled.summary.drainage.closed_basins, 0);
-    assert_eq!(closed_basins(&filled.heightfield, filled.sea_level as f32, |_| false), 0);
+    assert_eq!(closed_basins(&filled.heightfield, filled.sea_level.unwrap() as f32, |_| false), 0);
     // Bad parameters are scene errors at their JSON path.
-    scene.post =
-        vec![PostProcess::StreamPower { iterations: 1, erodibility: 1e-4, uplift: 0.0, m: 0.4, n: -1.0, dt: 1.0 }];
+    scene.post = vec![stream_power(1, -1.0, 1.0)];
     let err = generate(&scene, &root(), &mut ()).unwrap_err();
     assert!(matches!(&err, relief::ReliefError::Scene { path, .. } if path == "post[0].stream_power.n"), "{err}");
 }
@@ -373,7 +393,7 @@ fn island_scenes_replay_identically_and_name_the_failing_operation() {
         h(1900.0, 2000.0),
         h(2600.0, 2000.0)
     );
-    assert!(one.heightfield.samples().iter().all(|&v| v == 0.0 || f64::from(v) > one.sea_level));
+    assert!(one.heightfield.samples().iter().all(|&v| v == 0.0 || f64::from(v) > one.sea_level.unwrap()));
     one.contours.check_invariants().unwrap();
     // A stroke that never reaches the coast fails at its operation's JSON path.
     let Generator::Island(g) = &mut scene.generator else { panic!("an island scene") };

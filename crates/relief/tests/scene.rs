@@ -77,7 +77,7 @@ fn base() -> serde_json::Value {
 fn scene_error(value: &serde_json::Value) -> (String, String) {
     let result = Scene::from_json(&value.to_string()).and_then(|scene| generate(&scene, &root(), &mut ()).map(|_| ()));
     match result {
-        Err(ReliefError::Scene { path, message }) => (path, message),
+        Err(ReliefError::Scene { path, source }) => (path, source.to_string()),
         Err(other) => panic!("expected a scene error, got {other}"),
         Ok(()) => panic!("expected a scene error for {value}"),
     }
@@ -157,7 +157,8 @@ fn out_of_range_values_are_named_with_their_path() {
         (
             "/generator/contours/probability",
             serde_json::json!({ "fbm": { "frequency": -1, "contrast": 2 } }),
-            "generator.contours.probability",
+            // Checked as it is read, so the path names the fBm map itself.
+            "generator.contours.probability.fbm",
             "fBm",
         ),
         ("/domain", serde_json::json!({ "min": [5, 5], "max": [0, 10] }), "domain", "below max"),

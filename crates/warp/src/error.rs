@@ -98,6 +98,9 @@ pub enum WarpError {
         /// The cap.
         max: usize,
     },
+    /// A slope modulation was given both a centre point and a curve, or neither.
+    #[error("give `point` or `curve` (exactly one)")]
+    AmbiguousCentre,
     /// A subdivision tolerance is not finite and positive.
     #[error("tolerance {tolerance} must be finite and > 0")]
     InvalidTolerance {
@@ -114,5 +117,46 @@ pub(crate) fn finite_points(what: &'static str, points: &[DVec2]) -> Result<(), 
     match points.iter().find(|p| !p.is_finite()) {
         Some(p) => Err(WarpError::NonFinite { what, value: if p.x.is_finite() { p.y } else { p.x } }),
         None => Ok(()),
+    }
+}
+
+/// A disc or modulation radius: finite, above 0.
+pub(crate) fn check_radius(radius: f64) -> Result<f64, WarpError> {
+    let radius = finite("radius", radius)?;
+    if radius <= 0.0 {
+        return Err(WarpError::InvalidRadius { radius });
+    }
+    Ok(radius)
+}
+
+/// A path-warp strength: finite, in [0, 1].
+pub(crate) fn check_path_strength(mu: f64) -> Result<f64, WarpError> {
+    let mu = finite("strength", mu)?;
+    if !(0.0..=1.0).contains(&mu) {
+        return Err(WarpError::InvalidStrength { mu, range: "[0, 1]" });
+    }
+    Ok(mu)
+}
+
+impl WarpError {
+    /// Where the offending value is, as a JSON path relative to the warp's JSON form (`radius`,
+    /// `strength`, `stroke`, `exponent`, `segment`); empty when the error concerns the warp as a
+    /// whole or a polyline it was applied to. The `relief` facade prefixes it with the warp's own
+    /// path in the scene.
+    pub fn location(&self) -> String {
+        let field = match self {
+            Self::InvalidRadius { .. } | Self::CurvatureTooHigh { .. } | Self::CurveTooClose { .. } => "radius",
+            Self::InvalidStrength { .. } => "strength",
+            Self::DegenerateStroke { .. } | Self::TooManyDiscs { .. } => "stroke",
+            Self::InvalidProfile { .. } => "exponent",
+            Self::SegmentTooLong { .. } => "segment",
+            Self::NonFinite { what, .. } => match *what {
+                "radius" | "strength" => what,
+                "segment length" => "segment",
+                _ => "",
+            },
+            _ => "",
+        };
+        field.to_owned()
     }
 }

@@ -8,6 +8,12 @@
 //! [`warp_points`], [`warp_polyline`], [`warp_polylines`], [`warp_raster`]. Everything works on
 //! plain `DVec2` data; the `relief` facade applies warps to contour sets and heightfields.
 //!
+//! [`PathWarp`] and [`SlopeModulation`] serialize as the parameters they are built from (the
+//! `warp` and `slope` edits of `relief` scenes: `{ "stroke": …, "radius": r, "strength": μ }`);
+//! deserializing builds them, so a warp read from JSON is valid, and a bad value is named by its
+//! field. The optional `schemars` feature derives those JSON forms' schemas;
+//! [`WarpError::location`] names the field an error is about.
+//!
 //! Bijectivity is enforced, never assumed: a stroke's segment length is chosen from (or checked
 //! against) Appendix B's bound, the slope-modulation strength must lie in (−1, 3), and a curve whose
 //! reach is below the radius is rejected with the offending place named.
@@ -37,6 +43,7 @@
 mod apply;
 mod curve;
 mod error;
+mod json;
 mod path;
 mod profile;
 mod slope;

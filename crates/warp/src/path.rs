@@ -1,6 +1,6 @@
 use glam::DVec2;
 
-use crate::error::{finite, finite_points};
+use crate::error::{check_path_strength, check_radius, finite, finite_points};
 use crate::warp::solve_monotone;
 use crate::{Profile, Warp, WarpError};
 
@@ -38,8 +38,20 @@ impl PathOptions {
 /// monotone along its chords; each fᵢ is inverted exactly by a 1-D monotone solve. By default ε is
 /// half that bound at full strength, which bounds how much any disc compresses space (see
 /// [`PathOptions::segment`]).
+///
+/// In JSON (serde), a path warp is what it was built from: `{ "stroke": [[x, y], …], "radius": r,
+/// "strength": μ, "exponent": k, "segment": ε }` (strength 1, exponent 2 and an automatic segment
+/// by default); deserializing builds and so checks it, naming the offending field. A warp with a
+/// [`Profile::custom`] profile has no JSON form. Two warps are equal when they were built from
+/// equal parameters.
 #[derive(Debug, Clone)]
 pub struct PathWarp {
+    /// The stroke as given.
+    pub(crate) stroke: Vec<DVec2>,
+    /// μ as given.
+    pub(crate) strength: f64,
+    /// The forced ε, if any.
+    pub(crate) forced_segment: Option<f64>,
     centers: Vec<DVec2>,
     dirs: Vec<DVec2>,
     radius: f64,
@@ -80,14 +92,8 @@ impl PathWarp {
     /// stroke would need more than [`MAX_DISCS`] discs.
     pub fn new(stroke: &[DVec2], options: &PathOptions) -> Result<Self, WarpError> {
         let (pts, length) = clean_stroke(stroke)?;
-        let radius = finite("radius", options.radius)?;
-        if radius <= 0.0 {
-            return Err(WarpError::InvalidRadius { radius });
-        }
-        let mu = finite("strength", options.strength)?;
-        if !(0.0..=1.0).contains(&mu) {
-            return Err(WarpError::InvalidStrength { mu, range: "[0, 1]" });
-        }
+        let radius = check_radius(options.radius)?;
+        let mu = check_path_strength(options.strength)?;
         let profile = options.profile.clone();
         let limit = profile.max_segment(radius, mu);
         let wanted = match options.segment {
@@ -118,7 +124,28 @@ impl PathWarp {
         let lo = centers.iter().fold(DVec2::INFINITY, |m, c| m.min(*c)) - DVec2::splat(radius);
         let hi = centers.iter().fold(DVec2::NEG_INFINITY, |m, c| m.max(*c)) + DVec2::splat(radius);
         let amplitude = mu * epsilon / (2.0 * radius * profile.center());
-        Ok(Self { centers, dirs, radius, amplitude, epsilon, profile, support: [lo, hi] })
+        Ok(Self {
+            stroke: stroke.to_vec(),
+            strength: mu,
+            forced_segment: options.segment,
+            centers,
+            dirs,
+            radius,
+            amplitude,
+            epsilon,
+            profile,
+            support: [lo, hi],
+        })
+    }
+
+    /// The radius r of the discs.
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// The displacement profile δ₀.
+    pub fn profile(&self) -> &Profile {
+        &self.profile
     }
 
     /// The segment length ε used.

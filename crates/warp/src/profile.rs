@@ -82,6 +82,14 @@ impl Profile {
         Ok(Self { kind: Kind::Custom(Arc::new(f)), center: c, min_slope: 1.01 * min_slope.min(-f64::EPSILON) })
     }
 
+    /// The exponent k of a [`Profile::power`] profile; `None` for a custom one.
+    pub fn exponent(&self) -> Option<u32> {
+        match self.kind {
+            Kind::Power(k) => Some(k),
+            Kind::Custom(_) => None,
+        }
+    }
+
     /// `δ₀(x)`.
     #[inline]
     pub fn value(&self, x: f64) -> f64 {

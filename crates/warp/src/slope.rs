@@ -1,7 +1,7 @@
 use glam::DVec2;
 
 use crate::curve::SmoothCurve;
-use crate::error::finite;
+use crate::error::{check_radius, finite};
 use crate::path::clean_stroke;
 use crate::warp::solve_monotone;
 use crate::{Warp, WarpError};
@@ -14,29 +14,35 @@ use crate::{Warp, WarpError};
 /// A curve Γ is the C¹ centripetal Catmull–Rom curve through the given points, so the nearest-point
 /// map is continuous; its reach is checked against r (curvature radius and clearance between
 /// distant parts), and a curve that would fold the plane is rejected rather than warped.
+///
+/// In JSON (serde): `{ "point": [x, y], "radius": r, "strength": μ }` or `{ "curve": [[x, y], …],
+/// "radius": r, "strength": μ }`; deserializing builds and so checks it, naming the offending
+/// field. Two modulations are equal when they were built from equal parameters.
 #[derive(Debug, Clone)]
 pub struct SlopeModulation {
-    center: Center,
-    radius: f64,
-    mu: f64,
+    pub(crate) center: Center,
+    pub(crate) radius: f64,
+    pub(crate) mu: f64,
 }
 
 #[derive(Debug, Clone)]
-enum Center {
+pub(crate) enum Center {
     Point(DVec2),
-    Curve(SmoothCurve),
+    /// The points as given, and the smooth curve through them.
+    Curve(Vec<DVec2>, SmoothCurve),
 }
 
 fn check(radius: f64, mu: f64) -> Result<(f64, f64), WarpError> {
-    let radius = finite("radius", radius)?;
-    if radius <= 0.0 {
-        return Err(WarpError::InvalidRadius { radius });
-    }
+    Ok((check_radius(radius)?, check_strength(mu)?))
+}
+
+/// A modulation strength: finite, in (−1, 3).
+pub(crate) fn check_strength(mu: f64) -> Result<f64, WarpError> {
     let mu = finite("strength", mu)?;
     if !(mu > -1.0 && mu < 3.0) {
         return Err(WarpError::InvalidStrength { mu, range: "(-1, 3)" });
     }
-    Ok((radius, mu))
+    Ok(mu)
 }
 
 impl SlopeModulation {
@@ -62,14 +68,14 @@ impl SlopeModulation {
         let (radius, mu) = check(radius, mu)?;
         let curve = SmoothCurve::new(&pts);
         curve.check_reach(radius)?;
-        Ok(Self { center: Center::Curve(curve), radius, mu })
+        Ok(Self { center: Center::Curve(points.to_vec(), curve), radius, mu })
     }
 
     /// The point of Γ nearest to `p`, if within the radius.
     fn anchor(&self, p: DVec2) -> Option<DVec2> {
         match &self.center {
             Center::Point(c) => (c.distance_squared(p) < self.radius * self.radius).then_some(*c),
-            Center::Curve(curve) => curve.closest_within(p, self.radius),
+            Center::Curve(_, curve) => curve.closest_within(p, self.radius),
         }
     }
 }
@@ -102,7 +108,7 @@ impl Warp for SlopeModulation {
     fn support(&self) -> Option<[DVec2; 2]> {
         let [lo, hi] = match &self.center {
             Center::Point(c) => [*c, *c],
-            Center::Curve(curve) => curve.bounds(),
+            Center::Curve(_, curve) => curve.bounds(),
         };
         Some([lo - DVec2::splat(self.radius), hi + DVec2::splat(self.radius)])
     }

@@ -65,6 +65,11 @@ impl Composition {
     pub fn is_empty(&self) -> bool {
         self.warps.is_empty()
     }
+
+    /// The `index`-th warp (0 applies first).
+    pub fn get(&self, index: usize) -> Option<&dyn Warp> {
+        self.warps.get(index).map(|w| &**w)
+    }
 }
 
 impl Warp for Composition {

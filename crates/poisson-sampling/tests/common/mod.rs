@@ -7,15 +7,9 @@ use glam::DVec2;
 use proptest::prelude::*;
 use relief_poisson_sampling::{Domain, Polygon};
 
-/// A star-shaped simple polygon around `center`: vertices at sorted angles, radii in [0.5, 1]·`radius`.
+/// A star-shaped simple ring around `center`: vertices at sorted angles, radii in [0.5, 1]·`radius`.
 pub(crate) fn star(center: DVec2, radius: f64, radii: &[f64]) -> Vec<DVec2> {
-    let n = radii.len();
-    (0..n)
-        .map(|k| {
-            let t = std::f64::consts::TAU * k as f64 / n as f64;
-            center + radius * (0.5 + 0.5 * radii[k]) * DVec2::new(t.cos(), t.sin())
-        })
-        .collect()
+    relief_fixtures::star_ring(center, radius, 0.5, 0.5, radii)
 }
 
 /// Strategy: a star polygon of radius 50 at the origin, optionally with up to two holes that fit.

@@ -1,0 +1,280 @@
+//! The command line: clap derive types for the global flags and every subcommand, their value
+//! parsers, and the resource budget the flags set.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use relief::pipeline;
+
+/// Terrain from a few strokes of intent: iso-contour generation, DEM contours, conversion and
+/// previews.
+#[derive(Debug, Parser)]
+#[command(name = "relief", version, about, long_about = None, propagate_version = true)]
+pub(crate) struct Cli {
+    #[command(subcommand)]
+    pub(crate) command: Command,
+    /// Print the time of every step on stderr.
+    #[arg(short, long, global = true)]
+    pub(crate) verbose: bool,
+    /// Print nothing but errors (no progress, no report).
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    pub(crate) quiet: bool,
+    /// Worker threads (default: one per core). Outputs are identical for any count.
+    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub(crate) threads: Option<u16>,
+    /// Most raster cells a scene may ask for or a command may read (grids, working grids, input
+    /// DEMs and images; default 2^28).
+    #[arg(long, global = true, value_name = "N")]
+    max_cells: Option<u64>,
+    /// Most growth particles a contour scene may ask for (default 50 million).
+    #[arg(long, global = true, value_name = "N")]
+    max_particles: Option<u64>,
+    /// Most Gaussian primitives a scene may list, load or fit (default 2^22).
+    #[arg(long, global = true, value_name = "N")]
+    max_primitives: Option<u64>,
+    /// Most divide-tree peaks an orometry scene may ask for (default 200 000).
+    #[arg(long, global = true, value_name = "N")]
+    max_peaks: Option<u64>,
+}
+
+impl Cli {
+    /// The resource budget the flags set, defaults elsewhere.
+    pub(crate) fn budget(&self) -> relief::Budget {
+        let d = relief::Budget::default();
+        d.with_max_cells(self.max_cells.unwrap_or(d.max_cells))
+            .with_max_particles(self.max_particles.unwrap_or(d.max_particles))
+            .with_max_primitives(self.max_primitives.unwrap_or(d.max_primitives))
+            .with_max_peaks(self.max_peaks.unwrap_or(d.max_peaks))
+    }
+}
+
+// The variants' doc comments are the subcommands' help; the argument structs carry none, so that
+// theirs cannot replace it.
+#[derive(Debug, Subcommand)]
+pub(crate) enum Command {
+    /// Generate the built-in demo scene: an island with two ranges, a summit and a crater.
+    Demo(DemoArgs),
+    /// Generate the terrain a scene file describes.
+    Generate(GenerateArgs),
+    /// Generate a feature-curve scene (a `diffusion` generator): curves with elevation, slope and
+    /// noise constraints diffused into a terrain (Hnaidi et al. 2010).
+    Diffuse(DiffuseArgs),
+    /// Extract contour lines from a DEM (as GDAL's contour utility does).
+    Contours(ContoursArgs),
+    /// Convert a heightfield between formats (chosen by extension).
+    Convert(ConvertArgs),
+    /// Describe a heightfield: size, extent, elevation range, no-data.
+    Info(InfoArgs),
+    /// Render a shaded-relief preview (hillshade × hypsometric tint), optionally with contours.
+    Preview(PreviewArgs),
+    /// Hydrology of a heightfield: closed basins, stream order and the terrain descriptors of the
+    /// contours paper §6.5, optionally compared with a second heightfield.
+    Analyze(AnalyzeArgs),
+    /// Vectorize a DEM into generalized Gaussian primitives (Perche et al. 2025): a JSON vector
+    /// terrain that `relief rasterize` renders at any size.
+    Vectorize(VectorizeArgs),
+    /// Rasterize a vector terrain (JSON from `relief vectorize`) at any size.
+    Rasterize(RasterizeArgs),
+    /// Print the JSON Schema of scene files.
+    Schema,
+}
+
+// `relief demo`.
+#[derive(Debug, Args)]
+pub(crate) struct DemoArgs {
+    /// Output directory.
+    #[arg(long, default_value = "relief-demo")]
+    pub(crate) out: PathBuf,
+}
+
+// `relief generate`.
+#[derive(Debug, Args)]
+pub(crate) struct GenerateArgs {
+    /// The scene (JSON; see docs/scene.schema.json).
+    pub(crate) scene: PathBuf,
+    /// Output directory (default: relief-out/<scene name>).
+    #[arg(long)]
+    pub(crate) out: Option<PathBuf>,
+    /// Replace the scene's seed.
+    #[arg(long)]
+    pub(crate) seed: Option<u64>,
+}
+
+// `relief diffuse`: `generate`'s arguments, restricted to diffusion scenes.
+#[derive(Debug, Args)]
+pub(crate) struct DiffuseArgs {
+    /// The scene (JSON; its generator must be `diffusion`).
+    pub(crate) scene: PathBuf,
+    /// Output directory (default: relief-out/<scene name>).
+    #[arg(long)]
+    pub(crate) out: Option<PathBuf>,
+    /// Replace the scene's seed.
+    #[arg(long)]
+    pub(crate) seed: Option<u64>,
+}
+
+// `relief contours`.
+#[derive(Debug, Args)]
+pub(crate) struct ContoursArgs {
+    /// The DEM.
+    pub(crate) dem: PathBuf,
+    /// Contour every this many units of elevation.
+    #[arg(long, required_unless_present = "levels", conflicts_with = "levels")]
+    pub(crate) interval: Option<f64>,
+    /// This many evenly spaced levels between the lowest and highest elevation.
+    #[arg(long)]
+    pub(crate) levels: Option<usize>,
+    /// GeoJSON output (default: <DEM name>.contours.geojson when no output is given).
+    #[arg(long)]
+    pub(crate) geojson: Option<PathBuf>,
+    /// SVG output.
+    #[arg(long)]
+    pub(crate) svg: Option<PathBuf>,
+}
+
+// `relief convert`.
+#[derive(Debug, Args)]
+pub(crate) struct ConvertArgs {
+    /// Input (.exr, .png, .r16, .r32, .asc, .tif, .hgt).
+    pub(crate) input: PathBuf,
+    /// Output; the extension picks the format.
+    pub(crate) output: PathBuf,
+}
+
+// `relief info`.
+#[derive(Debug, Args)]
+pub(crate) struct InfoArgs {
+    /// The heightfield.
+    pub(crate) dem: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+// `relief preview`.
+#[derive(Debug, Args)]
+pub(crate) struct PreviewArgs {
+    /// The heightfield.
+    pub(crate) dem: PathBuf,
+    /// Output PNG.
+    #[arg(short, long)]
+    pub(crate) output: PathBuf,
+    /// Draw contours every this many units of elevation.
+    #[arg(long, value_name = "INTERVAL")]
+    pub(crate) contours: Option<f64>,
+    /// Elevation of the sea: lower ground is drawn as water.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub(crate) sea_level: f64,
+    /// Largest image side (bigger DEMs are decimated).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..))]
+    pub(crate) max_size: Option<u32>,
+}
+
+// `relief analyze`.
+#[derive(Debug, Args)]
+pub(crate) struct AnalyzeArgs {
+    /// The heightfield.
+    pub(crate) dem: PathBuf,
+    /// A second heightfield (a real DEM, say) to compare descriptors with.
+    #[arg(long)]
+    pub(crate) compare: Option<PathBuf>,
+    /// Ground at or below this elevation is sea and drains.
+    #[arg(long)]
+    pub(crate) sea_level: Option<f32>,
+    /// Also write the depression-filled heightfield here (format by extension).
+    #[arg(long)]
+    pub(crate) filled: Option<PathBuf>,
+    /// Read DEM (not the compared file) as geographic (longitude/latitude degrees), e.g. an
+    /// ASCII grid without a `.prj`; distances, slopes and areas are then in metres at each
+    /// row's latitude.
+    #[arg(long)]
+    pub(crate) degrees: bool,
+    /// Orometry: keep peaks at least this prominent, metres.
+    #[arg(long, default_value_t = 0.0, value_name = "METRES")]
+    pub(crate) min_prominence: f64,
+    /// Write the peaks (highest first) as CSV here.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) peaks: Option<PathBuf>,
+    /// Write the divide tree (peaks, key saddles, ridges) as GeoJSON here.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) divide_tree: Option<PathBuf>,
+    /// Write the orometric descriptor (Table 1 histograms) as JSON here.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) descriptor: Option<PathBuf>,
+    /// Classify the DEM against reference descriptors (JSON files written by --descriptor;
+    /// the file name is the label): prints the nearest.
+    #[arg(long, value_name = "FILE", num_args = 1..)]
+    pub(crate) classify: Vec<PathBuf>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+// `relief vectorize`.
+#[derive(Debug, Args)]
+pub(crate) struct VectorizeArgs {
+    /// The DEM.
+    pub(crate) dem: PathBuf,
+    /// Most Gaussian primitives.
+    #[arg(long, default_value_t = 10_000)]
+    pub(crate) primitives: usize,
+    /// Output vector terrain (JSON).
+    #[arg(short, long)]
+    pub(crate) output: PathBuf,
+    /// Optimisation steps.
+    #[arg(long, default_value_t = 200)]
+    pub(crate) iterations: usize,
+    /// Samples along the longer side of the grid the fit runs on.
+    #[arg(long, default_value_t = 512)]
+    pub(crate) resolution: usize,
+    /// Stop after this many seconds (the result then depends on the machine's speed).
+    #[arg(long, value_name = "SECONDS")]
+    pub(crate) time_limit: Option<f64>,
+    /// Add error-map detail primitives at this Poisson spacing in DEM cells (2 restores the DEM
+    /// to within f32 rounding; the JSON then carries the error map).
+    #[arg(long, value_name = "CELLS")]
+    pub(crate) details: Option<f64>,
+    /// Seed of the initial placement.
+    #[arg(long, default_value_t = 0)]
+    pub(crate) seed: u64,
+}
+
+// `relief rasterize`.
+#[derive(Debug, Args)]
+pub(crate) struct RasterizeArgs {
+    /// The vector terrain.
+    pub(crate) terrain: PathBuf,
+    /// Samples: `W` (square) or `WxH`.
+    #[arg(long, value_parser = parse_size)]
+    pub(crate) size: (usize, usize),
+    /// Output heightfield; the extension picks the format.
+    #[arg(short, long)]
+    pub(crate) output: PathBuf,
+    /// World window `MINX,MINY,MAXX,MAXY` (default: the terrain's recorded domain, e.g. the
+    /// vectorized DEM's extent, else the primitives' supports).
+    #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
+    pub(crate) window: Option<[f64; 4]>,
+}
+
+fn parse_size(s: &str) -> Result<(usize, usize), String> {
+    let parse = |v: &str| v.trim().parse::<usize>().map_err(|e| format!("{v:?}: {e}"));
+    let (w, h) = if let Some((w, h)) = s.split_once(['x', 'X']) {
+        (parse(w)?, parse(h)?)
+    } else {
+        let n = parse(s)?;
+        (n, n)
+    };
+    if w < 2 || h < 2 || w > pipeline::MAX_RESOLUTION || h > pipeline::MAX_RESOLUTION {
+        return Err(format!("{w} x {h}: each side must be in 2..={}", pipeline::MAX_RESOLUTION));
+    }
+    Ok((w, h))
+}
+
+fn parse_window(s: &str) -> Result<[f64; 4], String> {
+    let v: Vec<f64> =
+        s.split(',').map(|v| v.trim().parse::<f64>().map_err(|e| format!("{v:?}: {e}"))).collect::<Result<_, _>>()?;
+    match v[..] {
+        [a, b, c, d] if [a, b, c, d].iter().all(|x| x.is_finite()) && c > a && d > b => Ok([a, b, c, d]),
+        _ => Err("give MINX,MINY,MAXX,MAXY with MAXX > MINX and MAXY > MINY".into()),
+    }
+}

@@ -1,0 +1,144 @@
+//! DEM tools: `contours`, `convert`, `info` and `preview` work on an existing heightfield file.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context as _, Result, bail};
+use relief::contours::{ContourSet, Levels, extract_dem};
+use relief::heightfield::{Heightfield, Units};
+use relief::io::Format;
+
+use crate::cli::{ContoursArgs, ConvertArgs, InfoArgs, PreviewArgs};
+use crate::ui::Ui;
+
+/// `relief contours`: contour lines of a DEM as GeoJSON and/or SVG.
+pub(crate) fn contours(args: &ContoursArgs, ui: &mut Ui) -> Result<()> {
+    let levels = match (args.interval, args.levels) {
+        (Some(m), _) => Levels::Interval(m),
+        (None, Some(k)) => Levels::Count(k),
+        (None, None) => bail!("give --interval or --levels"),
+    };
+    let dem = ui.read(&args.dem)?;
+    let set = ui.step("contours", || dem_contours(&dem, &levels))?;
+    let geojson = match (&args.geojson, &args.svg) {
+        (None, None) => Some(PathBuf::from(format!(
+            "{}.contours.geojson",
+            args.dem.file_stem().unwrap_or(args.dem.as_os_str()).to_string_lossy()
+        ))),
+        (g, _) => g.clone(),
+    };
+    ui.step("write", || -> Result<()> {
+        if let Some(path) = &geojson {
+            relief::io::write_atomic(path, relief::export::contours_geojson(&set).as_bytes())?;
+        }
+        if let Some(path) = &args.svg {
+            relief::io::write_atomic(path, relief::export::contours_svg(&set, &dem.extent(), 1024).as_bytes())?;
+        }
+        Ok(())
+    })?;
+    ui.say(format_args!("{} contours on {} levels, {} vertices", set.len(), set.levels().len(), set.vertex_count()));
+    for path in geojson.iter().chain(&args.svg) {
+        ui.say(format_args!("  {}", path.display()));
+    }
+    Ok(())
+}
+
+/// Contours of `dem` at `levels`, resolved over the DEM's elevation range: multiples of an
+/// interval (like `gdal_contour -i`) or evenly spaced levels (none on a flat DEM).
+fn dem_contours(dem: &Heightfield, levels: &Levels) -> Result<ContourSet> {
+    let Some((lo, hi)) = dem.min_max() else { bail!("the DEM has no valid sample") };
+    let levels = levels.resolve(f64::from(lo), f64::from(hi))?;
+    Ok(extract_dem(dem, &levels)?)
+}
+
+/// `relief convert`: the same heightfield in the format the output's extension names.
+pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
+    let (input, output) = (&args.input, &args.output);
+    let format =
+        Format::from_extension(output).with_context(|| format!("{}: unknown output extension", output.display()))?;
+    let dem = ui.read(input)?;
+    ui.step("write", || relief::io::write(output, &dem))?;
+    ui.say(format_args!("{} ({} x {}) -> {} ({format:?})", input.display(), dem.nx(), dem.ny(), output.display()));
+    Ok(())
+}
+
+/// `relief info`: size, extent, elevation range and no-data of a heightfield, as text or JSON.
+pub(crate) fn info(args: &InfoArgs, ui: &mut Ui) -> Result<()> {
+    let dem = ui.read(&args.dem)?;
+    println!("{}", if args.json { info_json(&args.dem, &dem) } else { info_text(&args.dem, &dem) });
+    Ok(())
+}
+
+fn info_text(path: &Path, dem: &Heightfield) -> String {
+    let grid = dem.grid();
+    let (e, c) = (grid.extent(), grid.cell_size());
+    let unit = match grid.units() {
+        Units::Metres => "m",
+        Units::Degrees => "°",
+    };
+    let stats = dem.statistics();
+    let range = stats.map_or_else(
+        || "no valid sample".to_owned(),
+        |s| format!("{} .. {} (mean {:.3}, std dev {:.3})", s.min, s.max, s.mean, s.std_dev),
+    );
+    format!(
+        "{}\n  size       {} x {} ({} samples)\n  extent     x {} .. {}, y {} .. {} ({unit})\n  cell size  {} x {} {unit}\n  elevation  {range}\n  no-data    {}",
+        path.display(),
+        dem.nx(),
+        dem.ny(),
+        grid.len(),
+        e.min.x,
+        e.max.x,
+        e.min.y,
+        e.max.y,
+        c.x,
+        c.y,
+        dem.no_data_count()
+    )
+}
+
+fn info_json(path: &Path, dem: &Heightfield) -> String {
+    let grid = dem.grid();
+    let (e, c) = (grid.extent(), grid.cell_size());
+    let stats = dem.statistics();
+    let value = serde_json::json!({
+        "path": path,
+        "nx": dem.nx(),
+        "ny": dem.ny(),
+        "extent": { "min": [e.min.x, e.min.y], "max": [e.max.x, e.max.y] },
+        "cell_size": [c.x, c.y],
+        "units": match grid.units() { Units::Metres => "metres", Units::Degrees => "degrees" },
+        "min": stats.map(|s| s.min),
+        "max": stats.map(|s| s.max),
+        "mean": stats.map(|s| s.mean),
+        "no_data": dem.no_data_count(),
+    });
+    serde_json::to_string_pretty(&value).unwrap_or_default()
+}
+
+/// `relief preview`: a shaded-relief PNG, decimated to `--max-size`, optionally with contours.
+pub(crate) fn preview(args: &PreviewArgs, ui: &mut Ui) -> Result<()> {
+    let dem = ui.read(&args.dem)?;
+    let dem = match args.max_size {
+        Some(m) => decimate(dem, m as usize)?,
+        None => dem,
+    };
+    let set = match args.contours {
+        Some(interval) => Some(ui.step("contours", || dem_contours(&dem, &Levels::Interval(interval)))?),
+        None => None,
+    };
+    let image = ui.step("shade", || relief::export::preview_image(&dem, set.as_ref(), Some(args.sea_level)));
+    ui.step("write", || relief::io::write_rgb_png(&args.output, &image))?;
+    ui.say(format_args!("wrote {} ({} x {})", args.output.display(), image.width, image.height));
+    Ok(())
+}
+
+/// `dem` resampled by the smallest integer stride that brings its longer side to at most
+/// `max_size` (each side at least 2); unchanged if it already fits.
+fn decimate(dem: Heightfield, max_size: usize) -> Result<Heightfield> {
+    let side = dem.nx().max(dem.ny());
+    if side <= max_size {
+        return Ok(dem);
+    }
+    let stride = side.div_ceil(max_size);
+    Ok(dem.resample(dem.nx().div_ceil(stride).max(2), dem.ny().div_ceil(stride).max(2))?)
+}

@@ -1,0 +1,91 @@
+//! Vector terrains: `vectorize` fits generalized Gaussian primitives to a DEM (Perche et al. 2025),
+//! `rasterize` renders such a terrain at any size.
+
+use std::time::Duration;
+
+use anyhow::{Context as _, Result, bail};
+use glam::DVec2;
+use relief::gaussian_terrain::{VectorTerrain, VectorizeOptions};
+use relief::heightfield::{Extent, GridSpec};
+use relief::io::Format;
+
+use crate::cli::{RasterizeArgs, VectorizeArgs};
+use crate::ui::Ui;
+
+/// `relief vectorize`: the fit, with a progress bar over its steps, written as JSON.
+pub(crate) fn vectorize(args: &VectorizeArgs, ui: &mut Ui) -> Result<()> {
+    let options = vectorize_options(args)?;
+    ui.budget().primitives(options.primitives as u64, "--primitives")?;
+    let side = options.resolution as u64;
+    ui.budget().cells(side.saturating_mul(side), "--resolution")?;
+    let heightfield = ui.read(&args.dem)?;
+    let bar = ui.bar(options.iterations as u64, "vectorize {bar:30} {pos}/{len} {msg} {elapsed}");
+    let fit = relief::gaussian_terrain::vectorize(&heightfield, &options, |p| {
+        bar.set_position(p.iteration as u64);
+        bar.set_message(format!("{} primitives, loss {:.2e}", p.primitives, p.loss.total));
+        std::ops::ControlFlow::Continue(())
+    })
+    .with_context(|| format!("vectorizing {}", args.dem.display()))?;
+    bar.finish_and_clear();
+    let json = serde_json::to_string(&fit.terrain).context("encoding the vector terrain")?;
+    ui.step("write", || relief::io::write_atomic(&args.output, json.as_bytes()))?;
+    let r = &fit.report;
+    ui.say(format_args!(
+        "{} primitives after {} steps ({}) in {:.1} s: mean error {:.3} ({:.2e} of the relief's half-range){}",
+        r.primitives,
+        r.iterations,
+        r.stopped_by,
+        r.seconds,
+        r.l1,
+        r.l1_normalized,
+        if options.detail_spacing.is_some() {
+            format!(", {:.2e} with details", r.l1_with_details)
+        } else {
+            String::new()
+        }
+    ));
+    ui.say(format_args!("  {}", args.output.display()));
+    Ok(())
+}
+
+/// The fit's options from the flags; `--time-limit` must be a number of seconds ≥ 0.
+fn vectorize_options(args: &VectorizeArgs) -> Result<VectorizeOptions> {
+    let time_budget = match args.time_limit {
+        Some(t) if t.is_finite() && t >= 0.0 => Some(Duration::from_secs_f64(t)),
+        Some(t) => bail!("--time-limit {t}: give a number of seconds ≥ 0"),
+        None => None,
+    };
+    Ok(VectorizeOptions {
+        primitives: args.primitives,
+        iterations: args.iterations,
+        resolution: args.resolution,
+        time_budget,
+        detail_spacing: args.details,
+        seed: args.seed,
+        ..VectorizeOptions::default()
+    })
+}
+
+/// `relief rasterize`: the terrain sampled on a `--size` grid over `--window` (default: its
+/// recorded domain), checked against the budget before anything is allocated.
+pub(crate) fn rasterize(args: &RasterizeArgs, ui: &mut Ui) -> Result<()> {
+    let (path, output, (nx, ny)) = (&args.terrain, &args.output, args.size);
+    Format::from_extension(output).with_context(|| format!("{}: unknown output extension", output.display()))?;
+    ui.budget().cells((nx as u64).saturating_mul(ny as u64), "--size")?;
+    let text = relief::budget::read_json_text(path).with_context(|| format!("reading {}", path.display()))?;
+    let terrain: VectorTerrain =
+        serde_json::from_str(&text).with_context(|| format!("{}: not a vector terrain", path.display()))?;
+    terrain.validate().with_context(|| path.display().to_string())?;
+    ui.budget().primitives(terrain.len() as u64, &path.display().to_string())?;
+    let extent = match args.window {
+        Some([a, b, c, d]) => Extent::new(DVec2::new(a, b), DVec2::new(c, d)),
+        None => terrain.extent(),
+    };
+    let grid = GridSpec::from_extent(nx, ny, extent)?;
+    let heightfield = ui.step("rasterize", || {
+        relief::gaussian_terrain::rasterize(&terrain, &grid, &relief::gaussian_terrain::RasterOptions::default())
+    })?;
+    ui.step("write", || relief::io::write(output, &heightfield))?;
+    ui.say(format_args!("{} primitives -> {} ({nx} x {ny})", terrain.len(), output.display()));
+    Ok(())
+}

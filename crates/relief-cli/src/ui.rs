@@ -1,0 +1,112 @@
+//! What the user sees besides a command's report: spinners on stderr, step timings with `-v`,
+//! warnings, and the budget that every read and scene runs under.
+
+use std::io::IsTerminal as _;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use relief::Progress;
+use relief::heightfield::Heightfield;
+
+/// Spinners on stderr, step timings with `-v`, reports on stdout unless `-q`.
+pub(crate) struct Ui {
+    /// What every command reads under: the budget's cell cap.
+    read: relief::io::ReadOptions,
+    /// The budget scenes run under.
+    budget: relief::Budget,
+    verbose: bool,
+    quiet: bool,
+    bar: Option<ProgressBar>,
+    draw: bool,
+}
+
+impl Ui {
+    pub(crate) fn new(verbose: bool, quiet: bool, budget: relief::Budget) -> Self {
+        let read = relief::io::ReadOptions::default()
+            .with_limits(relief::io::Limits::default().with_max_cells(budget.max_cells));
+        Self { read, budget, verbose, quiet, bar: None, draw: !quiet && std::io::stderr().is_terminal() }
+    }
+
+    /// The budget the flags set.
+    pub(crate) fn budget(&self) -> relief::Budget {
+        self.budget
+    }
+
+    /// The options every read uses: the budget's cell cap.
+    pub(crate) fn read_options(&self) -> relief::io::ReadOptions {
+        self.read
+    }
+
+    /// Reads a heightfield under the cell budget, as a timed step.
+    pub(crate) fn read(&mut self, path: &Path) -> Result<Heightfield, relief::io::IoError> {
+        let read = self.read;
+        self.read_with(path, &read)
+    }
+
+    /// Reads a heightfield with `options` (derived from [`Ui::read_options`]), as a timed step.
+    pub(crate) fn read_with(
+        &mut self,
+        path: &Path,
+        options: &relief::io::ReadOptions,
+    ) -> Result<Heightfield, relief::io::IoError> {
+        self.step("read", || relief::io::read_with(path, options))
+    }
+
+    /// Prints a line of the report on stdout, unless `-q`.
+    pub(crate) fn say(&self, message: std::fmt::Arguments<'_>) {
+        if !self.quiet {
+            println!("{message}");
+        }
+    }
+
+    /// Prints `warning: message` on stderr, unless `-q`.
+    pub(crate) fn warn(&self, message: std::fmt::Arguments<'_>) {
+        if !self.quiet {
+            eprintln!("warning: {message}");
+        }
+    }
+
+    /// Runs `f` as a step with a spinner.
+    pub(crate) fn step<T>(&mut self, name: &'static str, f: impl FnOnce() -> T) -> T {
+        self.start(name);
+        let start = Instant::now();
+        let out = f();
+        self.finish(name, start.elapsed());
+        out
+    }
+
+    /// A progress bar of `len` steps drawn with `template` (an indicatif template), hidden where
+    /// spinners are.
+    pub(crate) fn bar(&self, len: u64, template: &str) -> ProgressBar {
+        let bar = ProgressBar::with_draw_target(Some(len), self.draw_target());
+        bar.set_style(ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()));
+        bar
+    }
+
+    fn draw_target(&self) -> ProgressDrawTarget {
+        if self.draw { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() }
+    }
+}
+
+impl Progress for Ui {
+    fn start(&mut self, step: &'static str) {
+        let bar = ProgressBar::with_draw_target(None, self.draw_target());
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        bar.set_message(step);
+        bar.enable_steady_tick(Duration::from_millis(100));
+        self.bar = Some(bar);
+    }
+
+    fn finish(&mut self, step: &'static str, elapsed: Duration) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+        if self.verbose {
+            eprintln!("{step:>15} {:>9.1} ms", elapsed.as_secs_f64() * 1e3);
+        }
+    }
+}

@@ -1,0 +1,326 @@
+//! The contours paper's generator (Huftier et al. 2025): nested regions or a label image → a
+//! Poisson-sampled TIN → inward Open Eden Growth → node heights by histogram quantiles → nested
+//! iso-contours → the scene's edits → a reconstructed heightfield.
+
+use glam::DVec2;
+
+use super::edits::{Edits, apply_edits};
+use super::inputs::{Env, default_domain, raster_grid};
+use super::progress::Timer;
+use super::summary::GraphSummary;
+use super::{Generated, Report};
+use crate::contours::{
+    ContourSet, Histogram, Interpolation, Ranking, Summit, assign_heights, extract_tin, reconstruct_interpolated,
+    reconstruct_stairs,
+};
+use crate::eden_growth::{
+    EdenError, Graph, GraphOptions, LabelMap, ProbabilityMap, RasterProbability, RegionTree, Sampling, Uniform, grow,
+};
+use crate::error::SceneError;
+use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
+use crate::poisson_sampling::Polygon;
+use crate::scene::{ContoursGenerator, HistogramSource, LabelImage, Probability, ReconstructionMode, Scene};
+use crate::tin::PointLocator;
+use crate::warp::{Warp, warp_raster};
+use crate::{ReliefError, ReliefError as E};
+
+/// Default node count when a scene gives neither `particles` nor `radius`.
+pub const DEFAULT_PARTICLES: usize = 50_000;
+
+const GENERATOR: &str = "generator.contours";
+
+/// Everything a contour scene asks for, read and checked before the heavy work.
+struct Inputs {
+    source: Source,
+    sampling: Sampling,
+    histogram: Histogram,
+    probability: Box<dyn ProbabilityMap>,
+    levels: Vec<f64>,
+    edits: Edits,
+    grid: GridSpec,
+    /// The budget's particle cap, which a radius's estimated count is checked against.
+    max_particles: u64,
+}
+
+enum Source {
+    Regions(RegionTree),
+    Labels(LabelMap),
+}
+
+/// The contour generator's run.
+pub(super) fn generate(
+    scene: &Scene,
+    g: &ContoursGenerator,
+    env: &Env<'_>,
+    timer: &mut Timer<'_>,
+) -> Result<Generated, ReliefError> {
+    let inputs = timer.step("inputs", || Inputs::prepare(scene, g, env))?;
+    let graph = timer.step("graph", || inputs.graph(scene.seed))?;
+    let growth = timer.step("growth", || {
+        grow(&graph, inputs.probability.as_ref(), growth_seed(scene.seed)).map_err(|e| E::located(GENERATOR, e))
+    })?;
+    let heights = timer.step("heights", || {
+        let level_ends: Vec<usize> = (1..=growth.levels()).map(|l| growth.level_range(l).end).collect();
+        let ranking =
+            Ranking { order: growth.order(), level_ends: &level_ends, level_heights: &graph.level_heights()[1..] };
+        assign_heights(graph.tin().num_points(), &ranking, &inputs.histogram)
+            .map_err(|e| E::located(&format!("{GENERATOR}.histogram"), e))
+    })?;
+    let sea_level = heights.level_boundaries[0];
+    let contours = timer.step("contours", || {
+        let mut levels = inputs.levels.clone();
+        levels.extend_from_slice(&heights.level_boundaries);
+        extract_tin(graph.tin(), &heights.heights, &merge_levels(levels)).map_err(|e| E::step("contours", e))
+    })?;
+    let tolerance = graph.radius() / 20.0;
+    let contours = timer.step("edits", || apply_edits(contours, &inputs.edits, tolerance))?;
+    let surface = Surface { graph: &graph, heights: &heights.heights, outside: heights.outside };
+    let heightfield = timer.step("reconstruction", || inputs.reconstruct(scene, &surface, &contours, sea_level))?;
+    let inside: Vec<f64> = growth.order().iter().map(|&v| heights.heights[v as usize]).collect();
+    let report = Report::Contours {
+        graph: GraphSummary {
+            nodes: graph.tin().num_points(),
+            inside: graph.inside_count(),
+            radius: graph.radius(),
+            filled_nodes: graph.filled_nodes(),
+            levels: graph.max_level(),
+        },
+        nodes_ks: inputs.histogram.ks_distance(&inside),
+        histogram: inputs.histogram,
+    };
+    Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report })
+}
+
+/// Seed of the growth, decorrelated from the sampling's.
+pub(super) fn growth_seed(seed: u64) -> u64 {
+    seed ^ 0x9E37_79B9_7F4A_7C15
+}
+
+/// Sorted, with levels closer than a billionth of the range merged (the input contours' heights
+/// win over a requested level that coincides with one).
+fn merge_levels(mut levels: Vec<f64>) -> Vec<f64> {
+    levels.sort_by(f64::total_cmp);
+    let range = levels.last().copied().unwrap_or(0.0) - levels.first().copied().unwrap_or(0.0);
+    let eps = 1e-9 * range.max(1.0);
+    levels.dedup_by(|a, b| (*a - *b).abs() <= eps);
+    levels
+}
+
+/// The generated TIN with its node heights: the surface the reconstruction interpolates.
+struct Surface<'a> {
+    graph: &'a Graph,
+    heights: &'a [f64],
+    outside: f64,
+}
+
+impl Inputs {
+    fn prepare(scene: &Scene, g: &ContoursGenerator, env: &Env<'_>) -> Result<Self, ReliefError> {
+        let sampling = sampling(g)?;
+        let source = match (&g.label_image, g.regions.is_empty()) {
+            (Some(_), false) => return Err(E::at(GENERATOR, SceneError::Conflict("regions", "label_image"))),
+            (None, true) => {
+                let missing = SceneError::Missing("at least one region (or `label_image`)");
+                return Err(E::at(format!("{GENERATOR}.regions"), missing));
+            }
+            (None, false) => Source::Regions(RegionTree::new(g.regions.clone()).map_err(|e| E::located(GENERATOR, e))?),
+            (Some(label), true) => Source::Labels(label_map(label, env)?),
+        };
+        let histogram = histogram(&g.histogram, env)?;
+        let levels = g
+            .levels
+            .resolve(histogram.min(), histogram.max())
+            .map_err(|e| E::located(&format!("{GENERATOR}.levels"), e))?;
+        let extent = scene.domain.unwrap_or_else(|| match &source {
+            Source::Labels(l) => l.grid().extent(),
+            Source::Regions(t) => default_domain(t.omega().bounds(), scene.reconstruction.resolution),
+        });
+        let grid = raster_grid(scene, extent)?;
+        let probability = probability(&g.probability, env, &extent, scene.seed)?;
+        let edits = Edits::prepare(&scene.edits)?;
+        Ok(Self {
+            source,
+            sampling,
+            histogram,
+            probability,
+            levels,
+            edits,
+            grid,
+            max_particles: env.budget.max_particles,
+        })
+    }
+
+    fn graph(&self, seed: u64) -> Result<Graph, ReliefError> {
+        let options = GraphOptions {
+            sampling: self.sampling,
+            max_particles: self.max_particles,
+            ..GraphOptions::particles(1).with_seed(seed)
+        };
+        let graph = match &self.source {
+            Source::Regions(tree) => Graph::from_regions(tree, &options),
+            Source::Labels(labels) => Graph::from_labels(labels, &options),
+        };
+        // The two errors whose place depends on how the scene gave its inputs.
+        graph.map_err(|e| match (&e, self.sampling) {
+            (EdenError::RegionTooSmall { .. } | EdenError::LevelTooSmall { .. }, _)
+                if matches!(self.source, Source::Labels(_)) =>
+            {
+                E::at(format!("{GENERATOR}.label_image.path"), e)
+            }
+            (EdenError::TooManyParticles { .. }, Sampling::Radius(_)) => E::at(format!("{GENERATOR}.radius"), e),
+            (EdenError::TooManyParticles { .. }, Sampling::Particles(_)) => E::at(format!("{GENERATOR}.particles"), e),
+            _ => E::located(GENERATOR, e),
+        })
+    }
+
+    /// The heightfield: terraces, Hormann's interpolation with the TIN as summit surface, or the
+    /// TIN itself; warps reach the raster through the contours or by backward mapping.
+    fn reconstruct(
+        &self,
+        scene: &Scene,
+        surface: &Surface<'_>,
+        contours: &ContourSet,
+        sea_level: f64,
+    ) -> Result<Heightfield, ReliefError> {
+        let (grid, drain, outside) = (&self.grid, scene.reconstruction.drain, surface.outside);
+        let hf = match scene.reconstruction.mode {
+            ReconstructionMode::Stairs => reconstruct_stairs(contours, grid, outside),
+            ReconstructionMode::Interpolated => {
+                let locator = PointLocator::new(surface.graph.tin());
+                let warps = &self.edits.warps;
+                let at = |p: DVec2| {
+                    let q = if warps.is_empty() { p } else { warps.inverse(p) };
+                    locator.interpolate(q, surface.heights).ok().flatten().unwrap_or(outside)
+                };
+                let options = Interpolation { summit: Summit::Surface(&at), drain };
+                reconstruct_interpolated(contours, grid, outside, &options)
+            }
+            ReconstructionMode::Tin => return self.tin_raster(surface, contours, drain, sea_level),
+        };
+        hf.map_err(|e| E::step("reconstruction", e))
+    }
+
+    /// The TIN itself as the terrain: rasterized (no-data beyond its hull reads as `outside`),
+    /// warped by backward mapping, and optionally drained with the sea, the border and every pit
+    /// contour's inside as outlets.
+    fn tin_raster(
+        &self,
+        surface: &Surface<'_>,
+        contours: &ContourSet,
+        drain: bool,
+        sea_level: f64,
+    ) -> Result<Heightfield, ReliefError> {
+        let (grid, outside) = (&self.grid, surface.outside);
+        let fail = |e| E::step("reconstruction", e);
+        let mut hf = surface.graph.tin().rasterize(surface.heights, grid).map_err(|e| E::step("reconstruction", e))?;
+        hf.fill_no_data(outside as f32).map_err(fail)?;
+        if !self.edits.warps.is_empty() {
+            let source = hf;
+            let samples = warp_raster(
+                &self.edits.warps,
+                grid.nx(),
+                grid.ny(),
+                |i, j| grid.position(i, j),
+                |p| source.sample_bilinear_clamped(p).unwrap_or(outside as f32),
+            );
+            hf = Heightfield::from_samples(*grid, samples).map_err(fail)?;
+        }
+        if drain {
+            let pits = pit_mask(contours, grid);
+            let nx = grid.nx();
+            let sea = sea_level as f32;
+            let values = hf.samples().to_vec();
+            fill_depressions(&mut hf, |i, j| {
+                let k = j * nx + i;
+                i == 0 || j == 0 || i + 1 == nx || j + 1 == grid.ny() || values[k] < sea || pits[k]
+            });
+        }
+        Ok(hf)
+    }
+}
+
+/// How densely the graph samples Ω: `particles` or `radius`.
+fn sampling(g: &ContoursGenerator) -> Result<Sampling, ReliefError> {
+    let out_of_range = |field: &str, value: String, rule| {
+        E::at(format!("{GENERATOR}.{field}"), SceneError::OutOfRange { value, rule })
+    };
+    match (g.particles, g.radius) {
+        (Some(_), Some(_)) => Err(E::at(GENERATOR, SceneError::Conflict("particles", "radius"))),
+        (Some(0), None) => Err(out_of_range("particles", "0".into(), "must be at least 1")),
+        (Some(n), None) => Ok(Sampling::Particles(n)),
+        (None, Some(r)) if !(r.is_finite() && r > 0.0) => {
+            Err(out_of_range("radius", r.to_string(), "must be finite and > 0"))
+        }
+        (None, Some(r)) => Ok(Sampling::Radius(r)),
+        (None, None) => Ok(Sampling::Particles(DEFAULT_PARTICLES)),
+    }
+}
+
+/// A label image read, placed and turned into a label map.
+fn label_map(label: &LabelImage, env: &Env<'_>) -> Result<LabelMap, ReliefError> {
+    let at = format!("{GENERATOR}.label_image");
+    let image = env.read_gray(&label.path).map_err(|e| E::at(format!("{at}.path"), e))?;
+    let grid =
+        GridSpec::from_extent(image.nx(), image.ny(), label.extent).map_err(|e| E::at(format!("{at}.extent"), e))?;
+    let labels = LabelMap::from_values(grid, image.samples()).map_err(|e| E::at(format!("{at}.path"), e))?;
+    Ok(labels.with_depressions(label.depressions))
+}
+
+/// The target histogram: written in the scene, or the elevations of a DEM.
+fn histogram(source: &HistogramSource, env: &Env<'_>) -> Result<Histogram, ReliefError> {
+    match source {
+        HistogramSource::Histogram(h) => Ok(h.clone()),
+        HistogramSource::Dem(path) => {
+            let at = format!("{GENERATOR}.histogram.dem");
+            let dem = env.read(path).map_err(|e| E::at(&at, e))?;
+            let samples: Vec<f64> = dem.samples().iter().filter(|v| v.is_finite()).map(|&v| f64::from(v)).collect();
+            Histogram::from_samples(samples).map_err(|e| E::at(&at, e))
+        }
+    }
+}
+
+/// The probability map, seeded by the scene.
+fn probability(
+    p: &Probability,
+    env: &Env<'_>,
+    domain: &Extent,
+    seed: u64,
+) -> Result<Box<dyn ProbabilityMap>, ReliefError> {
+    const AT: &str = "generator.contours.probability";
+    Ok(match p {
+        Probability::Uniform => Box::new(Uniform),
+        Probability::Fbm(fbm) => Box::new(fbm.with_seed(seed)),
+        Probability::Image { path, extent, exponent } => {
+            let image = env.read_gray(path).map_err(|e| E::at(format!("{AT}.image.path"), e))?;
+            let grid = GridSpec::from_extent(image.nx(), image.ny(), extent.unwrap_or(*domain))
+                .map_err(|e| E::at(format!("{AT}.image.path"), e))?;
+            let mut samples = image.into_samples();
+            // Transparent pixels read as no-data; they are places the growth should not prefer.
+            samples.iter_mut().filter(|v| v.is_nan()).for_each(|v| *v = 0.0);
+            let field = Heightfield::from_samples(grid, samples).map_err(|e| E::step("inputs", e))?;
+            Box::new(RasterProbability::new(field, *exponent).map_err(|e| E::located("generator.contours", e))?)
+        }
+    })
+}
+
+/// The samples inside a closed clockwise contour (around a pit).
+fn pit_mask(set: &ContourSet, grid: &GridSpec) -> Vec<bool> {
+    let mut mask = vec![false; grid.len()];
+    for c in set.contours().iter().filter(|c| c.closed && !c.is_counter_clockwise()) {
+        let Ok(polygon) = Polygon::from_exterior(c.points.clone()) else { continue };
+        let b = c.bounds();
+        let (lo, hi) = (grid.grid_coords(b.min).ceil(), grid.grid_coords(b.max).floor());
+        let (i0, j0) = (lo.x.max(0.0) as usize, lo.y.max(0.0) as usize);
+        let (i1, j1) = (hi.x.min((grid.nx() - 1) as f64), hi.y.min((grid.ny() - 1) as f64));
+        if i1 < 0.0 || j1 < 0.0 {
+            continue;
+        }
+        for j in j0..=j1 as usize {
+            for i in i0..=i1 as usize {
+                if polygon.contains(grid.position(i, j)) {
+                    mask[grid.index(i, j)] = true;
+                }
+            }
+        }
+    }
+    mask
+}

@@ -1,0 +1,90 @@
+//! The contour edits of a scene (the contours paper, §5): smoothing, and warps composed in order.
+
+use rayon::prelude::*;
+
+use crate::contours::{Contour, ContourSet, Smoothing};
+use crate::scene::Edit;
+use crate::warp::{Composition, Warp, warp_polyline};
+use crate::{ReliefError, ReliefError as E};
+
+/// A scene's edits, checked, with its warps composed in order.
+pub(super) struct Edits {
+    steps: Vec<Step>,
+    /// Every warp among the edits, in order: the map backward mapping inverts.
+    pub(super) warps: Composition,
+}
+
+enum Step {
+    Smooth(Smoothing),
+    /// The warp `warps.get(k)`.
+    Warp(usize),
+}
+
+impl Edits {
+    /// The edits in order; warps were built (and so checked) as the scene was read, smoothing
+    /// parameters are checked here, before any heavy work.
+    pub(super) fn prepare(edits: &[Edit]) -> Result<Self, ReliefError> {
+        let mut out = Self { steps: Vec::with_capacity(edits.len()), warps: Composition::new() };
+        for (i, edit) in edits.iter().enumerate() {
+            let warp: Box<dyn Warp> = match edit {
+                Edit::Smooth(s) => {
+                    s.validate().map_err(|e| E::located(&format!("edits[{i}].smooth"), e))?;
+                    out.steps.push(Step::Smooth(*s));
+                    continue;
+                }
+                Edit::Warp(w) => Box::new(w.clone()),
+                Edit::Slope(s) => Box::new(s.clone()),
+            };
+            out.steps.push(Step::Warp(out.warps.len()));
+            out.warps.push(warp);
+        }
+        Ok(out)
+    }
+}
+
+/// Applies the edits to the contours in order.
+///
+/// A warp is a bijection, so warped contours never cross — but their polylines only follow the
+/// warped curves to within a tolerance (adaptive subdivision), and where a warp squeezes
+/// neighbouring contours closer than that, the approximations could touch. Each warped set is
+/// therefore checked, and warped again from the same input with a quarter of the tolerance until
+/// it is clean (smoothing guarantees this by construction).
+pub(super) fn apply_edits(mut set: ContourSet, edits: &Edits, tolerance: f64) -> Result<ContourSet, ReliefError> {
+    const REFINEMENTS: u32 = 6;
+    for step in &edits.steps {
+        set = match step {
+            Step::Smooth(s) => set.smoothed(s).map_err(|e| E::step("edits", e))?,
+            Step::Warp(k) => {
+                let Some(warp) = edits.warps.get(*k) else { continue };
+                let mut tol = tolerance;
+                let mut round = 0;
+                loop {
+                    let warped = warp_set(&set, warp, tol)?;
+                    match warped.check_invariants() {
+                        Ok(()) => break warped,
+                        Err(e) if round == REFINEMENTS => {
+                            return Err(E::step("edits", format!("warp {k}: {e} at tolerance {tol}")));
+                        }
+                        Err(_) => {}
+                    }
+                    tol *= 0.25;
+                    round += 1;
+                }
+            }
+        };
+    }
+    Ok(set)
+}
+
+/// Every contour of `set` warped to within `tolerance`.
+fn warp_set(set: &ContourSet, warp: &dyn Warp, tolerance: f64) -> Result<ContourSet, ReliefError> {
+    let contours: Vec<Contour> = set
+        .contours()
+        .par_iter()
+        .map(|c| {
+            let points = warp_polyline(warp, &c.points, c.closed, tolerance).map_err(|e| E::step("edits", e))?;
+            Ok(Contour { points, ..c.clone() })
+        })
+        .collect::<Result<_, ReliefError>>()?;
+    ContourSet::new(set.levels().to_vec(), contours).map_err(|e| E::step("edits", e))
+}

@@ -1,0 +1,113 @@
+//! A vector terrain (Perche et al. 2025): the source primitives, the tools in order, then the
+//! raster.
+
+use std::ops::ControlFlow;
+use std::path::Path;
+
+use super::inputs::{Env, raster_grid};
+use super::progress::Timer;
+use super::summary::GaussianSummary;
+use super::{Generated, Report};
+use crate::gaussian_terrain::{
+    Landform, RasterOptions, Skeleton, SkeletonOptions, ToolContext, ToolError, VectorTerrain, VectorizeOptions,
+    rasterize, vectorize,
+};
+use crate::heightfield::GridSpec;
+use crate::scene::{GaussianGenerator, GaussianSource, Scene};
+use crate::vector::crest_skeleton;
+use crate::{ReliefError, ReliefError as E};
+
+const GENERATOR: &str = "generator.gaussian";
+
+/// The gaussian generator's run. The domain defaults to the source primitives' supports.
+pub(super) fn generate(
+    scene: &Scene,
+    g: &GaussianGenerator,
+    env: &Env<'_>,
+    timer: &mut Timer<'_>,
+) -> Result<Generated, ReliefError> {
+    let at = format!("{GENERATOR}.source");
+    let mut terrain = timer.step("source", || load_source(&g.source, env, &at))?;
+    env.budget.primitives(terrain.len() as u64, &at)?;
+    let grid = raster_grid(scene, scene.domain.unwrap_or_else(|| terrain.extent()))?;
+    timer.step("tools", || apply_tools(&mut terrain, g, &grid, env))?;
+    let heightfield = timer
+        .step("rasterize", || rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| E::at(GENERATOR, e)))?;
+    let report = Report::Gaussian(GaussianSummary { primitives: terrain.len() });
+    Ok(Generated { heightfield, sea_level: None, contours: None, report })
+}
+
+/// The starting vector terrain: written in the scene, read from a file, or fitted to a DEM.
+fn load_source(source: &GaussianSource, env: &Env<'_>, at: &str) -> Result<VectorTerrain, ReliefError> {
+    match source {
+        GaussianSource::Primitives(terrain) => Ok(terrain.clone()),
+        GaussianSource::Terrain { path } => env.read_json(path, &format!("{at}.path")),
+        GaussianSource::Dem { path, primitives, iterations, resolution } => {
+            let dem = env.read(path).map_err(|e| E::at(format!("{at}.path"), e))?;
+            let options = VectorizeOptions {
+                primitives: *primitives,
+                iterations: *iterations,
+                resolution: *resolution,
+                ..VectorizeOptions::default()
+            };
+            let fitted = vectorize(&dem, &options, |_| ControlFlow::Continue(())).map_err(|e| E::at(at, e))?;
+            fitted.terrain.validate().map_err(|e| E::at(at, e))?;
+            Ok(fitted.terrain)
+        }
+    }
+}
+
+/// Applies the generator's tools in order, checking the primitive budget after each (a stamp at
+/// most doubles the terrain, so the work stays bounded) and before a paste.
+fn apply_tools(
+    terrain: &mut VectorTerrain,
+    g: &GaussianGenerator,
+    grid: &GridSpec,
+    env: &Env<'_>,
+) -> Result<(), ReliefError> {
+    let mut cx = Tools { env, grid, options: g.skeleton, skeleton: None, here: String::new() };
+    for (index, tool) in g.operations.iter().enumerate() {
+        cx.here = format!("{GENERATOR}.operations[{index}]");
+        tool.apply(terrain, &mut cx).map_err(|e| match e {
+            ToolError::Tool(e) => E::at(&cx.here, e),
+            ToolError::Context(e) => e,
+        })?;
+        env.budget.primitives(terrain.len() as u64, &cx.here)?;
+    }
+    Ok(())
+}
+
+/// What the tools need from the scene: atlas files and the crest skeleton.
+struct Tools<'a> {
+    env: &'a Env<'a>,
+    grid: &'a GridSpec,
+    options: SkeletonOptions,
+    /// Extracted on the first crest tool, from the terrain as it stands, then edited in place.
+    skeleton: Option<Skeleton>,
+    /// The JSON path of the tool being applied.
+    here: String,
+}
+
+impl ToolContext for Tools<'_> {
+    type Error = ReliefError;
+
+    fn landform(&mut self, atlas: &Path, name: &str, terrain: &VectorTerrain) -> Result<Landform, ReliefError> {
+        let atlas: crate::gaussian_terrain::Atlas = self.env.read_json(atlas, &format!("{}.atlas", self.here))?;
+        let landform = atlas.get(name).map_err(|e| E::at(&self.here, e))?;
+        let pasted = (terrain.len() + landform.primitives.len()) as u64;
+        self.env.budget.primitives(pasted, &format!("{}.landform", self.here))?;
+        Ok(landform.clone())
+    }
+
+    fn skeleton(&mut self, terrain: &VectorTerrain) -> Result<&mut Skeleton, ReliefError> {
+        let skeleton = if let Some(skeleton) = self.skeleton.take() {
+            skeleton
+        } else {
+            let hf = rasterize(terrain, self.grid, &RasterOptions::default()).map_err(|e| E::at(&self.here, e))?;
+            let size = self.grid.extent().size().max_element();
+            let (min_cells, spacing) = self.options.resolve(self.grid.len(), size);
+            crest_skeleton(&hf, min_cells, spacing)?
+        };
+        Ok(self.skeleton.insert(skeleton))
+    }
+}

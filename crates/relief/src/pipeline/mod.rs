@@ -1,0 +1,197 @@
+//! Scene → terrain: the run reads a scene's inputs, has its generator produce a heightfield
+//! ([`Generated`]), post-processes it, draws its contours, summarizes the run and writes every
+//! output.
+//!
+//! ```text
+//! inputs ─► generator (contours | diffusion | island | gaussian | orometry) ─► Generated
+//!        ─► post-processes ─► drainage ─► contours (raster generators) ─► Summary ─► outputs
+//! ```
+//!
+//! Each generator is a module of its own returning the same [`Generated`]; the summary is built
+//! in one place ([`Summary::new`]). Every scene value is checked before the expensive work
+//! starts, and a bad one fails with a [`ReliefError::Scene`] naming its JSON path
+//! (`generator.contours.regions[2].polygon`, `edits[1].warp.radius`, …), whichever step finds it.
+
+mod contours;
+mod diffusion;
+mod edits;
+mod gaussian;
+mod inputs;
+mod island;
+mod orometry;
+mod outputs;
+mod post;
+mod progress;
+mod summary;
+
+use std::path::{Path, PathBuf};
+
+pub use contours::DEFAULT_PARTICLES;
+pub use inputs::MAX_RESOLUTION;
+pub use outputs::write_outputs;
+pub use progress::{Progress, Timing};
+pub use summary::{
+    ContourSummary, DrainageSummary, GaussianSummary, GraphSummary, HistogramMatch, IslandSummary, OrometrySummary,
+    RasterSummary, Summary,
+};
+
+use crate::budget::{Budget, read_json_text};
+use crate::contours::{ContourSet, Histogram, extract_dem};
+use crate::diffusion::SolveReport;
+use crate::heightfield::Heightfield;
+use crate::scene::{Generator, Scene};
+use crate::{ReliefError, ReliefError as E};
+use inputs::Env;
+use progress::Timer;
+
+/// What a generator produces: the heightfield, the sea level below which it is sea (`None`: no
+/// sea), its contours when it draws them itself (the contour generator), and what it reports.
+pub(crate) struct Generated {
+    pub(crate) heightfield: Heightfield,
+    pub(crate) sea_level: Option<f64>,
+    pub(crate) contours: Option<ContourSet>,
+    pub(crate) report: Report,
+}
+
+/// The part of the summary only one generator knows.
+pub(crate) enum Report {
+    /// The growth graph, the target histogram and the KS distance of the node heights to it.
+    Contours { graph: GraphSummary, histogram: Histogram, nodes_ks: f64 },
+    /// How the diffusion solve went.
+    Diffusion(SolveReport),
+    /// The island's final shape.
+    Island(IslandSummary),
+    /// The vector terrain after its tools.
+    Gaussian(GaussianSummary),
+    /// The divide tree and its match to the target.
+    Orometry(OrometrySummary),
+}
+
+/// A generated terrain: the heightfield, its contours, and the run summary.
+#[derive(Debug, Clone)]
+pub struct Terrain {
+    /// The final heightfield (after post-processing).
+    pub heightfield: Heightfield,
+    /// The contours: the contour generator's, after the edits; a raster generator's, drawn from
+    /// the final heightfield.
+    pub contours: ContourSet,
+    /// The histogram the elevations follow: the contour scene's target, or the final
+    /// heightfield's own elevations.
+    pub histogram: Histogram,
+    /// Elevation below which the terrain is sea; `None` when it has no sea.
+    pub sea_level: Option<f64>,
+    /// The run summary (timings cover generation; [`write_outputs`] adds its own).
+    pub summary: Summary,
+}
+
+/// Reads a scene file.
+///
+/// # Errors
+/// [`ReliefError::File`] when it cannot be read, [`ReliefError::Scene`] when it is not a valid scene.
+pub fn load_scene(path: impl AsRef<Path>) -> Result<Scene, ReliefError> {
+    let path = path.as_ref();
+    let text = read_json_text(path).map_err(|source| ReliefError::File { path: path.to_owned(), source })?;
+    Scene::from_json(&text)
+}
+
+/// Generates the terrain of `scene`; relative paths in it resolve against `base_dir` (the scene
+/// file's directory).
+///
+/// # Errors
+/// [`ReliefError::Scene`] naming the JSON path of any invalid value; [`ReliefError::Io`] when an
+/// input file cannot be read.
+pub fn generate(scene: &Scene, base_dir: &Path, progress: &mut dyn Progress) -> Result<Terrain, ReliefError> {
+    generate_with(scene, base_dir, &Budget::default(), progress)
+}
+
+/// [`generate`] under an explicit [`Budget`]: a scene asking for more cells, particles,
+/// primitives or peaks fails before the work that would allocate them.
+///
+/// # Errors
+/// As [`generate`], and [`ReliefError::OverBudget`].
+pub fn generate_with(
+    scene: &Scene,
+    base_dir: &Path,
+    budget: &Budget,
+    progress: &mut dyn Progress,
+) -> Result<Terrain, ReliefError> {
+    budget.check(scene)?;
+    let env = &Env { dir: base_dir, budget: *budget };
+    let mut timer = Timer::new(progress);
+    let generated = match &scene.generator {
+        Generator::Contours(g) => contours::generate(scene, g, env, &mut timer),
+        Generator::Diffusion(g) => diffusion::generate(scene, g, &mut timer),
+        Generator::Island(g) => island::generate(scene, g, &mut timer),
+        Generator::Gaussian(g) => gaussian::generate(scene, g, env, &mut timer),
+        Generator::Orometry(g) => orometry::generate(scene, g, env, &mut timer),
+    }?;
+    finish(scene, generated, &mut timer)
+}
+
+/// The shared end of every run: post-processes, drainage, the contours of a raster generator at
+/// its levels, and the summary.
+fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<Terrain, ReliefError> {
+    let Generated { heightfield, sea_level, contours, report } = generated;
+    let heightfield = if scene.post.is_empty() {
+        heightfield
+    } else {
+        timer.step("post-process", || post::post_process(heightfield, &scene.post, sea_level))?
+    };
+    let drainage = timer.step("drainage", || post::drainage(&heightfield, sea_level))?;
+    let (contours, histogram) = match (contours, &report) {
+        (Some(contours), Report::Contours { histogram, .. }) => (contours, histogram.clone()),
+        (contours, _) => {
+            let samples: Vec<f64> = heightfield.samples().iter().map(|&v| f64::from(v)).collect();
+            let histogram = Histogram::from_samples(samples).map_err(|e| E::step("contours", e))?;
+            let contours = match contours {
+                Some(contours) => contours,
+                None => timer.step("contours", || raster_contours(scene, &heightfield, &histogram))?,
+            };
+            (contours, histogram)
+        }
+    };
+    let timings = std::mem::take(&mut timer.timings);
+    let summary = Summary::new(scene, report, &heightfield, &contours, sea_level, drainage, timings);
+    Ok(Terrain { heightfield, contours, histogram, sea_level, summary })
+}
+
+/// The contours of a raster generator's heightfield at the generator's levels.
+fn raster_contours(scene: &Scene, heightfield: &Heightfield, histogram: &Histogram) -> Result<ContourSet, ReliefError> {
+    let levels = match scene.generator.raster_levels() {
+        Some(levels) => levels
+            .resolve(histogram.min(), histogram.max())
+            .map_err(|e| E::located(&format!("{}.levels", scene.generator.path()), e))?,
+        None => Vec::new(),
+    };
+    extract_dem(heightfield, &levels).map_err(|e| E::step("contours", e))
+}
+
+/// Generates `scene` and writes its outputs under `out_dir`: [`generate`] then [`write_outputs`].
+///
+/// # Errors
+/// As [`generate`] and [`write_outputs`].
+pub fn run(
+    scene: &Scene,
+    base_dir: &Path,
+    out_dir: &Path,
+    progress: &mut dyn Progress,
+) -> Result<(Terrain, Vec<PathBuf>), ReliefError> {
+    run_with(scene, base_dir, out_dir, &Budget::default(), progress)
+}
+
+/// [`run`] under an explicit [`Budget`] (see [`generate_with`]).
+///
+/// # Errors
+/// As [`generate_with`] and [`write_outputs`].
+pub fn run_with(
+    scene: &Scene,
+    base_dir: &Path,
+    out_dir: &Path,
+    budget: &Budget,
+    progress: &mut dyn Progress,
+) -> Result<(Terrain, Vec<PathBuf>), ReliefError> {
+    outputs::check_outputs(&scene.outputs)?;
+    let terrain = generate_with(scene, base_dir, budget, progress)?;
+    let written = write_outputs(&terrain, &scene.outputs, out_dir, progress)?;
+    Ok((terrain, written))
+}

@@ -1,0 +1,100 @@
+//! Orometric synthesis (Argudo et al. 2019): the target descriptor, a divide tree, its edits,
+//! then the terrain.
+
+use super::contours::growth_seed;
+use super::inputs::{Env, raster_grid};
+use super::progress::Timer;
+use super::summary::OrometrySummary;
+use super::{Generated, Report};
+use crate::error::SceneError;
+use crate::heightfield::Extent;
+use crate::orometry::{
+    AnalysisOptions, ControlMaps, Descriptor, DivideTree, FractionHistogram, TerrainOptions, TreeOptions,
+    generate_tree, terrain_from_tree,
+};
+use crate::scene::{OrometryGenerator, OrometrySource, Scene};
+use crate::{ReliefError, ReliefError as E};
+
+const GENERATOR: &str = "generator.orometry";
+
+/// The orometry generator's run.
+pub(super) fn generate(
+    scene: &Scene,
+    g: &OrometryGenerator,
+    env: &Env<'_>,
+    timer: &mut Timer<'_>,
+) -> Result<Generated, ReliefError> {
+    let Some(extent) = scene.domain else {
+        return Err(E::at("domain", SceneError::NeedsDomain("orometry")));
+    };
+    let grid = raster_grid(scene, extent)?;
+    let target = timer.step("inputs", || target(&g.source, env))?;
+    let tree = timer.step("divide tree", || divide_tree(scene, g, &target, extent, env))?;
+    let base = target.domain.min_elevation;
+    let options = TerrainOptions { seed: growth_seed(scene.seed), ..g.terrain.clone() };
+    // The routing raster at λ/2 and the refined ridges count as cells (an invalid λ is left to the
+    // synthesis's own check, which names it).
+    let lambda = options.lambda_m;
+    if lambda.is_finite() && lambda > 0.0 {
+        let mesh = options.mesh_samples(&tree, grid.extent());
+        let mesh = if mesh.is_finite() { mesh as u64 } else { u64::MAX };
+        env.budget.cells(mesh, &format!("{GENERATOR}.terrain.lambda_m"))?;
+    }
+    let heightfield = timer.step("terrain", || {
+        terrain_from_tree(&tree, base, &grid, &options, |_, _| {}).map_err(|e| E::at(GENERATOR, e))
+    })?;
+    let report = Report::Orometry(summary(tree, &target));
+    Ok(Generated { heightfield, sea_level: None, contours: None, report })
+}
+
+/// The target orometry: a DEM analysed, or a saved descriptor.
+fn target(source: &OrometrySource, env: &Env<'_>) -> Result<Descriptor, ReliefError> {
+    let at = format!("{GENERATOR}.source");
+    match source {
+        OrometrySource::Dem { path, min_prominence, sea_level } => {
+            let dem = env.read(path).map_err(|e| E::at(&at, e))?;
+            let options = AnalysisOptions { sea_level: *sea_level, min_prominence: *min_prominence };
+            Ok(Descriptor::of(&dem, &options).map_err(|e| E::at(&at, e))?.1)
+        }
+        OrometrySource::Descriptor { path } => env.read_json(path, &at),
+    }
+}
+
+/// The divide tree generated from `target` under the control maps and pinned peaks (its peak
+/// count checked against the budget first), then edited.
+fn divide_tree(
+    scene: &Scene,
+    g: &OrometryGenerator,
+    target: &Descriptor,
+    extent: Extent,
+    env: &Env<'_>,
+) -> Result<DivideTree, ReliefError> {
+    let map = |path: &Option<std::path::PathBuf>, field: &str| {
+        path.as_ref().map(|p| env.control_map(p, extent, &format!("{GENERATOR}.{field}"))).transpose()
+    };
+    let controls =
+        ControlMaps { peak_density: map(&g.peak_density, "peak_density")?, elevation: map(&g.elevation, "elevation")? };
+    let options = TreeOptions { seed: scene.seed, ..g.tree.clone() };
+    let peaks = options.peak_count(target, extent, g.pinned.len());
+    env.budget.peaks(peaks as u64, &format!("{GENERATOR}.tree.peaks"))?;
+    let mut tree = generate_tree(target, extent, &controls, &g.pinned, &options).map_err(|e| E::at(GENERATOR, e))?;
+    for (i, edit) in g.edits.iter().enumerate() {
+        tree.apply(edit).map_err(|e| E::at(format!("{GENERATOR}.edits[{i}]"), e))?;
+    }
+    Ok(tree)
+}
+
+/// The tree's counts and how its prominence and dominance histograms match the target's.
+fn summary(tree: DivideTree, target: &Descriptor) -> OrometrySummary {
+    let oro = tree.orometry(target.domain.min_elevation);
+    let prominence = FractionHistogram::uniform(0.0, 2000.0, 20).filled(oro.prominence.iter().copied());
+    let dominance = FractionHistogram::uniform(0.0, 1.0, 20).filled(oro.dominance(&tree, target.domain.datum));
+    OrometrySummary {
+        peaks: tree.peaks.len(),
+        saddles: tree.saddles.len(),
+        prominence_emd: prominence.emd(&target.prominence).unwrap_or(f64::NAN),
+        prominence_max_bin_error: prominence.max_bin_error(&target.prominence).unwrap_or(f64::NAN),
+        dominance_max_bin_error: dominance.max_bin_error(&target.dominance).unwrap_or(f64::NAN),
+        tree,
+    }
+}

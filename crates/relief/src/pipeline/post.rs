@@ -1,0 +1,60 @@
+//! What runs on every generator's heightfield: the scene's post-processes (erosion, filling) and
+//! the drainage summary. The sea (when the generator has one) and the map border are the base
+//! level water drains to.
+
+use super::summary::DrainageSummary;
+use crate::heightfield::Heightfield;
+use crate::hydrology::{self, D8, HydrologyError, Outlets, StreamPower};
+use crate::scene::PostProcess;
+use crate::{ReliefError, ReliefError as E};
+
+/// Where water leaves: the border, and the sea below `sea_level` when there is one.
+pub(super) fn outlets(sea_level: Option<f64>) -> Outlets {
+    match sea_level {
+        Some(sea) => Outlets::new().with_sea_level(sea as f32),
+        None => Outlets::new(),
+    }
+}
+
+/// Runs the scene's post-processes in order.
+pub(super) fn post_process(
+    mut hf: Heightfield,
+    post: &[PostProcess],
+    sea_level: Option<f64>,
+) -> Result<Heightfield, ReliefError> {
+    let outlets = outlets(sea_level);
+    for (k, step) in post.iter().enumerate() {
+        let fail = |kind: &str, e: HydrologyError| match e {
+            HydrologyError::InvalidParameter { .. } | HydrologyError::LengthMismatch { .. } => {
+                E::located(&format!("post[{k}].{kind}"), e)
+            }
+            e => E::step("post-process", e),
+        };
+        match step {
+            PostProcess::StreamPower(law) => {
+                let law = StreamPower { outlets, ..law.clone() };
+                law.run(&mut hf, |_| {}).map_err(|e| fail("stream_power", e))?;
+            }
+            PostProcess::Thermal(thermal) => thermal.run(&mut hf, |_| {}).map_err(|e| fail("thermal", e))?,
+            PostProcess::Fill {} => hf = hydrology::fill(&hf, outlets).map_err(|e| fail("fill", e))?,
+        }
+    }
+    Ok(hf)
+}
+
+/// Closed basins and stream order of `hf`.
+pub(super) fn drainage(hf: &Heightfield, sea_level: Option<f64>) -> Result<DrainageSummary, ReliefError> {
+    let fail = |e: HydrologyError| E::step("drainage", e);
+    let closed = hydrology::depressions(hf, outlets(sea_level)).map_err(fail)?;
+    let routed = D8::new(&closed.filled).map_err(fail)?;
+    let sea = sea_level.map_or(f32::NEG_INFINITY, |s| s as f32);
+    let land_area: f64 =
+        (0..hf.ny()).map(|j| hf.row(j).iter().filter(|&&v| v > sea).count() as f64 * hf.grid().cell_area_m2(j)).sum();
+    let streams = routed.streams(0.005 * land_area).map_err(fail)?;
+    let max_strahler = routed.strahler(&streams).map_err(fail)?.into_iter().max().unwrap_or(0);
+    Ok(DrainageSummary {
+        closed_basins: closed.basins.len(),
+        closed_volume: closed.basins.iter().map(|b| b.volume_m3).sum(),
+        max_strahler,
+    })
+}

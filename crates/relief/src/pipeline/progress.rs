@@ -1,0 +1,56 @@
+//! Progress reports: each step of a run starts, then finishes; the timer forwards them to the
+//! caller and keeps the timings for the summary.
+
+use std::time::{Duration, Instant};
+
+use serde::Serialize;
+
+/// Receives the pipeline's progress: each step starts, then finishes. The contour generator's
+/// steps are `"inputs"`, `"graph"`, `"growth"`, `"heights"`, `"contours"`, `"edits"` and
+/// `"reconstruction"`; the raster generators name theirs (`"diffusion"`, `"island"`,
+/// `"source"`, `"tools"`, `"rasterize"`, `"divide tree"`, `"terrain"`, …); every run then has
+/// `"post-process"` (when the scene has any), `"drainage"`, and `"write"` when outputs are
+/// written. The unit type `()` ignores everything.
+pub trait Progress {
+    /// `step` starts.
+    fn start(&mut self, step: &'static str);
+    /// `step` finished after `elapsed`.
+    fn finish(&mut self, step: &'static str, elapsed: Duration);
+}
+
+impl Progress for () {
+    fn start(&mut self, _: &'static str) {}
+    fn finish(&mut self, _: &'static str, _: Duration) {}
+}
+
+/// The time one step took.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Timing {
+    /// The step.
+    pub step: &'static str,
+    /// Milliseconds.
+    pub ms: f64,
+}
+
+/// Forwards to the caller's [`Progress`] and keeps the timings for the summary.
+pub(crate) struct Timer<'a> {
+    progress: &'a mut dyn Progress,
+    pub(crate) timings: Vec<Timing>,
+}
+
+impl<'a> Timer<'a> {
+    pub(crate) fn new(progress: &'a mut dyn Progress) -> Self {
+        Self { progress, timings: Vec::new() }
+    }
+
+    /// Runs `f` as the step `step`.
+    pub(crate) fn step<T>(&mut self, step: &'static str, f: impl FnOnce() -> T) -> T {
+        self.progress.start(step);
+        let start = Instant::now();
+        let out = f();
+        let elapsed = start.elapsed();
+        self.progress.finish(step, elapsed);
+        self.timings.push(Timing { step, ms: elapsed.as_secs_f64() * 1e3 });
+        out
+    }
+}

@@ -1,0 +1,310 @@
+//! The generators a scene can name: which library runs, on which inputs. Their parameters are
+//! library types; the fields of their own are the inputs that are files (a DEM, a painted map,
+//! an atlas) and the contour levels drawn from the result.
+
+use std::path::PathBuf;
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use super::HistogramSource;
+use crate::contours::Levels;
+use crate::diffusion::{FeatureCurve, SolveOptions, Solver, TerrainOptions as DiffusionOptions};
+use crate::eden_growth::{FbmProbability, Region};
+use crate::gaussian_terrain::{SkeletonOptions, Tool, VectorTerrain};
+use crate::heightfield::Extent;
+use crate::island::{IslandSettings, Operation};
+use crate::orometry::{TerrainOptions, TreeEdit, TreeOptions, TreePeak};
+
+/// A terrain generator.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Generator {
+    /// Iso-contour generation by inward Open Eden Growth (Huftier et al. 2025).
+    Contours(ContoursGenerator),
+    /// Feature curves with elevation, slope and noise constraints, diffused into a terrain
+    /// (Hnaidi et al. 2010).
+    Diffusion(DiffusionGenerator),
+    /// A sketched island (Puig-Centelles et al.): a circular coast over a cone, then coastline
+    /// strokes, hills and filters replayed in order.
+    Island(IslandGenerator),
+    /// A vector terrain of generalized Gaussian primitives (Perche et al. 2025): primitives from
+    /// the scene, a saved terrain or a vectorized DEM, then landform and crest tools in order.
+    Gaussian(GaussianGenerator),
+    /// Orometric synthesis (Argudo et al. 2019): a divide tree generated from the orometry of a
+    /// reference DEM (or a saved descriptor), optionally steered by control maps and pinned peaks
+    /// and edited, then turned into terrain. Needs a `domain` in metres; seeds come from the
+    /// scene's `seed`.
+    Orometry(OrometryGenerator),
+}
+
+impl Generator {
+    /// The contour levels drawn from a raster generator's result; `None` for the contour
+    /// generator, whose contours are its own output.
+    pub fn raster_levels(&self) -> Option<&Levels> {
+        match self {
+            Self::Contours(_) => None,
+            Self::Diffusion(g) => Some(&g.levels),
+            Self::Island(g) => Some(&g.levels),
+            Self::Gaussian(g) => Some(&g.levels),
+            Self::Orometry(g) => Some(&g.levels),
+        }
+    }
+
+    /// The JSON path of the generator (`generator.contours`, …), the prefix of its values' paths.
+    pub fn path(&self) -> &'static str {
+        match self {
+            Self::Contours(_) => "generator.contours",
+            Self::Diffusion(_) => "generator.diffusion",
+            Self::Island(_) => "generator.island",
+            Self::Gaussian(_) => "generator.gaussian",
+            Self::Orometry(_) => "generator.orometry",
+        }
+    }
+}
+
+/// Contours drawn from a raster generator's result by default: 20 evenly spaced levels.
+fn raster_levels() -> Levels {
+    Levels::Count(20)
+}
+
+/// Parameters of iso-contour generation (the contours paper).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ContoursGenerator {
+    /// Nested input contours (give these or `label_image`). Depth is nesting; a height applies
+    /// to its whole depth level; `depression` marks a crater or lake.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub regions: Vec<Region>,
+    /// A label image: each gray level one nested region, the darkest outside (give this or `regions`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label_image: Option<LabelImage>,
+    /// About this many graph nodes inside the domain (default 50 000 when `radius` is absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub particles: Option<usize>,
+    /// Poisson-disc radius in world units, instead of `particles`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Target distribution of elevations.
+    pub histogram: HistogramSource,
+    /// How readily the growth advances where (default uniform).
+    #[serde(default)]
+    pub probability: Probability,
+    /// Which contours to extract, besides the input contours' own levels (default 30 evenly
+    /// spaced levels).
+    #[serde(default = "contour_levels")]
+    pub levels: Levels,
+}
+
+fn contour_levels() -> Levels {
+    Levels::Count(30)
+}
+
+/// A label image placed in the world.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LabelImage {
+    /// The image (any PNG colour type, or any heightfield format), relative to the scene file.
+    pub path: PathBuf,
+    /// Where the image lies in the world (its pixel centres span this rectangle).
+    pub extent: Extent,
+    /// Keep enclosed lower areas as depressions (craters) instead of filling them.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub depressions: bool,
+}
+
+/// Where the growth advances first (= lower ground).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Probability {
+    /// Every frontier node equally likely: contours follow the distance to the border.
+    #[default]
+    Uniform,
+    /// `exp(contrast · fbm(p))`: organic, fingered contours; the fBm is seeded by the scene.
+    Fbm(FbmProbability),
+    /// A painted map (any PNG colour type, or a heightfield), brighter = grown earlier.
+    Image {
+        /// The image, relative to the scene file.
+        path: PathBuf,
+        /// Where it lies in the world (default: the output domain).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        extent: Option<Extent>,
+        /// Values are raised to this power (default 1; the paper's river map uses 4).
+        #[serde(default = "unit_exponent")]
+        exponent: f64,
+    },
+}
+
+fn unit_exponent() -> f64 {
+    1.0
+}
+
+/// Feature curves diffused into a terrain (Hnaidi et al. 2010). The solver fields are those of
+/// [`SolveOptions`] and [`DiffusionOptions`], whose defaults they take.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DiffusionGenerator {
+    /// The feature curves (at least one must carry an elevation).
+    pub curves: Vec<FeatureCurve>,
+    /// Solver of the diffusion equations (default multigrid).
+    #[serde(default)]
+    pub solver: Solver,
+    /// Relative residual at which the solve stops (default 1e-4).
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    /// Wavelength of the first detail-noise octave, world units (default: 1/16 of the domain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_wavelength: Option<f64>,
+    /// Octaves of the detail noise (default 4, as the paper).
+    #[serde(default = "default_noise_octaves")]
+    pub noise_octaves: u32,
+    /// Ground below this is drawn as sea and drains (default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sea_level: Option<f64>,
+    /// Contours drawn from the result (default 20 evenly spaced levels).
+    #[serde(default = "raster_levels")]
+    pub levels: Levels,
+}
+
+fn default_tolerance() -> f64 {
+    SolveOptions::default().tolerance
+}
+fn default_noise_octaves() -> u32 {
+    DiffusionOptions::default().noise_octaves
+}
+
+/// Parameters and editing history of a sketched island. The domain defaults to a 1000 × 1000
+/// square from the origin; the raster is `reconstruction.resolution`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct IslandGenerator {
+    /// Island height, snap distance, land floor and perturbation sizes.
+    #[serde(default)]
+    pub settings: IslandSettings,
+    /// The operations, replayed in order on the start state (a circle of radius 0.4 × the
+    /// domain's shorter side, centred, over a cone of `settings.height`).
+    #[serde(default)]
+    pub operations: Vec<Operation>,
+    /// Contours drawn from the result (default 20 evenly spaced levels).
+    #[serde(default = "raster_levels")]
+    pub levels: Levels,
+}
+
+/// A vector terrain and the tools applied to it. The domain defaults to the primitives' supports
+/// (after the tools); the raster is `reconstruction.resolution`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GaussianGenerator {
+    /// Where the primitives come from.
+    pub source: GaussianSource,
+    /// Tool operations, applied in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub operations: Vec<Tool>,
+    /// How the crest skeleton of the crest tools is extracted.
+    #[serde(default)]
+    pub skeleton: SkeletonOptions,
+    /// Contours drawn from the result (default 20 evenly spaced levels).
+    #[serde(default = "raster_levels")]
+    pub levels: Levels,
+}
+
+/// The starting primitives of a `gaussian` generator.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum GaussianSource {
+    /// A vector terrain written in the scene: `primitives`, and optionally `base`, `domain` and
+    /// `details`.
+    Primitives(VectorTerrain),
+    /// A vector terrain saved as JSON (`relief vectorize` writes them).
+    Terrain {
+        /// The file, relative to the scene.
+        #[schemars(with = "String")]
+        path: PathBuf,
+    },
+    /// A DEM (any format `relief` reads) vectorized first. A scene fit is smaller than
+    /// `relief vectorize`'s by default: 2000 primitives on a 256-sample grid.
+    Dem {
+        /// The file, relative to the scene.
+        #[schemars(with = "String")]
+        path: PathBuf,
+        /// Most primitives (default 2000).
+        #[serde(default = "dem_primitives")]
+        primitives: usize,
+        /// Optimisation steps (default 200).
+        #[serde(default = "dem_iterations")]
+        iterations: usize,
+        /// Working-grid resolution (default 256).
+        #[serde(default = "dem_resolution")]
+        resolution: usize,
+    },
+}
+
+fn dem_primitives() -> usize {
+    2000
+}
+fn dem_iterations() -> usize {
+    crate::gaussian_terrain::VectorizeOptions::default().iterations
+}
+fn dem_resolution() -> usize {
+    256
+}
+
+/// An orometric synthesis (Argudo et al. 2019, §5–6).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OrometryGenerator {
+    /// Where the target orometry comes from.
+    pub source: OrometrySource,
+    /// Peak density control map `C_P` (any format `relief` reads; stretched over the domain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<String>")]
+    pub peak_density: Option<PathBuf>,
+    /// Coarse elevation control map `C_H` in metres (stretched over the domain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<String>")]
+    pub elevation: Option<PathBuf>,
+    /// Peaks placed before synthesis, kept at their positions and heights.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pinned: Vec<TreePeak>,
+    /// Divide tree generation (§5); its seed is replaced by the scene's.
+    #[serde(default)]
+    pub tree: TreeOptions,
+    /// Terrain generation (§6); its seed is replaced by the scene's.
+    #[serde(default)]
+    pub terrain: TerrainOptions,
+    /// Divide tree edits after generation, applied in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub edits: Vec<TreeEdit>,
+    /// Contours drawn from the result (default 20 evenly spaced levels).
+    #[serde(default = "raster_levels")]
+    pub levels: Levels,
+}
+
+/// The target orometry of an `orometry` generator.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum OrometrySource {
+    /// A DEM (any format `relief` reads) analysed first, with the analysis options of
+    /// [`crate::orometry::AnalysisOptions`].
+    Dem {
+        /// The file, relative to the scene.
+        #[schemars(with = "String")]
+        path: PathBuf,
+        /// Peaks at least this prominent count (default 30 m, the usual summit-list cut).
+        #[serde(default = "summit_prominence")]
+        min_prominence: f64,
+        /// Ground at or below this is sea.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        sea_level: Option<f32>,
+    },
+    /// A descriptor saved as JSON (`relief analyze --descriptor` writes them).
+    Descriptor {
+        /// The file, relative to the scene.
+        #[schemars(with = "String")]
+        path: PathBuf,
+    },
+}
+
+fn summit_prominence() -> f64 {
+    30.0
+}

@@ -1,0 +1,233 @@
+//! The scene file: a versioned JSON description of a terrain — seed, domain, generator, edits,
+//! reconstruction, post-processes and outputs. `docs/scene.schema.json` is the JSON Schema
+//! generated from these types.
+//!
+//! The scene types are the library types: a feature curve in a scene *is* a
+//! [`relief_diffusion_multigrid::FeatureCurve`], a warp edit a [`relief_warp::PathWarp`], a region
+//! a [`relief_eden_growth::Region`]. What this module adds is only what composes them — which
+//! generator runs, where input files are, what is written — and the few values that name a
+//! file. Unknown fields are errors; every error names the JSON path of the offending value;
+//! relative paths resolve against the scene file's directory.
+
+mod generators;
+mod histogram;
+
+use std::path::PathBuf;
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use crate::ReliefError;
+use crate::contours::Smoothing;
+use crate::error::SceneError;
+use crate::heightfield::Extent;
+use crate::hydrology::{StreamPower, Thermal};
+use crate::warp::{PathWarp, SlopeModulation};
+
+pub use generators::{
+    ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource, Generator, IslandGenerator, LabelImage,
+    OrometryGenerator, OrometrySource, Probability,
+};
+pub use histogram::HistogramSource;
+
+/// The scene format version this library reads.
+pub const SCENE_VERSION: u32 = 1;
+
+/// A terrain to generate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Format version: must be 1.
+    pub version: u32,
+    /// What the scene is, for people (ignored by the pipeline).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// Seed of every random choice (sampling, growth, noise): same seed, same bytes.
+    #[serde(default)]
+    pub seed: u64,
+    /// World rectangle of the outputs (raster and drawings). Default: the generator's inputs'
+    /// bounds grown by 5 %.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub domain: Option<Extent>,
+    /// How the terrain is generated.
+    pub generator: Generator,
+    /// Edits applied, in order, to the generated contours (contour generator only).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub edits: Vec<Edit>,
+    /// How the contours become a heightfield, and the raster size of every generator.
+    #[serde(default)]
+    pub reconstruction: Reconstruction,
+    /// Post-processes run, in order, on the heightfield (erosion, filling).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub post: Vec<PostProcess>,
+    /// What to write.
+    #[serde(default)]
+    pub outputs: Outputs,
+}
+
+/// An edit of the generated contours (the contours paper, §5).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Edit {
+    /// Smoothing (§5.1), never making contours cross.
+    Smooth(Smoothing),
+    /// Coherent warping along a stroke (§5.2).
+    Warp(PathWarp),
+    /// Slope modulation around a point or a curve (§5.3).
+    Slope(SlopeModulation),
+}
+
+/// A post-process of the heightfield (`relief-hydrology`). The sea (cells below the sea level)
+/// and the map border are the base level water drains to.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum PostProcess {
+    /// Fluvial erosion: the implicit stream-power law ∂h/∂t = U − K·A^m·S^n (Braun & Willett 2013).
+    StreamPower(StreamPower),
+    /// Thermal erosion: slopes steeper than the talus angle shed material downhill.
+    Thermal(Thermal),
+    /// Priority-Flood+ε filling: every land cell drains to the sea or the border again (keeps
+    /// nothing closed, not even craters).
+    Fill {},
+}
+
+/// How the heightfield is rebuilt, and its size.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Reconstruction {
+    /// Method (default interpolated; contour generator only).
+    #[serde(default)]
+    pub mode: ReconstructionMode,
+    /// Raster size `[nx, ny]` (default 1024 × 1024).
+    #[serde(default = "default_resolution")]
+    pub resolution: [usize; 2],
+    /// Make the raster drain (no one-cell pits from valleys narrower than a cell; default on).
+    #[serde(default = "default_true")]
+    pub drain: bool,
+}
+
+fn default_resolution() -> [usize; 2] {
+    [1024, 1024]
+}
+fn default_true() -> bool {
+    true
+}
+
+impl Default for Reconstruction {
+    fn default() -> Self {
+        Self { mode: ReconstructionMode::default(), resolution: default_resolution(), drain: true }
+    }
+}
+
+/// Reconstruction method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum ReconstructionMode {
+    /// Hormann's interpolation between nested contours: smooth, continuous.
+    #[default]
+    Interpolated,
+    /// Terraces: the height of the innermost contour.
+    Stairs,
+    /// The generated TIN itself, rasterized (warps applied by backward mapping).
+    Tin,
+}
+
+/// Output files, relative to the output directory. An empty value disables an output.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Outputs {
+    /// Heightfield files; the extension picks the format (.exr, .png, .r16, .r32, .asc, .tif, .hgt).
+    #[serde(default = "default_heightfields")]
+    pub heightfield: Vec<PathBuf>,
+    /// Contours as GeoJSON line strings with an `elevation` property.
+    #[serde(default = "default_geojson")]
+    pub contours_geojson: Option<PathBuf>,
+    /// Contours as SVG.
+    #[serde(default = "default_svg")]
+    pub contours_svg: Option<PathBuf>,
+    /// Shaded-relief preview with the contours drawn on it.
+    #[serde(default = "default_preview")]
+    pub preview: Option<PathBuf>,
+    /// The divide tree as GeoJSON (orometry generator only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub divide_tree: Option<PathBuf>,
+    /// Run summary: parameters, counts, timings, histogram match error.
+    #[serde(default = "default_summary")]
+    pub summary: Option<PathBuf>,
+}
+
+fn default_heightfields() -> Vec<PathBuf> {
+    vec![PathBuf::from("terrain.exr"), PathBuf::from("terrain.png")]
+}
+#[allow(clippy::unnecessary_wraps, reason = "serde default for an Option field")]
+fn default_geojson() -> Option<PathBuf> {
+    Some(PathBuf::from("contours.geojson"))
+}
+#[allow(clippy::unnecessary_wraps, reason = "serde default for an Option field")]
+fn default_svg() -> Option<PathBuf> {
+    Some(PathBuf::from("contours.svg"))
+}
+#[allow(clippy::unnecessary_wraps, reason = "serde default for an Option field")]
+fn default_preview() -> Option<PathBuf> {
+    Some(PathBuf::from("preview.png"))
+}
+#[allow(clippy::unnecessary_wraps, reason = "serde default for an Option field")]
+fn default_summary() -> Option<PathBuf> {
+    Some(PathBuf::from("summary.json"))
+}
+
+impl Default for Outputs {
+    fn default() -> Self {
+        Self {
+            heightfield: default_heightfields(),
+            contours_geojson: default_geojson(),
+            contours_svg: default_svg(),
+            preview: default_preview(),
+            divide_tree: None,
+            summary: default_summary(),
+        }
+    }
+}
+
+impl Scene {
+    /// Parses a scene from JSON, naming the JSON path of any error.
+    ///
+    /// # Errors
+    /// [`ReliefError::Scene`] with the path of the offending value (unknown fields included); its
+    /// source is the `serde_json::Error` (with line and column) or, for an unsupported version, a
+    /// [`SceneError`].
+    pub fn from_json(text: &str) -> Result<Self, ReliefError> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            ReliefError::at(if path == "." { String::new() } else { path }, e.into_inner())
+        })?;
+        if scene.version != SCENE_VERSION {
+            let found = scene.version;
+            return Err(ReliefError::at("version", SceneError::UnsupportedVersion { found, supported: SCENE_VERSION }));
+        }
+        Ok(scene)
+    }
+
+    /// The scene as pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// The built-in demo scene (`relief demo`): a wavy island with two ranges, a raised summit and a
+    /// crater, fBm growth, smoothing and a ravine warp.
+    ///
+    /// # Panics
+    /// Never: the embedded scene is checked by the tests.
+    pub fn demo() -> Self {
+        Self::from_json(DEMO_SCENE).expect("the embedded demo scene is valid")
+    }
+
+    /// The JSON Schema of the format.
+    pub fn json_schema() -> String {
+        serde_json::to_string_pretty(&schemars::schema_for!(Scene)).unwrap_or_default()
+    }
+}
+
+/// The demo scene, embedded in the binary.
+pub const DEMO_SCENE: &str = include_str!("../../scenes/demo.json");
