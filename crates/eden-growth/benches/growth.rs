@@ -12,14 +12,7 @@ use relief_tin::poisson_sampling::Polygon;
 
 /// A 15 km island with a wavy coast, as the paper's single-region timing scene.
 fn island() -> RegionTree {
-    let coast = (0..720)
-        .map(|k| {
-            let t = std::f64::consts::TAU * f64::from(k) / 720.0;
-            let r = 6000.0 * (1.0 + 0.15 * (5.0 * t).sin() + 0.05 * (17.0 * t).cos());
-            DVec2::new(r * t.cos(), r * t.sin())
-        })
-        .collect();
-    RegionTree::new(vec![Region::new(Polygon::from_exterior(coast).expect("coast"))]).expect("regions")
+    RegionTree::new(vec![Region::new(relief_fixtures::island_coast())]).expect("regions")
 }
 
 /// `cargo xtask bench --quick` sets `RELIEF_BENCH_QUICK`: the largest sizes are skipped then.

@@ -7,18 +7,8 @@ use relief_eden_growth::{
 };
 use relief_tin::heightfield::GridSpec;
 use relief_tin::heightfield::noise::Fbm;
+use relief_fixtures::star;
 use relief_tin::poisson_sampling::Polygon;
-
-fn star(center: DVec2, radius: f64, radii: &[f64]) -> Polygon {
-    let n = radii.len();
-    let ring = (0..n)
-        .map(|k| {
-            let t = std::f64::consts::TAU * k as f64 / n as f64;
-            center + radius * (0.6 + 0.4 * radii[k]) * DVec2::new(t.cos(), t.sin())
-        })
-        .collect();
-    Polygon::from_exterior(ring).expect("star polygons are simple")
-}
 
 /// Checks the invariants every growth must satisfy ([`Growth::check_invariants`]).
 #[track_caller]

@@ -235,3 +235,42 @@ fn unknown_output_formats_fail_before_any_work() {
     assert!(matches!(&err, ReliefError::Scene { path, .. } if path == "outputs.heightfield[1]"), "{err}");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing is written");
 }
+
+/// A scene error names the JSON path and keeps the error behind it: the library's own typed
+/// error for a value a library refused, the JSON parser's (with its line and column) for text
+/// that does not fit the format.
+#[test]
+fn errors_keep_their_typed_source() {
+    use std::error::Error as _;
+    // Refused by the region tree (eden-growth) while the scene runs.
+    let mut v = base();
+    v["generator"]["contours"]["regions"][1]["polygon"]["exterior"] =
+        serde_json::json!([[2500, 600], [3500, 600], [3500, 1400], [2500, 1400]]);
+    let scene = Scene::from_json(&v.to_string()).unwrap();
+    let e = generate(&scene, &root(), &mut ()).unwrap_err();
+    assert_eq!(e.scene_path(), Some("generator.contours.regions[1].polygon"));
+    let source = e.source().expect("the library error is kept");
+    let eden = source.downcast_ref::<relief::eden_growth::EdenError>().expect("an EdenError");
+    assert!(matches!(eden, relief::eden_growth::EdenError::RegionsOverlap { b: 1, .. }), "{eden:?}");
+    assert_eq!(e.to_string(), format!("generator.contours.regions[1].polygon: {eden}"));
+
+    // Refused by the diffusion crate's own rules as the scene is read: the path reaches the field.
+    let scene = std::fs::read_to_string(root().join("fixtures/scenes/mountain-ridges.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&scene).unwrap();
+    v["generator"]["diffusion"]["curves"][1]["constraints"][0]["slope"]["theta"] = 95.into();
+    let text = serde_json::to_string_pretty(&v).unwrap();
+    let e = Scene::from_json(&text).unwrap_err();
+    assert_eq!(e.scene_path(), Some("generator.diffusion.curves[1].constraints[0].slope.theta"));
+    let json = e.source().and_then(|s| s.downcast_ref::<serde_json::Error>()).expect("a serde_json::Error");
+    let line = text.lines().position(|l| l.contains("95")).unwrap() + 1;
+    // serde_json reports where it stopped reading: on the value's line or the next.
+    assert!((line..=line + 1).contains(&json.line()), "{json} (value on line {line})");
+    assert!(json.to_string().contains("strictly between"), "{json}");
+
+    // A rule of the scene format itself.
+    let mut v = base();
+    v["generator"]["contours"]["radius"] = 30.into();
+    let e = generate(&Scene::from_json(&v.to_string()).unwrap(), &root(), &mut ()).unwrap_err();
+    let rule = e.source().and_then(|s| s.downcast_ref::<relief::SceneError>()).expect("a SceneError");
+    assert!(matches!(rule, relief::SceneError::Conflict("particles", "radius")), "{rule:?}");
+}
