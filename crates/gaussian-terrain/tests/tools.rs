@@ -261,3 +261,94 @@ fn skeleton_moves_attenuate_along_the_graph() {
     assert!(skeleton2.scale_amplitude(&mut t2, &attached2, tip, -2.0, None).is_err());
     assert!(skeleton2.scale_amplitude(&mut t2, &attached2, 10_000, 1.0, None).is_err());
 }
+
+/// The context a tool replay gets in this test: one in-memory atlas, and the crest skeleton.
+struct Session {
+    atlas: relief_gaussian_terrain::Atlas,
+    skeleton: Option<Skeleton>,
+    skeletons_extracted: usize,
+}
+
+impl relief_gaussian_terrain::ToolContext for Session {
+    type Error = String;
+
+    fn landform(
+        &mut self,
+        atlas: &std::path::Path,
+        name: &str,
+        _: &VectorTerrain,
+    ) -> Result<relief_gaussian_terrain::Landform, String> {
+        if atlas != std::path::Path::new("atlas.json") {
+            return Err(format!("no atlas {}", atlas.display()));
+        }
+        self.atlas.get(name).cloned().map_err(|e| e.to_string())
+    }
+
+    fn skeleton(&mut self, _: &VectorTerrain) -> Result<&mut Skeleton, String> {
+        if self.skeleton.is_none() {
+            self.skeletons_extracted += 1;
+        }
+        Ok(self.skeleton.get_or_insert_with(|| crest().simplified(10.0)))
+    }
+}
+
+/// A replayed list of `Tool`s (read from JSON, as scenes store them) does exactly what calling
+/// the tool functions in the same order does; the crest skeleton is extracted once and then
+/// edited in place; tool and context errors come back apart.
+#[test]
+fn tools_replayed_from_json_equal_the_tool_functions() {
+    use relief_gaussian_terrain::{Atlas, Landform, Tool, ToolError};
+    let base = terrain();
+    let atlas = Atlas { landforms: vec![Landform::new("hill", &base.primitives[..5], DVec2::splat(500.0))] };
+    let tools: Vec<Tool> = serde_json::from_str(
+        r#"[
+            { "op": "stamp", "region": { "shape": "circle", "center": [300, 300], "radius": 120 },
+              "placement": { "to": [700, 600], "rotation": 0.4 }, "mode": "copy", "damping": 50 },
+            { "op": "paste", "atlas": "atlas.json", "landform": "hill", "footprint": 200,
+              "placement": { "to": [200, 800] }, "damping": 30 },
+            { "op": "delete", "region": { "shape": "circle", "center": [800, 200], "radius": 80 } },
+            { "op": "twist", "region": { "shape": "circle", "center": [500, 500], "radius": 150 }, "angle": 0.6, "falloff": 40 },
+            { "op": "squeeze", "region": { "shape": "circle", "center": [400, 700], "radius": 100 }, "by": [30, -10], "falloff": 30 },
+            { "op": "move_crest", "near": [42, 142], "by": [20, 5], "reach": 90 },
+            { "op": "raise_crest", "near": [0, 50], "factor": 0.5 }
+        ]"#,
+    )
+    .unwrap();
+    let mut session = Session { atlas: atlas.clone(), skeleton: None, skeletons_extracted: 0 };
+    let mut replayed = base.clone();
+    for tool in &tools {
+        assert!(tool.apply(&mut replayed, &mut session).is_ok(), "{tool:?}");
+    }
+    assert_eq!(session.skeletons_extracted, 1, "the skeleton is extracted once");
+
+    let mut direct = base.clone();
+    let placement = |to: [f64; 2], rotation| Placement { to, rotation, scale: 1.0 };
+    stamp(&mut direct, &circle(300.0, 300.0, 120.0), &placement([700.0, 600.0], 0.4), StampMode::Copy, 50.0).unwrap();
+    let hill = atlas.get("hill").unwrap();
+    paste(&mut direct, hill, &circle(0.0, 0.0, 200.0), &placement([200.0, 800.0], 0.0), 30.0).unwrap();
+    delete(&mut direct, &circle(800.0, 200.0, 80.0)).unwrap();
+    twist(&mut direct, &circle(500.0, 500.0, 150.0), 0.6, 40.0).unwrap();
+    squeeze(&mut direct, &circle(400.0, 700.0, 100.0), DVec2::new(30.0, -10.0), 30.0).unwrap();
+    let mut skeleton = crest().simplified(10.0);
+    let attached = skeleton.attach(&direct);
+    let tip = skeleton.nearest_node(DVec2::new(42.0, 142.0)).unwrap();
+    skeleton.move_node(&mut direct, &attached, tip, DVec2::new(20.0, 5.0), Some(90.0)).unwrap();
+    let attached = skeleton.attach(&direct);
+    let node = skeleton.nearest_node(DVec2::new(0.0, 50.0)).unwrap();
+    skeleton.scale_amplitude(&mut direct, &attached, node, 0.5, None).unwrap();
+    assert_eq!(replayed, direct);
+    assert_eq!(session.skeleton.as_ref(), Some(&skeleton), "crest edits move the kept skeleton");
+
+    // A tool's own error and the context's come back apart.
+    let bad: Tool = serde_json::from_str(
+        r#"{ "op": "twist", "region": { "shape": "circle", "center": [0, 0], "radius": -1 }, "angle": 1, "falloff": 1 }"#,
+    )
+    .unwrap();
+    assert!(matches!(bad.apply(&mut replayed, &mut session), Err(ToolError::Tool(GaussianError::InvalidRegion { .. }))));
+    let elsewhere: Tool = serde_json::from_str(
+        r#"{ "op": "paste", "atlas": "other.json", "landform": "hill", "footprint": 10, "placement": { "to": [0, 0] }, "damping": 1 }"#,
+    )
+    .unwrap();
+    assert!(matches!(elsewhere.apply(&mut replayed, &mut session), Err(ToolError::Context(e)) if e.contains("other.json")));
+    assert_eq!(replayed, direct, "refused tools change nothing");
+}

@@ -64,26 +64,6 @@ pub enum SamplingError {
         /// The radius given.
         radius: f64,
     },
-    /// A radius range is empty, inverted or not finite.
-    #[error("radius range [{min}, {max}] must satisfy 0 < min <= max < inf")]
-    InvalidRadiusRange {
-        /// Smallest radius.
-        min: f64,
-        /// Largest radius.
-        max: f64,
-    },
-    /// The radius function returned a value outside its declared range (or NaN).
-    #[error("radius function returned {value} at ({}, {}), outside the declared range [{min}, {max}]", at.x, at.y)]
-    RadiusOutOfRange {
-        /// Where it was evaluated.
-        at: DVec2,
-        /// What it returned.
-        value: f64,
-        /// Declared minimum.
-        min: f64,
-        /// Declared maximum.
-        max: f64,
-    },
     /// The extended-domain margin is negative or not finite.
     #[error("margin {margin} must be finite and >= 0")]
     InvalidMargin {

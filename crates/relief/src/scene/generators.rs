@@ -190,8 +190,9 @@ pub struct IslandGenerator {
     pub levels: Levels,
 }
 
-/// A vector terrain and the tools applied to it. The domain defaults to the primitives' supports
-/// (after the tools); the raster is `reconstruction.resolution`.
+/// A vector terrain and the tools applied to it. The domain defaults to the source terrain's
+/// recorded domain, else its primitives' supports (before the tools run); the raster is
+/// `reconstruction.resolution`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct GaussianGenerator {
