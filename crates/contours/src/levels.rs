@@ -141,3 +141,44 @@ pub(crate) fn check_levels(levels: &[f64]) -> Result<(), ContoursError> {
         None => Ok(()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[track_caller]
+    fn refused(levels: &Levels, says: &str) {
+        let e = levels.validate().unwrap_err().to_string();
+        assert!(e.contains(says), "{levels:?}: {e}");
+        assert_eq!(levels.resolve(0.0, 100.0).unwrap_err().to_string(), e, "resolve checks first");
+    }
+
+    #[test]
+    fn a_request_is_checked_on_its_own_then_resolved_over_a_range() {
+        for n in [1, 7, MAX_LEVELS] {
+            assert_eq!(Levels::Count(n).validate(), Ok(()));
+        }
+        refused(&Levels::Count(0), "0 levels");
+        refused(&Levels::Count(MAX_LEVELS + 1), "10001 levels");
+        assert_eq!(Levels::Interval(0.5).validate(), Ok(()));
+        for m in [0.0, -2.0, f64::NAN, f64::INFINITY] {
+            refused(&Levels::Interval(m), "must be finite and > 0");
+        }
+        assert_eq!(Levels::Heights(vec![3.0; MAX_LEVELS]).validate(), Ok(()));
+        refused(&Levels::Heights(vec![3.0; MAX_LEVELS + 1]), "more than 10000");
+        refused(&Levels::Heights(vec![1.0, f64::NAN]), "heights[1]");
+        // Resolved: a count inside the range, an interval's multiples, heights as given.
+        assert_eq!(Levels::Count(3).resolve(0.0, 400.0), Ok(vec![100.0, 200.0, 300.0]));
+        assert_eq!(Levels::Count(3).resolve(5.0, 5.0), Ok(Vec::new()), "a flat range has nothing to contour");
+        assert!(Levels::Count(3).resolve(5.0, 1.0).is_err());
+        assert_eq!(Levels::Interval(150.0).resolve(10.0, 400.0), Ok(vec![150.0, 300.0]));
+        assert!(Levels::Interval(1e-3).resolve(0.0, 1e6).is_err(), "too many levels");
+        assert_eq!(Levels::Heights(vec![9.0, 2.0]).resolve(0.0, 1.0), Ok(vec![9.0, 2.0]));
+        // JSON: the same checks as the request is read.
+        assert!(serde_json::from_str::<Levels>(r#"{ "interval": -5 }"#).is_err());
+        assert_eq!(
+            serde_json::from_str::<Levels>(r#"{ "heights": [1, 2] }"#).unwrap(),
+            Levels::Heights(vec![1.0, 2.0])
+        );
+    }
+}

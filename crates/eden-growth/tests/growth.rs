@@ -5,9 +5,9 @@ use proptest::prelude::*;
 use relief_eden_growth::{
     EdenError, FbmProbability, Graph, GraphOptions, Growth, LabelMap, Region, RegionTree, UNRANKED, Uniform, grow,
 };
+use relief_fixtures::star;
 use relief_tin::heightfield::GridSpec;
 use relief_tin::heightfield::noise::Fbm;
-use relief_fixtures::star;
 use relief_tin::poisson_sampling::Polygon;
 
 /// Checks the invariants every growth must satisfy ([`Growth::check_invariants`]).

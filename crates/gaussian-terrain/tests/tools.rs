@@ -344,11 +344,16 @@ fn tools_replayed_from_json_equal_the_tool_functions() {
         r#"{ "op": "twist", "region": { "shape": "circle", "center": [0, 0], "radius": -1 }, "angle": 1, "falloff": 1 }"#,
     )
     .unwrap();
-    assert!(matches!(bad.apply(&mut replayed, &mut session), Err(ToolError::Tool(GaussianError::InvalidRegion { .. }))));
+    assert!(matches!(
+        bad.apply(&mut replayed, &mut session),
+        Err(ToolError::Tool(GaussianError::InvalidRegion { .. }))
+    ));
     let elsewhere: Tool = serde_json::from_str(
         r#"{ "op": "paste", "atlas": "other.json", "landform": "hill", "footprint": 10, "placement": { "to": [0, 0] }, "damping": 1 }"#,
     )
     .unwrap();
-    assert!(matches!(elsewhere.apply(&mut replayed, &mut session), Err(ToolError::Context(e)) if e.contains("other.json")));
+    assert!(
+        matches!(elsewhere.apply(&mut replayed, &mut session), Err(ToolError::Context(e)) if e.contains("other.json"))
+    );
     assert_eq!(replayed, direct, "refused tools change nothing");
 }

@@ -274,3 +274,59 @@ fn errors_keep_their_typed_source() {
     let rule = e.source().and_then(|s| s.downcast_ref::<relief::SceneError>()).expect("a SceneError");
     assert!(matches!(rule, relief::SceneError::Conflict("particles", "radius")), "{rule:?}");
 }
+
+/// A histogram is one of the library's forms or a DEM file; the key decides, the library checks
+/// its own forms, and a bad value inside is named by its full path.
+#[test]
+fn histograms_are_the_librarys_or_a_dem() {
+    use relief::contours::HistogramSpec;
+    use relief::scene::{Generator, HistogramSource};
+    let parse = |histogram: serde_json::Value| {
+        let mut v = base();
+        v["generator"]["contours"]["histogram"] = histogram;
+        Scene::from_json(&v.to_string())
+    };
+    let histogram_of = |scene: Scene| match scene.generator {
+        Generator::Contours(g) => g.histogram,
+        _ => unreachable!("a contour scene"),
+    };
+    let dem = histogram_of(parse(serde_json::json!({ "dem": "fixtures/dem/jacksboro.asc" })).unwrap());
+    assert_eq!(dem, HistogramSource::Dem("fixtures/dem/jacksboro.asc".into()));
+    let bins = histogram_of(parse(serde_json::json!({ "bins": { "edges": [0, 1, 3], "weights": [2, 1] } })).unwrap());
+    let HistogramSource::Histogram(h) = &bins else { panic!("{bins:?}") };
+    assert_eq!(h.spec(), &HistogramSpec::Bins { edges: vec![0.0, 1.0, 3.0], weights: vec![2.0, 1.0] });
+    let samples = histogram_of(parse(serde_json::json!({ "samples": [1, 5, 2] })).unwrap());
+    assert!(matches!(&samples, HistogramSource::Histogram(h) if h.max() == 5.0));
+    // Both forms write back as they were read.
+    for source in [dem, bins, samples] {
+        let text = serde_json::to_string(&source).unwrap();
+        let mut v = base();
+        v["generator"]["contours"]["histogram"] = serde_json::from_str(&text).unwrap();
+        assert_eq!(histogram_of(Scene::from_json(&v.to_string()).unwrap()), source);
+    }
+    for (histogram, path, says) in [
+        (
+            serde_json::json!({ "bins": { "edges": [0, "one"], "weights": [1] } }),
+            "generator.contours.histogram.bins.edges[1]",
+            "invalid type",
+        ),
+        (
+            serde_json::json!({ "bins": { "edges": [0, 1], "weights": [1], "colour": 3 } }),
+            "generator.contours.histogram.bins.colour",
+            "unknown field",
+        ),
+        (
+            serde_json::json!({ "bins": { "edges": [1, 0], "weights": [1] } }),
+            "generator.contours.histogram",
+            "histogram",
+        ),
+        (serde_json::json!({ "gaussian": 3 }), "generator.contours.histogram", "unknown variant `gaussian`"),
+        (serde_json::json!({ "dem": "a.asc", "samples": [1] }), "generator.contours.histogram", "exactly one"),
+        (serde_json::json!({}), "generator.contours.histogram", "a histogram"),
+        (serde_json::json!({ "dem": 4 }), "generator.contours.histogram.dem", "invalid type"),
+    ] {
+        let e = parse(histogram.clone()).unwrap_err();
+        assert_eq!(e.scene_path(), Some(path), "{histogram}: {e}");
+        assert!(e.to_string().contains(says), "{histogram}: {e}");
+    }
+}

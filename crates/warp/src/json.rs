@@ -250,6 +250,37 @@ mod tests {
     }
 
     #[test]
+    fn slope_modulations_are_equal_when_built_from_equal_parameters() {
+        let curve = [DVec2::ZERO, DVec2::new(100.0, 0.0), DVec2::new(200.0, 50.0)];
+        let point = SlopeModulation::point(DVec2::new(1.0, 2.0), 50.0, 1.5).unwrap();
+        let along = SlopeModulation::curve(&curve, 20.0, -0.5).unwrap();
+        assert_eq!(point, point.clone());
+        assert_eq!(along, SlopeModulation::curve(&curve, 20.0, -0.5).unwrap());
+        for other in [
+            SlopeModulation::point(DVec2::new(1.0, 3.0), 50.0, 1.5).unwrap(),
+            SlopeModulation::point(DVec2::new(1.0, 2.0), 60.0, 1.5).unwrap(),
+            SlopeModulation::point(DVec2::new(1.0, 2.0), 50.0, 1.0).unwrap(),
+            along.clone(),
+        ] {
+            assert_ne!(point, other);
+        }
+        let bent = [DVec2::ZERO, DVec2::new(100.0, 0.0), DVec2::new(200.0, 60.0)];
+        assert_ne!(along, SlopeModulation::curve(&bent, 20.0, -0.5).unwrap());
+        assert_ne!(along, point);
+    }
+
+    #[cfg(feature = "schemars")]
+    #[test]
+    fn the_json_schemas_describe_the_json_forms() {
+        let path = serde_json::to_value(schemars::schema_for!(PathWarp)).unwrap();
+        assert_eq!(path["title"], "PathWarp");
+        assert_eq!(path["required"], serde_json::json!(["stroke", "radius"]));
+        let slope = serde_json::to_value(schemars::schema_for!(SlopeModulation)).unwrap();
+        assert_eq!(slope["title"], "SlopeModulation");
+        assert!(slope["properties"]["curve"].is_object() && slope["properties"]["point"].is_object(), "{slope}");
+    }
+
+    #[test]
     fn a_slope_modulation_round_trips_and_needs_exactly_one_centre() {
         for text in [
             r#"{"point":[1.0,2.0],"radius":50.0,"strength":1.5}"#,
