@@ -229,3 +229,26 @@ fn enters_at_vertex(tri: &[DVec2; 3], v: DVec2, w: DVec2) -> bool {
     let along = |e: DVec2| orient(v, e, w) == 0.0 && (e - v).dot(w - v) > 0.0;
     along(b) || along(c) || (ob != 0.0 && oc != 0.0 && ob.signum() == turn.signum() && oc.signum() == turn.signum())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smoothing_parameters_are_checked_and_located() {
+        assert_eq!(Smoothing::default().validate(), Ok(()));
+        assert_eq!(Smoothing { alpha: 1.0, k: 1, iterations: 0 }.validate(), Ok(()));
+        for alpha in [0.0, -0.5, 1.5, f64::NAN] {
+            let e = Smoothing { alpha, ..Smoothing::default() }.validate().unwrap_err();
+            assert!(matches!(e, ContoursError::InvalidSmoothing { field: "alpha", .. }), "{e:?}");
+            assert_eq!(e.location(), "alpha");
+        }
+        let e = Smoothing { k: 0, ..Smoothing::default() }.validate().unwrap_err();
+        assert_eq!(e.location(), "k");
+        assert_eq!(ContoursError::EmptyHistogram.location(), "");
+        // In JSON every field is optional, with the defaults.
+        let read: Smoothing = serde_json::from_str(r#"{ "k": 3 }"#).unwrap();
+        assert_eq!(read, Smoothing { k: 3, ..Smoothing::default() });
+        assert!(serde_json::from_str::<Smoothing>(r#"{ "beta": 3 }"#).is_err());
+    }
+}

@@ -113,3 +113,35 @@ impl DiffusionError {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_error_is_located_as_a_diffusion_generator_lays_out_its_inputs() {
+        let constraint =
+            |field| DiffusionError::InvalidConstraint { curve: 3, constraint: 1, field, value: 0.0, reason: "" };
+        let cases = [
+            (DiffusionError::ControlPoints { curve: 2, count: 3 }, "curves[2].points"),
+            (DiffusionError::NonFinitePoint { curve: 2, index: 4 }, "curves[2].points[4]"),
+            (DiffusionError::NoConstraints { curve: 5 }, "curves[5].constraints"),
+            (constraint("u"), "curves[3].constraints[1].u"),
+            (constraint("h"), "curves[3].constraints[1].elevation.h"),
+            (constraint("r"), "curves[3].constraints[1].elevation.r"),
+            (constraint("a"), "curves[3].constraints[1].slope.a"),
+            (constraint("b"), "curves[3].constraints[1].slope.b"),
+            (constraint("theta"), "curves[3].constraints[1].slope.theta"),
+            (constraint("phi"), "curves[3].constraints[1].slope.phi"),
+            (constraint("amplitude"), "curves[3].constraints[1].noise.amplitude"),
+            (constraint("roughness"), "curves[3].constraints[1].noise.roughness"),
+            (DiffusionError::CurveTooLong { curve: 6, stations: 1e9, max: 1 }, "curves[6]"),
+            (DiffusionError::NoElevation, "curves"),
+            (DiffusionError::InvalidOption { name: "tolerance", value: 2.0, reason: "" }, "tolerance"),
+            (DiffusionError::GridTooSmall { nx: 1, ny: 1 }, ""),
+        ];
+        for (e, path) in cases {
+            assert_eq!(e.location(), path, "{e:?}");
+        }
+    }
+}

@@ -194,3 +194,32 @@ impl EdenError {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_error_is_located_at_the_value_it_is_about() {
+        let cases = [
+            (EdenError::NoRegions, "regions"),
+            (EdenError::HeightsNotIncreasing { depth: 2, height: 1.0, lower_depth: 1, lower_height: 5.0 }, "regions"),
+            (EdenError::RegionsOverlap { a: 0, b: 3, at: DVec2::ZERO }, "regions[3].polygon"),
+            (EdenError::HoleInRaisedRegion { region: 2, depth: 2 }, "regions[2].polygon.holes"),
+            (EdenError::DepressionNotNested { region: 4, parent_depth: 0 }, "regions[4].depression"),
+            (EdenError::DepressionWithChildren { region: 5, child: 6 }, "regions[5].depression"),
+            (EdenError::InvalidHeight { region: 1, value: f64::NAN }, "regions[1].height"),
+            (EdenError::ConflictingHeights { depth: 2, a: 1, height_a: 3.0, b: 7, height_b: 4.0 }, "regions[7].height"),
+            (EdenError::RegionTooSmall { region: 8, radius: 2.0 }, "regions[8].polygon"),
+            (EdenError::InvalidProbability { x: 0.0, y: 0.0, value: -1.0 }, "probability"),
+            (EdenError::ZeroProbability, "probability"),
+            (EdenError::InvalidProbabilityParameters { reason: String::new() }, "probability"),
+            (EdenError::InvalidParticleCount { count: 0 }, "particles"),
+            (EdenError::TooManyParticles { requested: 9, limit: 1 }, ""),
+            (EdenError::LevelTooSmall { level: 2, radius: 1.0 }, ""),
+        ];
+        for (e, path) in cases {
+            assert_eq!(e.location(), path, "{e:?}");
+        }
+    }
+}

@@ -71,3 +71,17 @@ impl HydrologyError {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parameter_errors_are_located_at_the_parameter() {
+        let bad = HydrologyError::InvalidParameter { name: "n", value: -1.0, reason: "must be finite and > 0" };
+        assert_eq!(bad.location(), "n");
+        let short = HydrologyError::LengthMismatch { what: "uplift", expected: 4, found: 3 };
+        assert_eq!(short.location(), "uplift");
+        assert_eq!(HydrologyError::AllNoData { cells: 4 }.location(), "");
+    }
+}

@@ -107,3 +107,18 @@ impl IslandError {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_error_is_located_as_an_island_generator_lays_out_its_inputs() {
+        let failed = IslandError::Operation { index: 3, source: Box::new(IslandError::ShortStroke) };
+        assert_eq!(failed.location(), "operations[3]");
+        let setting = IslandError::InvalidParameter { name: "land_floor", value: -1.0, reason: "must be positive" };
+        assert_eq!(setting.location(), "settings.land_floor");
+        assert_eq!(IslandError::ShortStroke.location(), "");
+        assert_eq!(IslandError::NoLand.location(), "");
+    }
+}

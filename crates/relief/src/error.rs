@@ -201,3 +201,38 @@ whole!(
     crate::poisson_sampling::PolygonError,
     SceneError,
 );
+
+#[cfg(test)]
+mod tests {
+    use std::error::Error as _;
+
+    use super::*;
+    use crate::diffusion::DiffusionError;
+
+    #[test]
+    fn located_errors_join_the_scene_path_with_the_librarys_and_keep_the_source() {
+        let theta = DiffusionError::InvalidConstraint {
+            curve: 3,
+            constraint: 1,
+            field: "theta",
+            value: 95.0,
+            reason: "is bad",
+        };
+        let e = ReliefError::located("generator.diffusion", theta.clone());
+        assert_eq!(e.scene_path(), Some("generator.diffusion.curves[3].constraints[1].slope.theta"));
+        assert_eq!(e.to_string(), format!("generator.diffusion.curves[3].constraints[1].slope.theta: {theta}"));
+        assert_eq!(e.source().and_then(|s| s.downcast_ref::<DiffusionError>()), Some(&theta));
+        // An error about the value as a whole is located at the value; an empty prefix is the root.
+        let grid = DiffusionError::GridTooSmall { nx: 1, ny: 1 };
+        assert_eq!(ReliefError::located("generator.diffusion", grid.clone()).scene_path(), Some("generator.diffusion"));
+        assert_eq!(ReliefError::located("", DiffusionError::NoElevation).scene_path(), Some("curves"));
+        let whole = ReliefError::located("", grid);
+        assert_eq!(whole.scene_path(), Some(""));
+        assert!(whole.to_string().starts_with("scene: "), "{whole}");
+        // Pipeline and I/O errors name no scene value.
+        assert_eq!(ReliefError::step("drainage", SceneError::Missing("x")).scene_path(), None);
+        let budget =
+            ReliefError::OverBudget { path: "reconstruction.resolution".into(), what: "cells", requested: 9, limit: 1 };
+        assert_eq!(budget.scene_path(), Some("reconstruction.resolution"));
+    }
+}

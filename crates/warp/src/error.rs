@@ -160,3 +160,31 @@ impl WarpError {
         field.to_owned()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_error_is_located_at_the_field_of_the_warp_it_is_about() {
+        let cases = [
+            (WarpError::InvalidRadius { radius: -1.0 }, "radius"),
+            (WarpError::CurvatureTooHigh { at: DVec2::ZERO, curvature_radius: 1.0, radius: 2.0 }, "radius"),
+            (WarpError::CurveTooClose { a: DVec2::ZERO, b: DVec2::ONE, distance: 1.0, radius: 2.0 }, "radius"),
+            (WarpError::InvalidStrength { mu: 4.0, range: "[0, 1]" }, "strength"),
+            (WarpError::DegenerateStroke { distinct: 1, length: 0.0 }, "stroke"),
+            (WarpError::TooManyDiscs { length: 1e9, radius: 1.0, discs: 1e9, max: 1 }, "stroke"),
+            (WarpError::InvalidProfile { reason: String::new() }, "exponent"),
+            (WarpError::SegmentTooLong { epsilon: 5.0, limit: 1.0, radius: 1.0, mu: 1.0 }, "segment"),
+            (WarpError::NonFinite { what: "radius", value: f64::NAN }, "radius"),
+            (WarpError::NonFinite { what: "strength", value: f64::NAN }, "strength"),
+            (WarpError::NonFinite { what: "segment length", value: f64::NAN }, "segment"),
+            (WarpError::NonFinite { what: "stroke point", value: f64::NAN }, ""),
+            (WarpError::AmbiguousCentre, ""),
+            (WarpError::TooManyPoints { tolerance: 1.0, max: 1 }, ""),
+        ];
+        for (e, path) in cases {
+            assert_eq!(e.location(), path, "{e:?}");
+        }
+    }
+}
