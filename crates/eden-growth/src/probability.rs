@@ -160,3 +160,47 @@ impl ProbabilityMap for RasterProbability {
         self.field.sample_bilinear_clamped(p).map_or(0.0, |v| f64::from(v).powf(self.exponent))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use relief_tin::heightfield::GridSpec;
+
+    use super::*;
+
+    #[test]
+    fn probability_maps_evaluate_their_formulas() {
+        let p = DVec2::new(123.0, -45.0);
+        let closure = |q: DVec2| q.x + 2.0 * q.y;
+        assert_eq!(closure.probability(p), 33.0);
+        assert_eq!(Uniform.probability(p), 1.0);
+        let fbm = Fbm { octaves: 3, frequency: 0.01, lacunarity: 2.0, gain: 0.5, seed: 9 };
+        let map = FbmProbability::new(fbm, 2.5).unwrap();
+        assert_eq!(map.probability(p), (2.5 * fbm.sample(p)).exp());
+        let field = Heightfield::from_fn(GridSpec::new(3, 3, DVec2::ZERO, DVec2::ONE).unwrap(), |q| (q.x + q.y) as f32)
+            .unwrap();
+        let raster = RasterProbability::new(field, 3.0).unwrap();
+        assert!((raster.probability(DVec2::new(1.0, 0.5)) - 1.5f64.powi(3)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn an_fbm_map_reads_its_json_with_the_fbm_defaults_and_takes_its_seed_from_the_caller() {
+        let read: FbmProbability = serde_json::from_str(r#"{ "frequency": 0.002, "contrast": 3 }"#).unwrap();
+        let defaults = Fbm { frequency: 0.002, seed: 0, ..Fbm::default() };
+        assert_eq!(read, FbmProbability::new(defaults, 3.0).unwrap());
+        assert_eq!((defaults.octaves, defaults.lacunarity, defaults.gain), (6, 2.0, 0.5));
+        // The seed is not part of the JSON form.
+        let seeded = read.with_seed(42);
+        assert_eq!(seeded, FbmProbability::new(Fbm { seed: 42, ..defaults }, 3.0).unwrap());
+        let text = serde_json::to_string(&seeded).unwrap();
+        assert_eq!(text, r#"{"octaves":6,"frequency":0.002,"lacunarity":2.0,"gain":0.5,"contrast":3.0}"#);
+        assert_eq!(serde_json::from_str::<FbmProbability>(&text).unwrap(), read);
+        for bad in [
+            r#"{ "frequency": -1, "contrast": 3 }"#,
+            r#"{ "frequency": 1, "contrast": 3, "octaves": 0 }"#,
+            r#"{ "frequency": 1, "contrast": 3, "seed": 4 }"#,
+            r#"{ "contrast": 3 }"#,
+        ] {
+            assert!(serde_json::from_str::<FbmProbability>(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -362,6 +362,64 @@ mod tests {
     use super::*;
 
     #[test]
+    fn extents_are_checked_and_measured() {
+        let d = |x: f64, y: f64| DVec2::new(x, y);
+        assert!(Extent::checked(d(0.0, 0.0), d(2.0, 1.0)).is_ok());
+        for (min, max) in [
+            (d(0.0, 0.0), d(0.0, 1.0)),
+            (d(0.0, 0.0), d(1.0, 0.0)),
+            (d(2.0, 0.0), d(1.0, 1.0)),
+            (d(0.0, 2.0), d(1.0, 1.0)),
+            (d(f64::NAN, 0.0), d(1.0, 1.0)),
+            (d(0.0, 0.0), d(1.0, f64::INFINITY)),
+        ] {
+            assert!(matches!(Extent::checked(min, max), Err(HeightfieldError::InvalidExtent { .. })), "{min} {max}");
+        }
+        let e = Extent::new(d(1.0, 2.0), d(5.0, 10.0));
+        assert_eq!((e.size(), e.center()), (d(4.0, 8.0), d(3.0, 6.0)));
+        for p in [d(1.0, 2.0), d(5.0, 10.0), d(3.0, 6.0), d(1.0, 10.0)] {
+            assert!(e.contains(p), "{p}");
+        }
+        for p in [d(0.9, 6.0), d(5.1, 6.0), d(3.0, 1.9), d(3.0, 10.1)] {
+            assert!(!e.contains(p), "{p}");
+        }
+    }
+
+    #[test]
+    fn grids_from_extents_units_and_cells() {
+        let d = |x: f64, y: f64| DVec2::new(x, y);
+        // A single-sample axis takes the other axis's spacing (1 when both are single).
+        let column = GridSpec::from_extent(1, 5, Extent::new(d(3.0, 0.0), d(3.0, 8.0))).unwrap();
+        assert_eq!(column.cell_size(), d(2.0, 2.0));
+        let row = GridSpec::from_extent(5, 1, Extent::new(d(0.0, 3.0), d(8.0, 3.0))).unwrap();
+        assert_eq!(row.cell_size(), d(2.0, 2.0));
+        let point = GridSpec::from_extent(1, 1, Extent::new(d(3.0, 4.0), d(3.0, 4.0))).unwrap();
+        assert_eq!((point.cell_size(), point.origin()), (DVec2::ONE, d(3.0, 4.0)));
+        assert!(!point.is_empty());
+        for (nx, ny, max) in [(1, 5, d(4.0, 8.0)), (5, 5, d(0.0, 8.0)), (5, 5, d(-1.0, 8.0))] {
+            assert!(GridSpec::from_extent(nx, ny, Extent::new(d(0.0, 0.0), max)).is_err(), "{nx}x{ny} {max}");
+        }
+        // Geographic grids stop at the poles (within a rounding tolerance).
+        let band = |y0: f64, y1: f64| GridSpec::from_extent(3, 3, Extent::new(d(0.0, y0), d(2.0, y1))).unwrap();
+        assert!(band(-90.0, 90.0).with_units(Units::Degrees).is_ok());
+        assert!(band(-90.1, 0.0).with_units(Units::Degrees).is_err());
+        assert!(band(0.0, 90.1).with_units(Units::Degrees).is_err());
+        assert!(band(0.0, 90.1).with_units(Units::Metres).is_ok());
+        // Nearest samples within half a cell of the grid; ground measures per row.
+        let g = GridSpec::new(4, 3, d(10.0, 20.0), d(2.0, 5.0)).unwrap();
+        assert_eq!(g.nearest_sample(d(12.9, 27.4)), Some((1, 1)));
+        assert_eq!(g.nearest_sample(d(9.1, 17.6)), Some((0, 0)));
+        assert_eq!(g.nearest_sample(d(8.9, 20.0)), None);
+        assert_eq!(g.nearest_sample(d(16.0, 32.6)), None);
+        assert_eq!(g.nearest_sample(d(17.1, 30.0)), None);
+        assert_eq!((g.metres_per_unit(2), g.cell_area_m2(2)), (DVec2::ONE, 10.0));
+        let geo = GridSpec::new(4, 3, d(10.0, 40.0), d(0.5, 0.25)).unwrap().with_units(Units::Degrees).unwrap();
+        let m = metres_per_degree(40.5);
+        assert_eq!(geo.metres_per_unit(2), m);
+        assert_eq!(geo.cell_area_m2(2), (0.5 * m.x) * (0.25 * m.y));
+    }
+
+    #[test]
     fn metres_per_degree_matches_known_values() {
         let eq = metres_per_degree(0.0);
         assert!((eq.x - 111_319.49).abs() < 0.01, "{eq}");

@@ -187,4 +187,18 @@ mod tests {
             assert_eq!(e.location(), path, "{e:?}");
         }
     }
+
+    #[test]
+    fn non_finite_points_are_named() {
+        assert_eq!(finite_points("stroke point", &[DVec2::ZERO, DVec2::ONE]), Ok(()));
+        let e = finite_points("stroke point", &[DVec2::ZERO, DVec2::new(1.0, f64::NAN)]).unwrap_err();
+        assert!(matches!(e, WarpError::NonFinite { what: "stroke point", value } if value.is_nan()), "{e:?}");
+        let e = finite_points("curve point", &[DVec2::new(f64::INFINITY, 2.0)]).unwrap_err();
+        assert_eq!(e, WarpError::NonFinite { what: "curve point", value: f64::INFINITY });
+        let stroke = [DVec2::ZERO, DVec2::new(f64::NAN, 0.0), DVec2::ONE];
+        assert!(matches!(
+            crate::PathWarp::new(&stroke, &crate::PathOptions::new(1.0, 1.0)),
+            Err(WarpError::NonFinite { what: "stroke point", .. })
+        ));
+    }
 }
