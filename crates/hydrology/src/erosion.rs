@@ -96,8 +96,9 @@ impl StreamPower {
 
     /// One implicit step. Water is routed on a Priority-Flood+ε copy, so it crosses depressions,
     /// but the depressions themselves are not filled: a cell whose receiver stands higher (a lake
-    /// floor) only uplifts. Outlets (sinks of the routing) stay fixed; no-data stays no-data; no
-    /// cell ends above its height plus uplift·dt, and none ends below its receiver.
+    /// floor) only uplifts. Outlets stay fixed — sinks of the routing, and every cell at or below
+    /// the outlets' sea level (the base level: a sloping sea floor is not carved); no-data stays
+    /// no-data; no cell ends above its height plus uplift·dt, and none ends below its receiver.
     ///
     /// # Errors
     /// [`HydrologyError::InvalidParameter`] / [`HydrologyError::LengthMismatch`] for bad
@@ -120,10 +121,12 @@ impl StreamPower {
             let routed = D8::new(&fill(hf, self.outlets)?)?;
             let (receivers, dist, area) = (routed.receivers(), routed.distances(), routed.drainage_area());
             let z = hf.samples_mut();
+            // The sea is base level like the routing's sinks: rivers do not carve below it.
+            let sea = self.outlets.sea_level;
             for &k in routed.order() {
                 let k = k as usize;
                 let r = receivers[k];
-                if r == NO_RECEIVER || z[k].is_nan() {
+                if r == NO_RECEIVER || z[k].is_nan() || sea.is_some_and(|s| z[k] <= s) {
                     continue;
                 }
                 let h0 = f64::from(z[k]) + self.uplift.at(k) * self.dt;

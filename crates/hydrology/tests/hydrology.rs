@@ -209,6 +209,15 @@ fn stream_power_incises_valleys_and_keeps_outlets() {
     StreamPower { iterations: 9, ..sp.clone() }.run(&mut eroded, |_| {}).unwrap();
     let lowered = eroded.samples().iter().zip(dem.samples()).filter(|(a, b)| a < b).count();
     assert!(lowered > 64 * 64 / 4, "only {lowered} cells eroded");
+    // With a sea, every cell at or below its level is base level too, however the floor slopes.
+    let mut coast = dem.clone();
+    let sea = StreamPower { iterations: 10, outlets: Outlets::new().with_sea_level(0.0), ..sp.clone() };
+    sea.run(&mut coast, |_| {}).unwrap();
+    let under: Vec<(f32, f32)> =
+        dem.samples().iter().zip(coast.samples()).filter(|(a, _)| **a <= 0.0).map(|(a, b)| (*a, *b)).collect();
+    assert!(under.len() > 64 * 64 / 4 && under.iter().any(|(a, _)| *a < -50.0), "{} sea cells", under.len());
+    assert!(under.iter().all(|(a, b)| a == b), "the sea floor was carved");
+    assert!(coast.samples().iter().zip(dem.samples()).any(|(a, b)| a < b), "the land erodes");
     let bad = StreamPower { uplift: Field::Map(vec![0.0; 3]), ..StreamPower::default() };
     assert!(matches!(bad.step(&mut eroded), Err(HydrologyError::LengthMismatch { what: "uplift", .. })));
     let bad = StreamPower { m: f64::NAN, ..StreamPower::default() };

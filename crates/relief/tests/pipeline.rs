@@ -405,3 +405,53 @@ fn island_scenes_replay_identically_and_name_the_failing_operation() {
     );
     assert!(err.to_string().contains("never touches the coastline"), "{err}");
 }
+
+/// The sea is the base level of erosion: stream power never touches a cell below the sea level,
+/// even where the sea floor slopes (a diffusion scene's `sea_level`).
+#[test]
+fn erosion_leaves_the_sea_floor_alone() {
+    let text = std::fs::read_to_string(root().join("fixtures/scenes/volcanic-island.json")).unwrap();
+    let mut scene = Scene::from_json(&text).unwrap();
+    scene.reconstruction.resolution = [96, 96];
+    let plain = generate(&scene, &root().join("fixtures/scenes"), &mut ()).unwrap();
+    let sea = plain.sea_level.expect("the volcanic island has a sea") as f32;
+    scene.post = vec![stream_power(10, 1.0, 1000.0)];
+    let eroded = generate(&scene, &root().join("fixtures/scenes"), &mut ()).unwrap();
+    let (a, b) = (plain.heightfield.samples(), eroded.heightfield.samples());
+    let under = a.iter().zip(b).filter(|(before, _)| **before < sea);
+    let (count, moved) = under.fold((0, 0), |(n, m), (x, y)| (n + 1, m + usize::from(x != y)));
+    assert!(count > a.len() / 10, "{count} sea cells");
+    assert_eq!(moved, 0, "sea cells eroded");
+    assert!(a.iter().zip(b).any(|(x, y)| y < x), "the land erodes");
+}
+
+/// Without a `domain`, drawn inputs get their bounds grown by 5 % and widened to the raster's
+/// aspect so cells are square; a degenerate bounding box still makes a grid.
+#[test]
+fn default_domains_fit_the_inputs_with_square_cells() {
+    // Wide regions on a square raster: the domain is widened in y.
+    let wide = vec![region(vec![[0.0, 0.0], [4000.0, 0.0], [4000.0, 1000.0], [0.0, 1000.0]], Some(0.0), false)];
+    let mut s = scene(1, wide, Vec::new(), ReconstructionMode::Stairs, 64);
+    let terrain = generate(&s, &root(), &mut ()).unwrap();
+    let e = terrain.heightfield.extent();
+    assert!((e.min.x + 200.0).abs() < 1e-9 && (e.max.x - 4200.0).abs() < 1e-9, "{e:?}");
+    assert!((e.size().y - 4400.0).abs() < 1e-9 && (e.center().y - 500.0).abs() < 1e-9, "{e:?}");
+    // Tall regions on a wide raster: widened in x, cells square.
+    let tall = vec![region(vec![[0.0, 0.0], [1000.0, 0.0], [1000.0, 3000.0], [0.0, 3000.0]], Some(0.0), false)];
+    s = scene(1, tall, Vec::new(), ReconstructionMode::Stairs, 64);
+    s.reconstruction.resolution = [97, 49];
+    let grid = *generate(&s, &root(), &mut ()).unwrap().heightfield.grid();
+    assert!((grid.cell_size().x - grid.cell_size().y).abs() < 1e-9, "{grid:?}");
+    assert!((grid.extent().size().y - 3300.0).abs() < 1e-9, "{grid:?}");
+    // A single horizontal feature curve: its bounding box has no height, the domain still does.
+    let flat: Scene = serde_json::from_value(serde_json::json!({
+        "version": 1,
+        "generator": { "diffusion": { "curves": [
+            { "points": [[0, 0], [1000, 0]], "constraints": [{ "u": 0.5, "elevation": { "h": 100 } }] }
+        ] } },
+        "reconstruction": { "resolution": [33, 33] }
+    }))
+    .unwrap();
+    let e = generate(&flat, &root(), &mut ()).unwrap().heightfield.extent();
+    assert!(e.size().y > 0.0 && (e.size().x - e.size().y).abs() < 1e-6, "{e:?}");
+}
