@@ -189,14 +189,61 @@ pub fn reconstruct_interpolated(
 }
 
 /// Fills the raster's one-cell pits by Priority-Flood+ε, with the sea (outside every contour) and
-/// every region inside a pit contour as outlets, so intended depressions stay.
+/// every region inside a pit contour as outlets, so intended depressions stay (see
+/// [`outlet_mask`] for the slivers that do not count).
 fn drain(dem: &mut Heightfield, set: &ContourSet, labels: &[u32]) {
-    let pit: Vec<bool> = set.contours().iter().map(|c| c.closed && !c.is_counter_clockwise()).collect();
+    let outlet = outlet_mask(dem.grid(), set, labels);
     let nx = dem.nx();
-    fill_depressions(dem, |i, j| {
-        let l = labels[j * nx + i];
-        l == NONE || pit[l as usize]
-    });
+    fill_depressions(dem, |i, j| outlet[j * nx + i]);
+}
+
+/// Fewest samples an enclosed patch of sea or of a pit's inside needs to stay an outlet.
+const MIN_OUTLET_SAMPLES: usize = 4;
+
+/// The samples that drain the raster: outside every contour (the sea) or inside a pit contour,
+/// in 8-connected patches that reach the grid's border or hold at least
+/// [`MIN_OUTLET_SAMPLES`] samples. A smaller enclosed patch is a sliver of sea or pit that a
+/// contour narrower than a cell leaves in the land (an inlet's tip, a pit's spur): it is filled
+/// like any other one-cell pit.
+fn outlet_mask(grid: &GridSpec, set: &ContourSet, labels: &[u32]) -> Vec<bool> {
+    let pit: Vec<bool> = set.contours().iter().map(|c| c.closed && !c.is_counter_clockwise()).collect();
+    let candidate: Vec<bool> = labels.iter().map(|&l| l == NONE || pit[l as usize]).collect();
+    let (nx, ny) = (grid.nx(), grid.ny());
+    let mut outlet = vec![false; labels.len()];
+    let mut seen = vec![false; labels.len()];
+    let mut patch = Vec::new();
+    for start in 0..labels.len() {
+        if !candidate[start] || seen[start] {
+            continue;
+        }
+        // One 8-connected patch of candidates, by a depth-first walk.
+        patch.clear();
+        seen[start] = true;
+        let mut stack = vec![start];
+        let mut border = false;
+        while let Some(k) = stack.pop() {
+            patch.push(k);
+            let (i, j) = (k % nx, k / nx);
+            border |= i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
+            for (a, b) in neighbours(i, j, nx, ny) {
+                let w = b * nx + a;
+                if candidate[w] && !seen[w] {
+                    seen[w] = true;
+                    stack.push(w);
+                }
+            }
+        }
+        if border || patch.len() >= MIN_OUTLET_SAMPLES {
+            patch.iter().for_each(|&k| outlet[k] = true);
+        }
+    }
+    outlet
+}
+
+/// The 8-neighbours of sample `(i, j)` inside an `nx × ny` grid.
+fn neighbours(i: usize, j: usize, nx: usize, ny: usize) -> impl Iterator<Item = (usize, usize)> {
+    let (i0, i1, j0, j1) = (i.saturating_sub(1), (i + 1).min(nx - 1), j.saturating_sub(1), (j + 1).min(ny - 1));
+    (j0..=j1).flat_map(move |b| (i0..=i1).map(move |a| (a, b))).filter(move |&(a, b)| (a, b) != (i, j))
 }
 
 /// The samples of each region, grouped by contour (CSR).
@@ -470,4 +517,68 @@ fn region_values(
             (g, v)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Contour;
+
+    /// Regression (a shrunk proptest case of `generated_contours_nest_never_cross_and_match_the_histogram`):
+    /// a coast contour with an inward spike narrower than a cell left one sample labelled "outside"
+    /// inside the land, at the sea's height; as an outlet it stayed a one-cell endorheic pit.
+    #[test]
+    fn only_sea_and_pit_patches_that_are_real_drain_the_raster() {
+        let grid = GridSpec::new(10, 8, DVec2::ZERO, DVec2::ONE).unwrap();
+        // Contour 0 is the coast (counter-clockwise), contour 1 a pit (clockwise).
+        let ring = |pts: &[[f64; 2]]| pts.iter().map(|&p| DVec2::from(p)).collect::<Vec<_>>();
+        let coast = Contour {
+            level: 0,
+            height: 0.0,
+            points: ring(&[[1.0, 1.0], [9.0, 1.0], [9.0, 7.0], [1.0, 7.0]]),
+            closed: true,
+        };
+        let pit = Contour {
+            level: 0,
+            height: 0.0,
+            points: ring(&[[5.0, 2.0], [5.0, 4.0], [7.0, 4.0], [7.0, 2.0]]),
+            closed: true,
+        };
+        let set = ContourSet::new(vec![0.0], vec![coast, pit]).unwrap();
+        assert!(!set.contours()[1].is_counter_clockwise(), "contour 1 is a pit");
+        let (l, c, p) = (NONE, 0u32, 1u32);
+        let at = |i: usize, j: usize| j * 10 + i;
+        #[rustfmt::skip]
+        let labels = vec![
+            l, l, l, l, l, l, l, l, l, l, // the sea along the border: outlets
+            l, c, c, c, c, c, c, c, c, l,
+            l, c, l, c, c, p, p, c, c, l, // a lone sea sample inside the land: filled
+            l, c, c, c, c, p, p, c, c, l, // a pit of four samples: kept
+            l, c, c, c, c, c, c, c, c, l,
+            l, c, c, p, c, c, c, c, c, l, // a lone pit sample: filled
+            l, c, c, c, c, c, c, c, c, l,
+            l, l, l, l, l, l, l, l, l, l,
+        ];
+        let outlet = outlet_mask(&grid, &set, &labels);
+        let expected: Vec<bool> = labels
+            .iter()
+            .enumerate()
+            .map(|(k, &label)| match label {
+                NONE => k != at(2, 2),
+                1 => k != at(3, 5),
+                _ => false,
+            })
+            .collect();
+        assert_eq!(outlet, expected);
+        // Four or more enclosed sea samples stay sea: a lagoon, not a sliver.
+        let mut lagoon = labels.clone();
+        for k in [at(3, 2), at(2, 3), at(3, 3)] {
+            lagoon[k] = NONE;
+        }
+        let outlet = outlet_mask(&grid, &set, &lagoon);
+        assert!([at(2, 2), at(3, 2), at(2, 3), at(3, 3)].iter().all(|&k| outlet[k]));
+        assert_eq!(neighbours(0, 0, 10, 8).count(), 3);
+        assert_eq!(neighbours(3, 3, 10, 8).count(), 8);
+        assert_eq!(neighbours(9, 2, 10, 8).count(), 5);
+    }
 }

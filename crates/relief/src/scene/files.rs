@@ -1,0 +1,59 @@
+//! Which files a scene reads and which it writes, so that whoever runs it can check the two
+//! apart (an output must never replace an input) and know what a run leaves in its folder.
+
+use std::path::Path;
+
+use super::{GaussianSource, Generator, HistogramSource, OrometrySource, Outputs, Probability, Scene};
+use crate::gaussian_terrain::Tool;
+
+impl Scene {
+    /// Every file the scene reads, as written in it (relative paths resolve against the scene
+    /// file's directory): label and probability images, histogram and source DEMs, vector
+    /// terrains, atlases, descriptors and control maps.
+    pub fn input_files(&self) -> Vec<&Path> {
+        let mut files: Vec<&Path> = Vec::new();
+        match &self.generator {
+            Generator::Contours(g) => {
+                files.extend(g.label_image.as_ref().map(|l| l.path.as_path()));
+                if let HistogramSource::Dem(path) = &g.histogram {
+                    files.push(path);
+                }
+                if let Probability::Image { path, .. } = &g.probability {
+                    files.push(path);
+                }
+            }
+            Generator::Diffusion(_) | Generator::Island(_) => {}
+            Generator::Gaussian(g) => {
+                if let GaussianSource::Terrain { path } | GaussianSource::Dem { path, .. } = &g.source {
+                    files.push(path);
+                }
+                files.extend(g.operations.iter().filter_map(|tool| match tool {
+                    Tool::Paste { atlas, .. } => Some(atlas.as_path()),
+                    _ => None,
+                }));
+            }
+            Generator::Orometry(g) => {
+                let (OrometrySource::Dem { path, .. } | OrometrySource::Descriptor { path }) = &g.source;
+                files.push(path);
+                files.extend(g.peak_density.as_deref());
+                files.extend(g.elevation.as_deref());
+            }
+        }
+        files
+    }
+
+    /// Every file a run of the scene writes, relative to the output folder, in the order they are
+    /// written (the divide tree only for an orometry scene, the summary last).
+    pub fn output_files(&self) -> Vec<&Path> {
+        let o: &Outputs = &self.outputs;
+        let mut files: Vec<&Path> = o.heightfield.iter().map(|p| p.as_path()).collect();
+        files.extend(o.contours_geojson.as_deref());
+        files.extend(o.contours_svg.as_deref());
+        if matches!(self.generator, Generator::Orometry(_)) {
+            files.extend(o.divide_tree.as_deref());
+        }
+        files.extend(o.preview.as_deref());
+        files.extend(o.summary.as_deref());
+        files
+    }
+}
