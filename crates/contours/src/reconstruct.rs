@@ -234,7 +234,9 @@ fn outlet_mask(grid: &GridSpec, set: &ContourSet, labels: &[u32]) -> Vec<bool> {
             }
         }
         if border || patch.len() >= MIN_OUTLET_SAMPLES {
-            patch.iter().for_each(|&k| outlet[k] = true);
+            for &k in &patch {
+                outlet[k] = true;
+            }
         }
     }
     outlet
