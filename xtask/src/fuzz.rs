@@ -13,12 +13,45 @@ use std::process::{Command, Stdio};
 
 use anyhow::{Context, Result, bail};
 
+/// What `cargo run` (and so `cargo xtask`) sets for the program it runs, naming the toolchain
+/// that built it. A nested `cargo +nightly` must not inherit them: with `RUSTC` pointing at the
+/// stable compiler, the nightly build of the fuzz targets is rejected (E0554, `#![feature]` on
+/// stable).
+const TOOLCHAIN_ENV: [&str; 6] =
+    ["RUSTC", "RUSTDOC", "RUSTUP_TOOLCHAIN", "CARGO", "RUSTC_WRAPPER", "CARGO_ENCODED_RUSTFLAGS"];
+
+/// A command for the nightly toolchain, with the environment of the stable `cargo run` cleared.
+fn nightly(root: &Path, program: &str) -> Command {
+    let mut cmd = Command::new(program);
+    cmd.current_dir(root).arg("+nightly");
+    for var in TOOLCHAIN_ENV {
+        cmd.env_remove(var);
+    }
+    for (var, _) in std::env::vars_os() {
+        let var = var.to_string_lossy();
+        if var.starts_with("CARGO_PKG_")
+            || var.starts_with("CARGO_MANIFEST_")
+            || var.starts_with("CARGO_BIN_")
+            || var.starts_with("CARGO_CRATE_")
+            || var == "CARGO_PRIMARY_PACKAGE"
+        {
+            cmd.env_remove(var.as_ref());
+        }
+    }
+    cmd
+}
+
 pub(crate) fn run(root: &Path, seconds: u64, only: &[String]) -> Result<()> {
     let fuzz = || {
-        let mut cmd = Command::new("cargo");
-        cmd.current_dir(root).args(["+nightly", "fuzz"]);
+        let mut cmd = nightly(root, "cargo");
+        cmd.arg("fuzz");
         cmd
     };
+    let has_nightly = nightly(root, "rustc").arg("--version").stdout(Stdio::null()).stderr(Stdio::null()).status();
+    if !has_nightly.is_ok_and(|s| s.success()) {
+        println!("installing the nightly toolchain (libFuzzer needs it)");
+        crate::run(Command::new("rustup").args(["toolchain", "install", "nightly", "--profile", "minimal"]))?;
+    }
     let installed = fuzz().arg("--version").stdout(Stdio::null()).stderr(Stdio::null()).status();
     if !installed.is_ok_and(|s| s.success()) {
         println!("installing cargo-fuzz");
@@ -59,7 +92,18 @@ pub(crate) fn run(root: &Path, seconds: u64, only: &[String]) -> Result<()> {
         let text = fs::read_to_string(&log).unwrap_or_default();
         let done =
             text.lines().rev().find(|l| l.starts_with("Done ") || l.starts_with("stat::number_of_executed_units"));
-        println!("  {}: {}", if status.success() { "clean" } else { "FAILED" }, done.unwrap_or("(no summary)"));
+        match (status.success(), done) {
+            (true, done) => println!("  clean: {}", done.unwrap_or("(no summary)")),
+            (false, Some(done)) => println!("  FAILED: {done}"),
+            // It never ran: the build or the start failed; say why from the end of the log.
+            (false, None) => {
+                let lines: Vec<&str> = text.lines().collect();
+                println!("  FAILED before fuzzing; the end of {}:", log.display());
+                for line in &lines[lines.len().saturating_sub(15)..] {
+                    println!("    {line}");
+                }
+            }
+        }
         if !status.success() {
             failed.push(target.clone());
         }

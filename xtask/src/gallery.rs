@@ -36,7 +36,12 @@ pub(crate) fn run(root: &Path) -> Result<()> {
         let out = work.join(&name);
         println!("rendering {name}");
         crate::run(
-            Command::new(&relief).current_dir(root).arg("-q").arg("generate").arg(scene).arg("--out").arg(&out),
+            Command::new(&relief)
+                .current_dir(root)
+                .args(["-q", "--force", "generate"])
+                .arg(scene)
+                .arg("--out")
+                .arg(&out),
         )?;
         fs::copy(out.join("preview.png"), images.join(format!("{name}.png")))
             .with_context(|| format!("copying the preview of {name}"))?;

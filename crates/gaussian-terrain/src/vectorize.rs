@@ -92,7 +92,7 @@ impl VectorizeOptions {
     fn validate(&self) -> Result<(), GaussianError> {
         let bad = |name, value: f64, reason| Err(GaussianError::InvalidOption { name, value, reason });
         if self.primitives == 0 || self.primitives > MAX_PRIMITIVES {
-            return bad("primitives", self.primitives as f64, "must be in 1..=MAX_PRIMITIVES");
+            return bad("primitives", self.primitives as f64, "must be in 1..=4194304 (2^22)");
         }
         if self.resolution < 2 {
             return bad("resolution", self.resolution as f64, "must be at least 2");

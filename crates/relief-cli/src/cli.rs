@@ -1,6 +1,7 @@
 //! The command line: clap derive types for the global flags and every subcommand, their value
 //! parsers, and the resource budget the flags set.
 
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
@@ -9,7 +10,7 @@ use relief::pipeline;
 /// Terrain from a few strokes of intent: iso-contour generation, DEM contours, conversion and
 /// previews.
 #[derive(Debug, Parser)]
-#[command(name = "relief", version, about, long_about = None, propagate_version = true)]
+#[command(name = "relief", version, long_about = None, propagate_version = true)]
 pub(crate) struct Cli {
     #[command(subcommand)]
     pub(crate) command: Command,
@@ -19,6 +20,9 @@ pub(crate) struct Cli {
     /// Print nothing but errors (no progress, no report).
     #[arg(short, long, global = true, conflicts_with = "verbose")]
     pub(crate) quiet: bool,
+    /// Replace existing output files (without it, a command refuses to write over a file).
+    #[arg(short, long, global = true)]
+    pub(crate) force: bool,
     /// Worker threads (default: one per core). Outputs are identical for any count.
     #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub(crate) threads: Option<u16>,
@@ -77,6 +81,73 @@ pub(crate) enum Command {
     Rasterize(RasterizeArgs),
     /// Print the JSON Schema of scene files.
     Schema,
+    /// Print a completion script for a shell (e.g. `relief completions bash >
+    /// ~/.local/share/bash-completion/completions/relief`).
+    Completions(CompletionsArgs),
+    /// Print the man page, in roff (e.g. `relief man > relief.1; man ./relief.1`).
+    Man,
+}
+
+// `relief completions`.
+#[derive(Debug, Args)]
+pub(crate) struct CompletionsArgs {
+    /// The shell.
+    #[arg(value_enum)]
+    pub(crate) shell: clap_complete::Shell,
+}
+
+/// What every subcommand's help says instead of repeating the global options.
+const GLOBAL_OPTIONS: &str = "Global options (-v, -q, -f, --threads, --max-cells, --max-particles, --max-primitives, --max-peaks) \
+     go before or after the subcommand; `relief --help` describes them.";
+
+/// The command line as clap sees it: the derive's, with the global options described once, at
+/// the end of `relief --help`, and only named in each subcommand's help.
+pub(crate) fn command() -> clap::Command {
+    use clap::CommandFactory as _;
+    let mut cmd = Cli::command();
+    let globals: Vec<clap::Arg> = cmd.get_arguments().filter(|a| a.is_global_set()).cloned().collect();
+    let listing = global_options(&globals);
+    // A hidden global option is still parsed everywhere; it is just not listed.
+    for arg in &globals {
+        cmd = cmd.mut_arg(arg.get_id(), |a| a.hide(true));
+    }
+    let names: Vec<String> = cmd.get_subcommands().map(|s| s.get_name().to_owned()).collect();
+    for name in names {
+        cmd = cmd.mut_subcommand(name, |sub| sub.after_help(GLOBAL_OPTIONS));
+    }
+    cmd.after_help(listing)
+}
+
+/// The global options as `relief --help` lists them: flags and value names, then the help text.
+fn global_options(globals: &[clap::Arg]) -> String {
+    let names: Vec<String> = globals
+        .iter()
+        .map(|a| {
+            let short = a.get_short().map_or_else(|| "    ".to_owned(), |c| format!("-{c}, "));
+            let long = a.get_long().map_or_else(String::new, |l| format!("--{l}"));
+            let value = match a.get_value_names() {
+                Some([name, ..]) if a.get_action().takes_values() => format!(" <{name}>"),
+                _ => String::new(),
+            };
+            format!("{short}{long}{value}")
+        })
+        .collect();
+    let width = names.iter().map(String::len).max().unwrap_or(0);
+    let mut text = String::from("Global options (before or after the subcommand):");
+    for (name, arg) in names.iter().zip(globals) {
+        let help = arg.get_help().map_or_else(String::new, ToString::to_string);
+        let _ = write!(text, "\n  {name:width$}  {help}");
+    }
+    text
+}
+
+impl Cli {
+    /// The parsed command line (usage errors exit the process with code 2, as clap does).
+    pub(crate) fn from_env() -> Self {
+        use clap::FromArgMatches as _;
+        let matches = command().get_matches();
+        Self::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+    }
 }
 
 // `relief demo`.
@@ -85,12 +156,16 @@ pub(crate) struct DemoArgs {
     /// Output directory.
     #[arg(long, default_value = "relief-demo")]
     pub(crate) out: PathBuf,
+    /// Replace the scene's seed (the demo uses 7).
+    #[arg(long)]
+    pub(crate) seed: Option<u64>,
 }
 
 // `relief generate`.
 #[derive(Debug, Args)]
 pub(crate) struct GenerateArgs {
-    /// The scene (JSON; see docs/scene.schema.json).
+    /// The scene (JSON; `relief schema` prints its JSON Schema), or `-` to read it from standard
+    /// input (its relative paths then resolve against the current folder).
     pub(crate) scene: PathBuf,
     /// Output directory (default: relief-out/<scene name>).
     #[arg(long)]
@@ -103,7 +178,7 @@ pub(crate) struct GenerateArgs {
 // `relief diffuse`: `generate`'s arguments, restricted to diffusion scenes.
 #[derive(Debug, Args)]
 pub(crate) struct DiffuseArgs {
-    /// The scene (JSON; its generator must be `diffusion`).
+    /// The scene (JSON; its generator must be `diffusion`), or `-` to read it from standard input.
     pub(crate) scene: PathBuf,
     /// Output directory (default: relief-out/<scene name>).
     #[arg(long)]
@@ -256,8 +331,10 @@ pub(crate) struct RasterizeArgs {
     pub(crate) window: Option<[f64; 4]>,
 }
 
+/// `W` or `WxH` (each side in 2..=16384): `1024`, `2048x1024`.
 fn parse_size(s: &str) -> Result<(usize, usize), String> {
-    let parse = |v: &str| v.trim().parse::<usize>().map_err(|e| format!("{v:?}: {e}"));
+    let usage = || format!("{s:?}: give W or WxH, e.g. 1024 or 2048x1024");
+    let parse = |v: &str| v.trim().parse::<usize>().map_err(|_| usage());
     let (w, h) = if let Some((w, h)) = s.split_once(['x', 'X']) {
         (parse(w)?, parse(h)?)
     } else {

@@ -16,23 +16,30 @@
 mod cli;
 mod commands;
 mod ui;
+mod writes;
 
+use std::io::IsTerminal as _;
 use std::process::ExitCode;
 
 use anyhow::{Context as _, Result};
-use clap::Parser as _;
 
 use crate::cli::{Cli, Command};
-use crate::commands::{analyze, dem, scenes, vector};
-use crate::ui::Ui;
+use crate::commands::{analyze, dem, scenes, shell, vector};
+use crate::ui::{Ui, Verbosity};
 
 fn main() -> ExitCode {
     // Usage errors exit here, with clap's code 2.
-    let cli = Cli::parse();
+    let cli = Cli::from_env();
     match run(&cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", one_line(&e));
+            // On a terminal, show the line of a scene error and point at the column.
+            if let Some(snippet) = e.chain().find_map(|c| c.downcast_ref::<commands::scenes::Snippet>())
+                && std::io::stderr().is_terminal()
+            {
+                eprintln!("{}", snippet.caret());
+            }
             ExitCode::FAILURE
         }
     }
@@ -42,7 +49,12 @@ fn run(cli: &Cli) -> Result<()> {
     if let Some(n) = cli.threads {
         rayon::ThreadPoolBuilder::new().num_threads(n.into()).build_global().context("starting the thread pool")?;
     }
-    let ui = &mut Ui::new(cli.verbose, cli.quiet, cli.budget());
+    let verbosity = match (cli.quiet, cli.verbose) {
+        (true, _) => Verbosity::Quiet,
+        (false, true) => Verbosity::Verbose,
+        (false, false) => Verbosity::Normal,
+    };
+    let ui = &mut Ui::new(verbosity, cli.force, cli.budget());
     match &cli.command {
         Command::Demo(args) => scenes::demo(args, ui),
         Command::Generate(args) => scenes::generate(args, ui),
@@ -58,6 +70,11 @@ fn run(cli: &Cli) -> Result<()> {
         Command::Analyze(args) => analyze::analyze(args, ui),
         Command::Vectorize(args) => vector::vectorize(args, ui),
         Command::Rasterize(args) => vector::rasterize(args, ui),
+        Command::Completions(args) => {
+            shell::completions(args);
+            Ok(())
+        }
+        Command::Man => shell::man(),
     }
 }
 

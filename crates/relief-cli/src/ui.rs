@@ -9,23 +9,48 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::Progress;
 use relief::heightfield::Heightfield;
 
+use crate::writes::Writes;
+
+/// How much a command tells besides its errors.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Verbosity {
+    /// `-q`: nothing.
+    Quiet,
+    /// Its report, warnings, and spinners on a terminal.
+    Normal,
+    /// `-v`: also the time of every step.
+    Verbose,
+}
+
 /// Spinners on stderr, step timings with `-v`, reports on stdout unless `-q`.
 pub(crate) struct Ui {
     /// What every command reads under: the budget's cell cap.
     read: relief::io::ReadOptions,
     /// The budget scenes run under.
     budget: relief::Budget,
-    verbose: bool,
-    quiet: bool,
+    verbosity: Verbosity,
+    /// `--force`: outputs may replace existing files.
+    force: bool,
     bar: Option<ProgressBar>,
     draw: bool,
 }
 
 impl Ui {
-    pub(crate) fn new(verbose: bool, quiet: bool, budget: relief::Budget) -> Self {
+    pub(crate) fn new(verbosity: Verbosity, force: bool, budget: relief::Budget) -> Self {
         let read = relief::io::ReadOptions::default()
             .with_limits(relief::io::Limits::default().with_max_cells(budget.max_cells));
-        Self { read, budget, verbose, quiet, bar: None, draw: !quiet && std::io::stderr().is_terminal() }
+        let draw = verbosity != Verbosity::Quiet && std::io::stderr().is_terminal();
+        Self { read, budget, verbosity, force, bar: None, draw }
+    }
+
+    /// The files a command reads and writes, to check before it works ([`Writes::check`]).
+    pub(crate) fn writes(&self) -> Writes {
+        Writes::new(self.force)
+    }
+
+    /// Whether reports are silenced (`-q`).
+    pub(crate) fn quiet(&self) -> bool {
+        self.verbosity == Verbosity::Quiet
     }
 
     /// The budget the flags set.
@@ -55,14 +80,14 @@ impl Ui {
 
     /// Prints a line of the report on stdout, unless `-q`.
     pub(crate) fn say(&self, message: std::fmt::Arguments<'_>) {
-        if !self.quiet {
+        if !self.quiet() {
             println!("{message}");
         }
     }
 
     /// Prints `warning: message` on stderr, unless `-q`.
     pub(crate) fn warn(&self, message: std::fmt::Arguments<'_>) {
-        if !self.quiet {
+        if !self.quiet() {
             eprintln!("warning: {message}");
         }
     }
@@ -105,7 +130,7 @@ impl Progress for Ui {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
         }
-        if self.verbose {
+        if self.verbosity == Verbosity::Verbose {
             eprintln!("{step:>15} {:>9.1} ms", elapsed.as_secs_f64() * 1e3);
         }
     }

@@ -229,7 +229,7 @@ fn contours_of_a_dem_are_multiples_of_the_interval_and_nest() {
     set.check_invariants().unwrap();
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
     // --levels picks evenly spaced levels.
-    ok(&["contours", "fixtures/dem/jacksboro.asc", "--levels", "5", "--geojson", geojson.to_str().unwrap()]);
+    ok(&["--force", "contours", "fixtures/dem/jacksboro.asc", "--levels", "5", "--geojson", geojson.to_str().unwrap()]);
     assert_eq!(read_geojson(&geojson).levels().len(), 5);
 }
 
@@ -365,17 +365,18 @@ fn vectorize_then_rasterize_a_real_dem() {
     fails(&["rasterize", json.to_str().unwrap(), "--size", "1x5", "-o", exr.to_str().unwrap()], 2);
     let bad = tmp.path().join("bad.json");
     std::fs::write(&bad, r#"{"primitives":[{"center":[0,0],"sigma":[-1,1],"amplitude":1}]}"#).unwrap();
-    let err = fails(&["rasterize", bad.to_str().unwrap(), "--size", "64", "-o", exr.to_str().unwrap()], 1);
+    let err = fails(&["--force", "rasterize", bad.to_str().unwrap(), "--size", "64", "-o", exr.to_str().unwrap()], 1);
     assert!(err.contains("sigma.x"), "{err}");
     // The budget flags cap what the commands would allocate, before they do: the raster's cells,
-    // the terrain's primitives, and a fit's primitives and working grid.
+    // the terrain's primitives, and a fit's primitives and working grid (`--force`: the outputs
+    // exist from above, and must not be what stops them).
     let (json, exr, dem) = (json.to_str().unwrap(), exr.to_str().unwrap(), dem.to_str().unwrap());
-    let err = fails(&["--max-cells", "10000", "rasterize", json, "--size", "120x100", "-o", exr], 1);
+    let err = fails(&["--force", "--max-cells", "10000", "rasterize", json, "--size", "120x100", "-o", exr], 1);
     assert!(err.contains("--size") && err.contains("12000") && err.contains("--max-cells"), "{err}");
-    let err = fails(&["--max-primitives", "10", "rasterize", json, "--size", "64", "-o", exr], 1);
+    let err = fails(&["--force", "--max-primitives", "10", "rasterize", json, "--size", "64", "-o", exr], 1);
     assert!(err.contains("--max-primitives"), "{err}");
-    let err = fails(&["--max-primitives", "100", "vectorize", dem, "--primitives", "150", "-o", json], 1);
+    let err = fails(&["--force", "--max-primitives", "100", "vectorize", dem, "--primitives", "150", "-o", json], 1);
     assert!(err.contains("--primitives") && err.contains("--max-primitives"), "{err}");
-    let err = fails(&["--max-cells", "5000", "vectorize", dem, "--resolution", "96", "-o", json], 1);
+    let err = fails(&["--force", "--max-cells", "5000", "vectorize", dem, "--resolution", "96", "-o", json], 1);
     assert!(err.contains("--resolution") && err.contains("9216"), "{err}");
 }

@@ -141,6 +141,22 @@ pub enum SceneError {
         /// The output path.
         path: PathBuf,
     },
+    /// An output's extension is not the one of the format it is written in.
+    #[error("{}: this output is written as {format}; give it a .{extension} name", path.display())]
+    WrongExtension {
+        /// The output path.
+        path: PathBuf,
+        /// The format written.
+        format: &'static str,
+        /// The extension to give it.
+        extension: &'static str,
+    },
+    /// Two outputs name the same file, so one would replace the other.
+    #[error("{} is named by two outputs", path.display())]
+    SharedOutput {
+        /// The file.
+        path: PathBuf,
+    },
     /// The generator needs an explicit `domain`.
     #[error("an {0} scene needs a domain in metres")]
     NeedsDomain(&'static str),

@@ -330,3 +330,60 @@ fn histograms_are_the_librarys_or_a_dem() {
         assert!(e.to_string().contains(says), "{histogram}: {e}");
     }
 }
+
+/// Every output is written in the format its extension names, and no two outputs share a file:
+/// both checked before any work, at the output's JSON path.
+#[test]
+fn outputs_name_their_formats_and_files_apart() {
+    for (outputs, path, says) in [
+        (serde_json::json!({ "preview": "preview.exr" }), "outputs.preview", "written as PNG; give it a .png name"),
+        (serde_json::json!({ "contours_svg": "c.png" }), "outputs.contours_svg", ".svg"),
+        (serde_json::json!({ "contours_geojson": "c.txt" }), "outputs.contours_geojson", ".geojson"),
+        (serde_json::json!({ "summary": "summary.txt" }), "outputs.summary", ".json"),
+        (serde_json::json!({ "divide_tree": "tree.svg" }), "outputs.divide_tree", ".geojson"),
+        (serde_json::json!({ "heightfield": ["t.png"], "preview": "t.png" }), "outputs", "named by two outputs"),
+    ] {
+        let mut v = base();
+        v["outputs"] = outputs.clone();
+        let scene = Scene::from_json(&v.to_string()).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let err = run(&scene, &root(), dir.path(), &mut ()).unwrap_err();
+        assert_eq!(err.scene_path(), Some(path), "{outputs}: {err}");
+        assert!(err.to_string().contains(says), "{outputs}: {err}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "nothing is written");
+    }
+    // Upper-case extensions and GeoJSON as .json are fine.
+    let mut v = base();
+    v["outputs"] = serde_json::json!({ "preview": "P.PNG", "contours_geojson": "c.json", "summary": null });
+    assert!(relief::pipeline::check_outputs(&Scene::from_json(&v.to_string()).unwrap().outputs).is_ok());
+}
+
+/// A run into a folder an earlier run wrote removes the earlier run's files it does not write
+/// again (the earlier summary lists them), and nothing else.
+#[test]
+fn a_run_replaces_the_files_of_the_run_before_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::from_json(&base().to_string()).unwrap();
+    run(&scene, &root(), dir.path(), &mut ()).unwrap();
+    std::fs::write(dir.path().join("mine.txt"), "kept").unwrap();
+    let mut fewer = scene.clone();
+    fewer.outputs.heightfield = vec!["t.tif".into()];
+    fewer.outputs.contours_svg = None;
+    let (_, written) = run(&fewer, &root(), dir.path(), &mut ()).unwrap();
+    let mut names: Vec<String> =
+        std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    assert_eq!(names, ["contours.geojson", "mine.txt", "preview.png", "summary.json", "t.tif"]);
+    assert_eq!(written.len(), 4);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["files"], serde_json::json!(["t.tif", "contours.geojson", "preview.png", "summary.json"]));
+    // A summary naming files outside the folder never makes a run remove them.
+    let outside = dir.path().join("../outside-relief-test.txt");
+    std::fs::write(&outside, "x").unwrap();
+    let tampered = serde_json::json!({ "files": ["../outside-relief-test.txt", "/etc/hostname"] });
+    std::fs::write(dir.path().join("summary.json"), tampered.to_string()).unwrap();
+    run(&fewer, &root(), dir.path(), &mut ()).unwrap();
+    assert!(outside.is_file());
+    std::fs::remove_file(outside).unwrap();
+}

@@ -9,6 +9,7 @@ use relief::orometry::{AnalysisOptions, Descriptor, DivideTree, Orometry, Peak};
 
 use crate::cli::AnalyzeArgs;
 use crate::ui::Ui;
+use crate::writes::Written;
 
 /// What `relief analyze` found.
 struct Analysis {
@@ -28,13 +29,38 @@ struct Analysis {
 
 /// `relief analyze`: closed basins, descriptors, orometry, an optional comparison and filled output.
 pub(crate) fn analyze(args: &AnalyzeArgs, ui: &mut Ui) -> Result<()> {
+    check_files(args, ui)?;
     let analysis = compute(args, ui)?;
+    if ui.quiet() {
+        return Ok(());
+    }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&json(args, &analysis))?);
     } else {
         print_text(args, &analysis);
     }
     Ok(())
+}
+
+/// The files `analyze` reads and writes, checked before any work.
+fn check_files(args: &AnalyzeArgs, ui: &Ui) -> Result<()> {
+    let mut writes = ui.writes();
+    writes.reads(&args.dem);
+    for path in args.compare.iter().chain(&args.classify) {
+        writes.reads(path);
+    }
+    let outputs = [
+        (&args.filled, Written::Heightfield),
+        (&args.peaks, Written::Csv),
+        (&args.divide_tree, Written::GeoJson),
+        (&args.descriptor, Written::Json),
+    ];
+    for (path, what) in outputs {
+        if let Some(path) = path {
+            writes.writes(path, what)?;
+        }
+    }
+    writes.check()
 }
 
 /// Reads the DEM, runs orometry then hydrology on it, and writes the files the flags ask for.

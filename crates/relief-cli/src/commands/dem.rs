@@ -9,6 +9,7 @@ use relief::io::Format;
 
 use crate::cli::{ContoursArgs, ConvertArgs, InfoArgs, PreviewArgs};
 use crate::ui::Ui;
+use crate::writes::Written;
 
 /// `relief contours`: contour lines of a DEM as GeoJSON and/or SVG.
 pub(crate) fn contours(args: &ContoursArgs, ui: &mut Ui) -> Result<()> {
@@ -17,8 +18,6 @@ pub(crate) fn contours(args: &ContoursArgs, ui: &mut Ui) -> Result<()> {
         (None, Some(k)) => Levels::Count(k),
         (None, None) => bail!("give --interval or --levels"),
     };
-    let dem = ui.read(&args.dem)?;
-    let set = ui.step("contours", || dem_contours(&dem, &levels))?;
     let geojson = match (&args.geojson, &args.svg) {
         (None, None) => Some(PathBuf::from(format!(
             "{}.contours.geojson",
@@ -26,6 +25,17 @@ pub(crate) fn contours(args: &ContoursArgs, ui: &mut Ui) -> Result<()> {
         ))),
         (g, _) => g.clone(),
     };
+    let mut writes = ui.writes();
+    writes.reads(&args.dem);
+    if let Some(path) = &geojson {
+        writes.writes(path, Written::GeoJson)?;
+    }
+    if let Some(path) = &args.svg {
+        writes.writes(path, Written::Svg)?;
+    }
+    writes.check()?;
+    let dem = ui.read(&args.dem)?;
+    let set = ui.step("contours", || dem_contours(&dem, &levels))?;
     ui.step("write", || -> Result<()> {
         if let Some(path) = &geojson {
             relief::io::write_atomic(path, relief::export::contours_geojson(&set).as_bytes())?;
@@ -53,8 +63,8 @@ fn dem_contours(dem: &Heightfield, levels: &Levels) -> Result<ContourSet> {
 /// `relief convert`: the same heightfield in the format the output's extension names.
 pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
     let (input, output) = (&args.input, &args.output);
-    let format =
-        Format::from_extension(output).with_context(|| format!("{}: unknown output extension", output.display()))?;
+    ui.writes().reads(input).writes(output, Written::Heightfield)?.check()?;
+    let format = Format::from_extension(output).context("a heightfield extension")?;
     let dem = ui.read(input)?;
     ui.step("write", || relief::io::write(output, &dem))?;
     ui.say(format_args!("{} ({} x {}) -> {} ({format:?})", input.display(), dem.nx(), dem.ny(), output.display()));
@@ -64,7 +74,8 @@ pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
 /// `relief info`: size, extent, elevation range and no-data of a heightfield, as text or JSON.
 pub(crate) fn info(args: &InfoArgs, ui: &mut Ui) -> Result<()> {
     let dem = ui.read(&args.dem)?;
-    println!("{}", if args.json { info_json(&args.dem, &dem) } else { info_text(&args.dem, &dem) });
+    let text = if args.json { info_json(&args.dem, &dem) } else { info_text(&args.dem, &dem) };
+    ui.say(format_args!("{text}"));
     Ok(())
 }
 
@@ -117,6 +128,7 @@ fn info_json(path: &Path, dem: &Heightfield) -> String {
 
 /// `relief preview`: a shaded-relief PNG, decimated to `--max-size`, optionally with contours.
 pub(crate) fn preview(args: &PreviewArgs, ui: &mut Ui) -> Result<()> {
+    ui.writes().reads(&args.dem).writes(&args.output, Written::Png)?.check()?;
     let dem = ui.read(&args.dem)?;
     let dem = match args.max_size {
         Some(m) => decimate(dem, m as usize)?,

@@ -4,4 +4,5 @@
 pub(crate) mod analyze;
 pub(crate) mod dem;
 pub(crate) mod scenes;
+pub(crate) mod shell;
 pub(crate) mod vector;

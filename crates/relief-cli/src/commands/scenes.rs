@@ -1,10 +1,12 @@
 //! Scene commands: `demo`, `generate`, `diffuse` and `schema`, and the scene run they share with
 //! its one-paragraph report.
 
+use std::io::Read as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Result, bail};
+use anyhow::{Context as _, Result, bail};
+use relief::budget::MAX_JSON_BYTES;
 use relief::pipeline;
 use relief::{Scene, Summary};
 
@@ -16,8 +18,11 @@ const HISTOGRAM_WARNING: f64 = 0.02;
 
 /// `relief demo`: the built-in scene, and where to look at it.
 pub(crate) fn demo(args: &DemoArgs, ui: &mut Ui) -> Result<()> {
-    let scene = Scene::demo();
-    run_scene(&scene, Path::new("."), &args.out, ui)?;
+    let mut scene = Scene::demo();
+    if let Some(seed) = args.seed {
+        scene.seed = seed;
+    }
+    run_scene(&scene, None, Path::new("."), &args.out, ui)?;
     ui.say(format_args!("open {} to see it", args.out.join("preview.png").display()));
     Ok(())
 }
@@ -45,26 +50,102 @@ pub(crate) fn schema() {
     println!("{}", Scene::json_schema());
 }
 
-/// The scene at `path`, with its seed replaced by `seed` if given.
+/// Whether `path` means standard input.
+fn is_stdin(path: &Path) -> bool {
+    path == Path::new("-")
+}
+
+/// The scene at `path` (`-`: standard input), with its seed replaced by `seed` if given. A JSON
+/// error names the file, line and column.
 fn load(path: &Path, seed: Option<u64>) -> Result<Scene> {
-    let mut scene = pipeline::load_scene(path)?;
+    let (name, text) = if is_stdin(path) {
+        let mut text = String::new();
+        std::io::stdin()
+            .lock()
+            .take(MAX_JSON_BYTES + 1)
+            .read_to_string(&mut text)
+            .context("reading the scene from standard input")?;
+        if text.len() as u64 > MAX_JSON_BYTES {
+            bail!("the scene on standard input is larger than {MAX_JSON_BYTES} bytes");
+        }
+        ("<stdin>".to_owned(), text)
+    } else {
+        let text = relief::budget::read_json_text(path).with_context(|| path.display().to_string())?;
+        (path.display().to_string(), text)
+    };
+    let mut scene = Scene::from_json(&text).map_err(|e| located(e, &name, &text))?;
     if let Some(seed) = seed {
         scene.seed = seed;
     }
     Ok(scene)
 }
 
-/// Runs the scene read from `path`: its inputs are relative to the file's directory, its outputs
-/// go to `out` (default `relief-out/<file stem>`).
-fn run_file(scene: &Scene, path: &Path, out: Option<&Path>, ui: &mut Ui) -> Result<()> {
-    let base = path.parent().unwrap_or(Path::new("."));
-    let out = out
-        .map_or_else(|| Path::new("relief-out").join(path.file_stem().unwrap_or(path.as_os_str())), Path::to_path_buf);
-    run_scene(scene, base, &out, ui)
+/// A scene error in the text of `file`, told as `file:line:column: path: what` when the JSON parser
+/// knows where it stopped, with that line kept for the terminal ([`Snippet`]).
+fn located(error: relief::ReliefError, file: &str, text: &str) -> anyhow::Error {
+    let json = std::error::Error::source(&error).and_then(|s| s.downcast_ref::<serde_json::Error>());
+    let Some(json) = json.filter(|j| j.line() > 0) else { return anyhow::Error::new(error).context(file.to_owned()) };
+    let (line, column) = (json.line(), json.column());
+    let what = json.to_string();
+    let what = what.strip_suffix(&format!(" at line {line} column {column}")).unwrap_or(&what);
+    let at = match error.scene_path() {
+        Some(path) if !path.is_empty() => format!("{path}: "),
+        _ => String::new(),
+    };
+    let source_line = text.lines().nth(line - 1).unwrap_or_default().to_owned();
+    anyhow::Error::new(Snippet { message: format!("{file}:{line}:{column}: {at}{what}"), line: source_line, column })
 }
 
-/// Runs `scene` (inputs relative to `base`) into `out` and reports what it made.
-fn run_scene(scene: &Scene, base: &Path, out: &Path, ui: &mut Ui) -> Result<()> {
+/// An error at a place in a text: its message, and the line with the column to point at.
+#[derive(Debug)]
+pub(crate) struct Snippet {
+    message: String,
+    line: String,
+    column: usize,
+}
+
+impl Snippet {
+    /// The line, and a caret under the column (1-based), indented.
+    pub(crate) fn caret(&self) -> String {
+        let before: String = self.line.chars().take(self.column.saturating_sub(1)).collect();
+        let pad: String = before.chars().map(|c| if c == '\t' { '\t' } else { ' ' }).collect();
+        format!("  {}\n  {pad}^", self.line)
+    }
+}
+
+impl std::fmt::Display for Snippet {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Snippet {}
+
+/// Runs the scene read from `path`: its inputs are relative to the file's directory (the current
+/// one for standard input), its outputs go to `out` (default `relief-out/<file stem>`).
+fn run_file(scene: &Scene, path: &Path, out: Option<&Path>, ui: &mut Ui) -> Result<()> {
+    let (file, base, stem) = if is_stdin(path) {
+        (None, Path::new("."), std::ffi::OsStr::new("stdin"))
+    } else {
+        (Some(path), path.parent().unwrap_or(Path::new(".")), path.file_stem().unwrap_or(path.as_os_str()))
+    };
+    let out = out.map_or_else(|| Path::new("relief-out").join(stem), Path::to_path_buf);
+    run_scene(scene, file, base, &out, ui)
+}
+
+/// Runs `scene` (read from `file`, inputs relative to `base`) into `out` and reports what it made.
+/// Before any work: the outputs' formats, and that none replaces an input or, without `--force`,
+/// an existing file.
+fn run_scene(scene: &Scene, file: Option<&Path>, base: &Path, out: &Path, ui: &mut Ui) -> Result<()> {
+    pipeline::check_outputs(&scene.outputs)?;
+    let mut writes = ui.writes();
+    writes.reads_all(
+        file.into_iter().map(Path::to_path_buf).chain(scene.input_files().into_iter().map(|p| base.join(p))),
+    );
+    for output in scene.output_files() {
+        writes.writes_file(&out.join(output));
+    }
+    writes.check()?;
     let start = Instant::now();
     let budget = ui.budget();
     let (terrain, written) = pipeline::run_with(scene, base, out, &budget, ui)?;

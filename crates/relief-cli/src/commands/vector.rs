@@ -7,13 +7,14 @@ use anyhow::{Context as _, Result, bail};
 use glam::DVec2;
 use relief::gaussian_terrain::{VectorTerrain, VectorizeOptions};
 use relief::heightfield::{Extent, GridSpec};
-use relief::io::Format;
 
 use crate::cli::{RasterizeArgs, VectorizeArgs};
 use crate::ui::Ui;
+use crate::writes::Written;
 
 /// `relief vectorize`: the fit, with a progress bar over its steps, written as JSON.
 pub(crate) fn vectorize(args: &VectorizeArgs, ui: &mut Ui) -> Result<()> {
+    ui.writes().reads(&args.dem).writes(&args.output, Written::Json)?.check()?;
     let options = vectorize_options(args)?;
     ui.budget().primitives(options.primitives as u64, "--primitives")?;
     let side = options.resolution as u64;
@@ -70,7 +71,7 @@ fn vectorize_options(args: &VectorizeArgs) -> Result<VectorizeOptions> {
 /// recorded domain), checked against the budget before anything is allocated.
 pub(crate) fn rasterize(args: &RasterizeArgs, ui: &mut Ui) -> Result<()> {
     let (path, output, (nx, ny)) = (&args.terrain, &args.output, args.size);
-    Format::from_extension(output).with_context(|| format!("{}: unknown output extension", output.display()))?;
+    ui.writes().reads(path).writes(output, Written::Heightfield)?.check()?;
     ui.budget().cells((nx as u64).saturating_mul(ny as u64), "--size")?;
     let text = relief::budget::read_json_text(path).with_context(|| format!("reading {}", path.display()))?;
     let terrain: VectorTerrain =

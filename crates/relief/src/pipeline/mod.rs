@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 
 pub use contours::DEFAULT_PARTICLES;
 pub use inputs::MAX_RESOLUTION;
-pub use outputs::write_outputs;
+pub use outputs::{check_outputs, write_outputs};
 pub use progress::{Progress, Timing};
 pub use summary::{
     ContourSummary, DrainageSummary, GaussianSummary, GraphSummary, HistogramMatch, IslandSummary, OrometrySummary,

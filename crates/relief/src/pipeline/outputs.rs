@@ -13,8 +13,12 @@ use crate::{ReliefError, ReliefError as E};
 /// Width of the SVG drawing, in pixels.
 const SVG_WIDTH: u32 = 1024;
 
-/// Every heightfield output has a known extension.
-pub(super) fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
+/// Checks a scene's outputs before any work: every output's extension names the format it is
+/// written in, and no two outputs share a file.
+///
+/// # Errors
+/// [`ReliefError::Scene`] at the offending output's JSON path.
+pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
     for (i, path) in outputs.heightfield.iter().enumerate() {
         if Format::from_extension(path).is_none() {
             return Err(E::at(
@@ -23,16 +27,47 @@ pub(super) fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
             ));
         }
     }
+    let text = [
+        ("contours_geojson", &outputs.contours_geojson, "GeoJSON", &["geojson", "json"][..]),
+        ("contours_svg", &outputs.contours_svg, "SVG", &["svg"]),
+        ("divide_tree", &outputs.divide_tree, "GeoJSON", &["geojson", "json"]),
+        ("preview", &outputs.preview, "PNG", &["png"]),
+        ("summary", &outputs.summary, "JSON", &["json"]),
+    ];
+    for (field, path, format, extensions) in text {
+        let Some(path) = path else { continue };
+        let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        if !extension.is_some_and(|e| extensions.contains(&e.as_str())) {
+            let error = SceneError::WrongExtension { path: path.clone(), format, extension: extensions[0] };
+            return Err(E::at(format!("outputs.{field}"), error));
+        }
+    }
+    let mut names: Vec<&Path> = outputs.heightfield.iter().map(PathBuf::as_path).collect();
+    names.extend(
+        [&outputs.contours_geojson, &outputs.contours_svg, &outputs.divide_tree, &outputs.preview, &outputs.summary]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path),
+    );
+    for (k, a) in names.iter().enumerate() {
+        if names[..k].contains(a) {
+            return Err(E::at("outputs", SceneError::SharedOutput { path: a.to_path_buf() }));
+        }
+    }
     Ok(())
 }
 
 /// Writes the outputs of `terrain` under `out_dir` (created if needed) and returns the files
 /// written, in order. Every file is written atomically. The summary, written last, includes the
-/// time spent writing the others.
+/// time spent writing the others and lists the files written. When `out_dir` holds the summary of
+/// an earlier run, the files it listed that this run does not write again are removed, so the
+/// folder ends with exactly this run's files (files the earlier summary did not list are left
+/// alone).
 ///
 /// # Errors
-/// [`ReliefError::Scene`] for an output path with an unknown extension (checked before anything is
-/// written), [`ReliefError::Io`] / [`ReliefError::File`] when a file cannot be written.
+/// [`ReliefError::Scene`] for an output path with an unknown extension or two outputs naming one
+/// file (checked before anything is written), [`ReliefError::Io`] / [`ReliefError::File`] when a
+/// file cannot be written or a stale one removed.
 pub fn write_outputs(
     terrain: &Terrain,
     outputs: &Outputs,
@@ -41,18 +76,43 @@ pub fn write_outputs(
 ) -> Result<Vec<PathBuf>, ReliefError> {
     check_outputs(outputs)?;
     std::fs::create_dir_all(out_dir).map_err(|source| ReliefError::File { path: out_dir.to_owned(), source })?;
+    let earlier = outputs.summary.as_ref().map(|p| earlier_files(&out_dir.join(p))).unwrap_or_default();
     let mut timer = Timer::new(progress);
     let mut written = timer.step("write", || write_files(terrain, outputs, out_dir))?;
     if let Some(p) = &outputs.summary {
         let path = out_dir.join(p);
         let mut summary = terrain.summary.clone();
         summary.timings_ms.extend(timer.timings);
+        let files = written.iter().chain([&path]).filter_map(|f| f.strip_prefix(out_dir).ok());
+        summary.files = files.map(Path::to_path_buf).collect();
         let mut text = serde_json::to_string_pretty(&summary).map_err(|e| E::step("summary", e))?;
         text.push('\n');
         crate::io::write_atomic(&path, text.as_bytes())?;
         written.push(path);
     }
+    for stale in earlier.iter().map(|f| out_dir.join(f)).filter(|f| !written.contains(f)) {
+        match std::fs::remove_file(&stale) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(ReliefError::File { path: stale, source: e });
+            }
+            _ => {}
+        }
+    }
     Ok(written)
+}
+
+/// The files an earlier run's summary at `path` lists, if it is one: plain relative names only
+/// (nothing absolute and no `..`), so a run never removes anything outside its folder.
+fn earlier_files(path: &Path) -> Vec<PathBuf> {
+    let Ok(text) = crate::budget::read_json_text(path) else { return Vec::new() };
+    let Ok(summary) = serde_json::from_str::<serde_json::Value>(&text) else { return Vec::new() };
+    let Some(files) = summary.get("files").and_then(serde_json::Value::as_array) else { return Vec::new() };
+    files
+        .iter()
+        .filter_map(serde_json::Value::as_str)
+        .map(PathBuf::from)
+        .filter(|f| f.components().all(|c| matches!(c, std::path::Component::Normal(_))))
+        .collect()
 }
 
 /// Every output but the summary, in order: heightfields, contours, divide tree, preview.

@@ -42,6 +42,11 @@ pub struct Summary {
     pub orometry: Option<OrometrySummary>,
     /// Closed basins and stream order of the final heightfield.
     pub drainage: DrainageSummary,
+    /// The files the run wrote, relative to its output folder, this summary last (empty until
+    /// [`super::write_outputs`] writes them). A later run into the same folder removes those it
+    /// does not write again.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub files: Vec<std::path::PathBuf>,
     /// Time per step, in order (they vary from run to run, unlike everything else).
     pub timings_ms: Vec<Timing>,
 }
@@ -185,6 +190,7 @@ impl Summary {
             gaussian: None,
             orometry: None,
             drainage,
+            files: Vec::new(),
             timings_ms,
         };
         match report {

@@ -46,7 +46,7 @@ impl Scene {
     /// written (the divide tree only for an orometry scene, the summary last).
     pub fn output_files(&self) -> Vec<&Path> {
         let o: &Outputs = &self.outputs;
-        let mut files: Vec<&Path> = o.heightfield.iter().map(|p| p.as_path()).collect();
+        let mut files: Vec<&Path> = o.heightfield.iter().map(std::path::PathBuf::as_path).collect();
         files.extend(o.contours_geojson.as_deref());
         files.extend(o.contours_svg.as_deref());
         if matches!(self.generator, Generator::Orometry(_)) {

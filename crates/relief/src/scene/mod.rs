@@ -9,6 +9,7 @@
 //! file. Unknown fields are errors; every error names the JSON path of the offending value;
 //! relative paths resolve against the scene file's directory.
 
+mod files;
 mod generators;
 mod histogram;
 
@@ -200,7 +201,9 @@ impl Scene {
         let de = &mut serde_json::Deserializer::from_str(text);
         let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
-            ReliefError::at(if path == "." { String::new() } else { path }, e.into_inner())
+            // "." is the whole document; "?" a syntax error before any value.
+            let path = if path == "." || path == "?" { String::new() } else { path };
+            ReliefError::at(path, e.into_inner())
         })?;
         if scene.version != SCENE_VERSION {
             let found = scene.version;
