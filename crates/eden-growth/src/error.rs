@@ -46,6 +46,18 @@ pub enum EdenError {
         /// A region inside it.
         child: usize,
     },
+    /// A depression was given a height, which would be ignored: its contour is its rim, at the
+    /// level around it, and its floor follows the histogram.
+    #[error(
+        "region {region} is a depression: its contour is its rim, at the height of the level around it, and its floor \
+         follows the histogram, so its height {height} would be ignored; remove it (or drop `depression` to raise it)"
+    )]
+    DepressionHeight {
+        /// The depression.
+        region: usize,
+        /// The height given.
+        height: f64,
+    },
     /// A region's explicit height is not finite.
     #[error("region {region} has height {value}; heights must be finite")]
     InvalidHeight {
@@ -184,6 +196,7 @@ impl EdenError {
             Self::DepressionNotNested { region: i, .. } | Self::DepressionWithChildren { region: i, .. } => {
                 region(i, ".depression")
             }
+            Self::DepressionHeight { region: i, .. } => region(i, ".height"),
             Self::InvalidHeight { region: i, .. } | Self::ConflictingHeights { b: i, .. } => region(i, ".height"),
             Self::RegionTooSmall { region: i, .. } => region(i, ".polygon"),
             Self::InvalidProbability { .. } | Self::ZeroProbability | Self::InvalidProbabilityParameters { .. } => {
@@ -209,6 +222,7 @@ mod tests {
             (EdenError::DepressionNotNested { region: 4, parent_depth: 0 }, "regions[4].depression"),
             (EdenError::DepressionWithChildren { region: 5, child: 6 }, "regions[5].depression"),
             (EdenError::InvalidHeight { region: 1, value: f64::NAN }, "regions[1].height"),
+            (EdenError::DepressionHeight { region: 9, height: 3.0 }, "regions[9].height"),
             (EdenError::ConflictingHeights { depth: 2, a: 1, height_a: 3.0, b: 7, height_b: 4.0 }, "regions[7].height"),
             (EdenError::RegionTooSmall { region: 8, radius: 2.0 }, "regions[8].polygon"),
             (EdenError::InvalidProbability { x: 0.0, y: 0.0, value: -1.0 }, "probability"),

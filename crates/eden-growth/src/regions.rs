@@ -75,7 +75,7 @@ impl RegionTree {
     /// # Errors
     /// [`EdenError::NoRegions`], [`EdenError::RegionsOverlap`], [`EdenError::HoleInRaisedRegion`],
     /// [`EdenError::DepressionNotNested`], [`EdenError::DepressionWithChildren`],
-    /// [`EdenError::InvalidHeight`], [`EdenError::ConflictingHeights`],
+    /// [`EdenError::DepressionHeight`], [`EdenError::InvalidHeight`], [`EdenError::ConflictingHeights`],
     /// [`EdenError::HeightsNotIncreasing`].
     pub fn new(regions: Vec<Region>) -> Result<Self, EdenError> {
         if regions.is_empty() {
@@ -126,6 +126,9 @@ impl RegionTree {
                 }
                 if let Some(&child) = children[i].first() {
                     return Err(EdenError::DepressionWithChildren { region: i, child });
+                }
+                if let Some(height) = r.height {
+                    return Err(EdenError::DepressionHeight { region: i, height });
                 }
             }
             if let Some(h) = r.height

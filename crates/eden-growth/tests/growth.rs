@@ -203,6 +203,15 @@ fn bad_regions_are_typed_errors() {
     ])
     .unwrap_err();
     assert_eq!(err, EdenError::DepressionWithChildren { region: 2, child: 3 });
+    // A depression's height would be ignored (its rim is the level around it): refused.
+    let err = RegionTree::new(vec![
+        Region::new(c(0.0, 100.0)),
+        Region::new(c(0.0, 80.0)),
+        Region::new(c(0.0, 50.0)).as_depression().with_height(5.0),
+    ])
+    .unwrap_err();
+    assert_eq!(err, EdenError::DepressionHeight { region: 2, height: 5.0 });
+    assert!(err.to_string().contains("remove it"), "{err}");
     let err = RegionTree::new(vec![
         Region::new(c(0.0, 1000.0)),
         Region::new(c(-300.0, 100.0)).with_height(10.0),
