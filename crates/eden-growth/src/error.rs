@@ -196,8 +196,9 @@ impl EdenError {
             Self::DepressionNotNested { region: i, .. } | Self::DepressionWithChildren { region: i, .. } => {
                 region(i, ".depression")
             }
-            Self::DepressionHeight { region: i, .. } => region(i, ".height"),
-            Self::InvalidHeight { region: i, .. } | Self::ConflictingHeights { b: i, .. } => region(i, ".height"),
+            Self::DepressionHeight { region: i, .. }
+            | Self::InvalidHeight { region: i, .. }
+            | Self::ConflictingHeights { b: i, .. } => region(i, ".height"),
             Self::RegionTooSmall { region: i, .. } => region(i, ".polygon"),
             Self::InvalidProbability { .. } | Self::ZeroProbability | Self::InvalidProbabilityParameters { .. } => {
                 "probability".to_owned()

@@ -6,7 +6,8 @@
 //! real terrain (SRTM tiles, `GeoTIFF` DEMs) and game-engine heightmaps. The main entry points are
 //! [`read`] / [`write()`] (format from magic bytes or extension), their `_with` variants taking
 //! [`ReadOptions`] / [`WriteOptions`], the in-memory [`read_bytes`] / [`write_bytes`], and
-//! [`shaded_relief`] / [`write_preview_png`]. The types around them: [`Format`], [`Limits`],
+//! [`shaded_relief`] / [`write_preview_png`], and [`quantisation`] (how a 16-bit file's codes map
+//! to metres). The types around them: [`Format`], [`Limits`],
 //! [`IoError`] with its [`IoErrorKind`], [`ShadeOptions`] and [`RgbImage`].
 //!
 //! | Format | Extension | Samples | What is stored | Round trip |
@@ -70,6 +71,7 @@
 
 mod asc;
 mod atomic;
+mod codes;
 mod error;
 #[cfg(feature = "geotiff")]
 mod geotiff;
@@ -92,6 +94,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec2;
 use relief_heightfield::{GridSpec, Heightfield, Units};
 
+pub use codes::{Quantisation, quantisation};
 pub use error::{CapError, IoError, IoErrorKind};
 pub use format::Format;
 pub use limits::Limits;
@@ -156,7 +159,7 @@ impl ReadOptions {
 
 /// How to write a file. `WriteOptions::default()` takes the format from the extension and writes
 /// the float formats uncompressed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[non_exhaustive]
 pub struct WriteOptions {
     /// Write this format whatever the extension (e.g. [`Format::Png8`], which `.png` alone does
@@ -169,6 +172,12 @@ pub struct WriteOptions {
     /// when to turn it on. PNG is always deflated (with the fast `fdeflate` level); raw, ASCII and
     /// `.hgt` have no compression.
     pub compress: bool,
+    /// The elevations the quantised formats (PNG, r16) map their first and last codes to, in
+    /// metres: a fixed vertical range for engines that import a heightmap with one height scale.
+    /// `None` (the default) quantises over the field's own min and max. A sample outside the range
+    /// is an [`IoErrorKind::OutOfRange`] error, never clamped; the range is recorded in the file's
+    /// metadata, so reading it back gives metres.
+    pub range: Option<(f32, f32)>,
 }
 
 impl WriteOptions {
@@ -176,6 +185,14 @@ impl WriteOptions {
     #[must_use]
     pub fn with_format(mut self, format: Format) -> Self {
         self.format = Some(format);
+        self
+    }
+
+    /// The same options quantising over the fixed elevations `min..=max` (see
+    /// [`WriteOptions::range`]).
+    #[must_use]
+    pub fn with_range(mut self, min: f32, max: f32) -> Self {
+        self.range = Some((min, max));
         self
     }
 
@@ -300,7 +317,7 @@ pub fn write_with(path: impl AsRef<Path>, hf: &Heightfield, options: &WriteOptio
         options.format.or_else(|| Format::from_extension(path)).ok_or_else(|| at(IoErrorKind::UnknownFormat))?;
     match format {
         Format::R16 | Format::R32 => {
-            let (bytes, meta) = raw::encode(hf, raw_kind(format));
+            let (bytes, meta) = raw::encode(hf, raw_kind(format), options.range).map_err(at)?;
             atomic::write(path, &bytes)?;
             atomic::write(&raw_sidecar_path(path), meta.to_json().as_bytes())
         }
@@ -309,7 +326,7 @@ pub fn write_with(path: impl AsRef<Path>, hf: &Heightfield, options: &WriteOptio
             atomic::write(&path.with_extension("prj"), asc::prj_text(hf.grid().units()).as_bytes())
         }
         Format::Hgt => atomic::write(path, &hgt::encode(hf, Some(path)).map_err(at)?),
-        _ => atomic::write(path, &encode_bytes(hf, format, options.compress).map_err(at)?),
+        _ => atomic::write(path, &encode_bytes(hf, format, options).map_err(at)?),
     }
 }
 
@@ -322,22 +339,23 @@ pub fn write_with(path: impl AsRef<Path>, hf: &Heightfield, options: &WriteOptio
 /// # Errors
 /// As [`write()`], with `<memory>` as the error's path.
 pub fn write_bytes(hf: &Heightfield, format: Format) -> Result<Vec<u8>, IoError> {
-    encode_bytes(hf, format, false).map_err(|k| IoError::new("<memory>", k))
+    encode_bytes(hf, format, &WriteOptions::default()).map_err(|k| IoError::new("<memory>", k))
 }
 
-fn encode_bytes(hf: &Heightfield, format: Format, compress: bool) -> Result<Vec<u8>, IoErrorKind> {
-    // Only the float codecs read it; without them it is unused.
-    let _ = compress;
+fn encode_bytes(hf: &Heightfield, format: Format, options: &WriteOptions) -> Result<Vec<u8>, IoErrorKind> {
+    // Only some codecs read them; with those features off they are unused.
+    let (compress, range) = (options.compress, options.range);
+    let _ = (compress, range);
     match format {
         #[cfg(feature = "png")]
-        Format::Png8 => png_gray::encode(hf, 8),
+        Format::Png8 => png_gray::encode(hf, 8, range),
         #[cfg(feature = "png")]
-        Format::Png16 => png_gray::encode(hf, 16),
+        Format::Png16 => png_gray::encode(hf, 16, range),
         #[cfg(feature = "exr")]
         Format::Exr => openexr::encode(hf, compress),
         #[cfg(feature = "geotiff")]
         Format::GeoTiff => geotiff::encode(hf, compress),
-        Format::R16 | Format::R32 => Ok(raw::encode(hf, raw_kind(format)).0),
+        Format::R16 | Format::R32 => Ok(raw::encode(hf, raw_kind(format), range)?.0),
         Format::Asc => Ok(asc::encode(hf)),
         Format::Hgt => hgt::encode(hf, None),
         #[allow(unreachable_patterns, reason = "reached only when a codec feature is off")]
@@ -409,6 +427,16 @@ fn disabled(format: Format) -> IoErrorKind {
 
 fn raw_kind(format: Format) -> RawKind {
     if format == Format::R32 { RawKind::R32 } else { RawKind::R16 }
+}
+
+/// The files [`write_with`] writes besides `path` in `format`: a raw file's JSON sidecar
+/// (`terrain.r16` → `terrain.r16.json`), an ASCII grid's `.prj`.
+pub fn companion_files(path: &Path, format: Format) -> Vec<PathBuf> {
+    match format {
+        Format::R16 | Format::R32 => vec![raw_sidecar_path(path)],
+        Format::Asc => vec![path.with_extension("prj")],
+        _ => Vec::new(),
+    }
 }
 
 /// `terrain.r16` → `terrain.r16.json`.

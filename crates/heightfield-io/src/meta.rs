@@ -34,8 +34,13 @@ pub(crate) struct Metadata {
 impl Metadata {
     /// The record for `hf` stored as `encoding`; `quantised` says whether code 0 is reserved.
     pub(crate) fn describe(hf: &Heightfield, encoding: &str, quantised: bool) -> Self {
+        Self::describe_in(hf, encoding, quantised, None)
+    }
+
+    /// [`Metadata::describe`] with the quantised range `range` instead of the field's min and max.
+    pub(crate) fn describe_in(hf: &Heightfield, encoding: &str, quantised: bool, range: Option<(f32, f32)>) -> Self {
         let g = hf.grid();
-        let mm = hf.min_max();
+        let mm = range.or_else(|| hf.min_max());
         Self {
             format_version: FORMAT_VERSION,
             encoding: encoding.to_owned(),
@@ -128,6 +133,30 @@ impl Quantiser {
         let no_data = hf.has_no_data();
         let (min, max) = hf.min_max().unwrap_or((0.0, 0.0));
         Self { min, max, lo: u32::from(no_data), hi: max_code, no_data }
+    }
+
+    /// The quantiser for `hf` over the fixed elevations `range` (its min and max by default),
+    /// with codes up to `max_code`.
+    ///
+    /// # Errors
+    /// [`IoErrorKind::OutOfRange`] naming the first sample outside `range`;
+    /// [`IoErrorKind::Unsupported`] for a range that is not finite with min < max.
+    pub(crate) fn for_field_in(
+        hf: &Heightfield,
+        max_code: u32,
+        range: Option<(f32, f32)>,
+    ) -> Result<Self, IoErrorKind> {
+        let Some((min, max)) = range else { return Ok(Self::for_field(hf, max_code)) };
+        if !(min.is_finite() && max.is_finite() && min < max) {
+            return Err(IoErrorKind::Unsupported(format!("the range [{min}, {max}] must be finite with min < max")));
+        }
+        if let Some(k) = hf.samples().iter().position(|&v| v < min || v > max) {
+            let (i, j) = hf.grid().coords(k);
+            let value = hf.samples()[k];
+            return Err(IoErrorKind::OutOfRange { i, j, value, min: f64::from(min), max: f64::from(max) });
+        }
+        let no_data = hf.has_no_data();
+        Ok(Self { min, max, lo: u32::from(no_data), hi: max_code, no_data })
     }
 
     /// The code of elevation `v` (NaN → 0 when no-data is reserved).

@@ -63,7 +63,27 @@ fn frame_buffer<R: std::io::BufRead + std::io::Seek>(
     Ok(vec![0u8; len])
 }
 
-pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErrorKind> {
+/// A grayscale PNG's codes, as read: bit depth, size, the raw big-endian frame, the `relief`
+/// metadata and the tRNS gray level, if any.
+pub(crate) struct GrayImage {
+    pub bits: u8,
+    pub width: usize,
+    pub height: usize,
+    buf: Vec<u8>,
+    pub meta: Option<Metadata>,
+    pub transparent: Option<u32>,
+}
+
+impl GrayImage {
+    /// The code of sample `k` (row-major, north row first).
+    fn code(&self, k: usize) -> u32 {
+        let b = &self.buf;
+        if self.bits == 8 { u32::from(b[k]) } else { u32::from(u16::from_be_bytes([b[2 * k], b[2 * k + 1]])) }
+    }
+}
+
+/// Reads an 8- or 16-bit grayscale PNG's codes and text chunks; any other kind is refused.
+pub(crate) fn read_gray(bytes: &[u8], limits: Limits) -> Result<GrayImage, IoErrorKind> {
     let found = bytes.len();
     let budget = png::Limits { bytes: limits.byte_budget(2, 16 << 20) };
     let mut decoder = png::Decoder::new_with_limits(Cursor::new(bytes), budget);
@@ -71,11 +91,11 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
     let (w, h) = (header.width, header.height);
     limits.check(u64::from(w), u64::from(h))?;
     let bits = match (header.color_type, header.bit_depth) {
-        (png::ColorType::Grayscale, png::BitDepth::Eight) => 8u32,
+        (png::ColorType::Grayscale, png::BitDepth::Eight) => 8,
         (png::ColorType::Grayscale, png::BitDepth::Sixteen) => 16,
         (ct, bd) => {
             return Err(IoErrorKind::Unsupported(format!(
-                "PNG is {ct:?} at {} bits per sample; heightmaps must be 8- or 16-bit grayscale",
+                "PNG is {ct:?} at {} bits per sample; heightmaps must be 8- or 16-bit grayscale (colour and alpha images are read only as masks and probability maps)",
                 bd as u8
             )));
         }
@@ -88,12 +108,17 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
     reader.finish().map_err(|e| decode_error(e, found))?;
     let info = reader.info();
     let meta = find_metadata(info)?;
-    let (nx, ny) = (w as usize, h as usize);
-    let code = |k: usize| -> u32 {
-        if bits == 8 { u32::from(buf[k]) } else { u32::from(u16::from_be_bytes([buf[2 * k], buf[2 * k + 1]])) }
-    };
-    let max_code = (1u32 << bits) - 1;
-    let (grid, mut samples) = if let Some(m) = meta {
+    let transparent =
+        info.trns.as_deref().filter(|t| t.len() >= 2).map(|t| u32::from(u16::from_be_bytes([t[0], t[1]])));
+    Ok(GrayImage { bits, width: w as usize, height: h as usize, buf, meta, transparent })
+}
+
+pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErrorKind> {
+    let image = read_gray(bytes, limits)?;
+    let (nx, ny) = (image.width, image.height);
+    let max_code = (1u32 << image.bits) - 1;
+    let code = |k| image.code(k);
+    let (grid, mut samples) = if let Some(m) = &image.meta {
         let grid = m.grid(nx, ny)?;
         let q = m.quantiser(max_code)?;
         let mut samples = Vec::with_capacity(nx * ny);
@@ -103,8 +128,7 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
         (grid, samples)
     } else {
         // A plain grayscale image: code / max_code, with the tRNS gray level (if any) as no-data.
-        let transparent =
-            info.trns.as_deref().filter(|t| t.len() >= 2).map(|t| u32::from(u16::from_be_bytes([t[0], t[1]])));
+        let transparent = image.transparent;
         let scale = max_code as f32;
         let samples = (0..nx * ny)
             .map(|k| match code(k) {
@@ -118,7 +142,8 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
     Ok(Heightfield::from_samples(grid, samples)?)
 }
 
-pub(crate) fn encode(hf: &Heightfield, bits: u8) -> Result<Vec<u8>, IoErrorKind> {
+/// A `bits`-bit PNG of `hf`, quantised over `range` (the field's min and max by default).
+pub(crate) fn encode(hf: &Heightfield, bits: u8, range: Option<(f32, f32)>) -> Result<Vec<u8>, IoErrorKind> {
     let enc_err = |e: png::EncodingError| IoErrorKind::Encode(e.to_string());
     let (nx, ny) = (hf.nx(), hf.ny());
     let (w, h) = (u32::try_from(nx), u32::try_from(ny));
@@ -126,8 +151,8 @@ pub(crate) fn encode(hf: &Heightfield, bits: u8) -> Result<Vec<u8>, IoErrorKind>
         return Err(IoErrorKind::Unsupported(format!("{nx}x{ny} exceeds the PNG size limit")));
     };
     let max_code = (1u32 << bits) - 1;
-    let q = Quantiser::for_field(hf, max_code);
-    let meta = Metadata::describe(hf, if bits == 8 { "png8" } else { "png16" }, true);
+    let q = Quantiser::for_field_in(hf, max_code, range)?;
+    let meta = Metadata::describe_in(hf, if bits == 8 { "png8" } else { "png16" }, true, range);
     let mut data = Vec::with_capacity(nx * ny * usize::from(bits / 8));
     for j in (0..ny).rev() {
         for &v in hf.row(j) {

@@ -113,18 +113,23 @@ pub(crate) fn decode(
     Ok(Heightfield::from_samples(grid, samples)?)
 }
 
-/// The file's bytes and the sidecar record.
-pub(crate) fn encode(hf: &Heightfield, kind: RawKind) -> (Vec<u8>, Metadata) {
+/// The file's bytes and the sidecar record; r16 is quantised over `range` (the field's min and
+/// max by default), r32 ignores it.
+pub(crate) fn encode(
+    hf: &Heightfield,
+    kind: RawKind,
+    range: Option<(f32, f32)>,
+) -> Result<(Vec<u8>, Metadata), IoErrorKind> {
     let mut out = Vec::with_capacity(hf.samples().len() * kind.bytes());
-    match kind {
+    Ok(match kind {
         RawKind::R16 => {
-            let q = Quantiser::for_field(hf, u32::from(u16::MAX));
+            let q = Quantiser::for_field_in(hf, u32::from(u16::MAX), range)?;
             for j in (0..hf.ny()).rev() {
                 for &v in hf.row(j) {
                     out.extend_from_slice(&(q.encode(v) as u16).to_le_bytes());
                 }
             }
-            (out, Metadata::describe(hf, "r16", true))
+            (out, Metadata::describe_in(hf, "r16", true, range))
         }
         RawKind::R32 => {
             for j in (0..hf.ny()).rev() {
@@ -134,5 +139,5 @@ pub(crate) fn encode(hf: &Heightfield, kind: RawKind) -> (Vec<u8>, Metadata) {
             }
             (out, Metadata::describe(hf, "r32", false))
         }
-    }
+    })
 }

@@ -8,7 +8,8 @@ use glam::DVec2;
 use proptest::prelude::*;
 use relief_heightfield::{GridSpec, Heightfield, Units};
 use relief_heightfield_io::{
-    Format, IoErrorKind, ReadOptions, WriteOptions, read, read_bytes, read_with, write, write_bytes, write_with,
+    Format, IoErrorKind, ReadOptions, WriteOptions, quantisation, read, read_bytes, read_with, write, write_bytes,
+    write_with,
 };
 
 /// Metric or geographic grids of 1–12 samples per side, anywhere, with unequal cell sizes.
@@ -324,4 +325,73 @@ fn encoding_is_byte_for_byte_reproducible() {
             assert!(write_bytes(&hf, f).unwrap() == first, "{f} bytes vary between runs");
         }
     }
+}
+
+/// A fixed vertical range: the quantised formats map it, not the field's min and max, onto their
+/// codes, record it, and read back metres; a sample outside it is an error, never clamped.
+#[test]
+fn quantised_formats_take_a_fixed_vertical_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = GridSpec::new(6, 4, DVec2::ZERO, DVec2::splat(10.0)).unwrap();
+    let hf = Heightfield::from_fn(grid, |p| 100.0 + 8.0 * (p.x + p.y) as f32).unwrap();
+    let range = WriteOptions::default().with_range(0.0, 1000.0);
+    for (file, format, codes) in
+        [("t.png", None, 65535.0), ("t8.png", Some(Format::Png8), 255.0), ("t.r16", None, 65535.0)]
+    {
+        let path = dir.path().join(file);
+        let options = format.map_or(range, |f| range.with_format(f));
+        write_with(&path, &hf, &options).unwrap();
+        let back = read(&path).unwrap();
+        let step = 1000.0 / codes;
+        for (a, b) in hf.samples().iter().zip(back.samples()) {
+            assert!(f64::from((a - b).abs()) <= 0.5 * step + 1e-3, "{file}: {a} vs {b}");
+        }
+        // Code k holds 1000·k/codes metres: 100 m is code round(100·codes/1000), not 0.
+        let coded = (100.0 * codes / 1000.0_f64).round() * 1000.0 / codes;
+        assert!((f64::from(back.min_max().unwrap().0) - coded).abs() < 1e-3, "{file}");
+    }
+    // Outside the range: an error naming the sample, and no file.
+    let tight = WriteOptions::default().with_range(0.0, 150.0);
+    let out = dir.path().join("tight.png");
+    let e = write_with(&out, &hf, &tight).unwrap_err();
+    assert!(matches!(e.kind(), IoErrorKind::OutOfRange { .. }), "{e}");
+    assert!(!out.exists());
+    let e = write_with(dir.path().join("bad.r16"), &hf, &WriteOptions::default().with_range(5.0, 5.0)).unwrap_err();
+    assert!(e.to_string().contains("min < max"), "{e}");
+    // The float formats keep their floats whatever the range.
+    write_with(dir.path().join("t.exr"), &hf, &range).unwrap();
+    assert_eq!(read(dir.path().join("t.exr")).unwrap().samples(), hf.samples());
+}
+
+#[test]
+fn a_quantised_file_tells_how_its_codes_map_to_elevations() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = GridSpec::new(5, 3, DVec2::ZERO, DVec2::ONE).unwrap();
+    let mut hf = Heightfield::from_fn(grid, |p| 10.0 * p.x as f32).unwrap();
+    let range = WriteOptions::default().with_range(-50.0, 200.0);
+    write_with(dir.path().join("a.png"), &hf, &range).unwrap();
+    let q = quantisation(dir.path().join("a.png")).unwrap().unwrap();
+    assert_eq!((q.bits, q.lowest_code, q.highest_code, q.no_data_code), (16, 0, 65535, None));
+    assert_eq!((q.min, q.max, q.from_metadata), (-50.0, 200.0, true));
+    assert!((q.step() - 250.0 / 65535.0).abs() < 1e-12);
+    // With no-data, code 0 is reserved and the codes start at 1.
+    hf.samples_mut()[3] = f32::NAN;
+    write_with(dir.path().join("b.r16"), &hf, &WriteOptions::default()).unwrap();
+    let q = quantisation(dir.path().join("b.r16")).unwrap().unwrap();
+    assert_eq!((q.lowest_code, q.no_data_code, q.min, q.max), (1, Some(0), 0.0, 40.0));
+    assert!((q.step() - 40.0 / 65534.0).abs() < 1e-12);
+    // Which code holds what, checked against the bytes: sample (4, 2) is the maximum (top row,
+    // written first, last column) and the no-data sample (3, 0) sits in the last row written.
+    let bytes = std::fs::read(dir.path().join("b.r16")).unwrap();
+    let code = |i: usize, j: usize| {
+        let k = 2 * ((2 - j) * 5 + i);
+        u16::from_le_bytes([bytes[k], bytes[k + 1]])
+    };
+    assert_eq!((code(4, 2), code(3, 0), code(0, 0)), (65535, 0, 1));
+    // A plain image from a paint program reads as code / max_code; float formats have no codes.
+    std::fs::remove_file(dir.path().join("b.r16.json")).unwrap();
+    let q = quantisation(dir.path().join("b.r16")).unwrap().unwrap();
+    assert_eq!((q.min, q.max, q.lowest_code, q.from_metadata), (0.0, 1.0, 0, false));
+    write(dir.path().join("c.exr"), &hf).unwrap();
+    assert_eq!(quantisation(dir.path().join("c.exr")).unwrap(), None);
 }

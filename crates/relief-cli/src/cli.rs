@@ -159,6 +159,75 @@ pub(crate) struct DemoArgs {
     /// Replace the scene's seed (the demo uses 7).
     #[arg(long)]
     pub(crate) seed: Option<u64>,
+    #[command(flatten)]
+    pub(crate) outputs: SceneOutputs,
+}
+
+/// What the scene commands may change in a scene's outputs.
+#[derive(Debug, Args)]
+pub(crate) struct SceneOutputs {
+    /// Raster size `W` or `WxH`, replacing the scene's `reconstruction.resolution`.
+    #[arg(long, value_parser = parse_size, value_name = "WxH")]
+    pub(crate) resolution: Option<(usize, usize)>,
+    /// Heightfield formats to write (comma-separated), replacing the scene's `outputs.heightfield`
+    /// with `terrain.<extension>` for each.
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "FORMAT")]
+    pub(crate) format: Vec<HeightfieldFormat>,
+    /// Elevations `MIN,MAX` that the 16-bit outputs (.png, .r16) map their lowest and highest codes
+    /// to: a fixed vertical scale (default: the terrain's own min and max).
+    #[arg(long, value_parser = parse_range, allow_hyphen_values = true, value_name = "MIN,MAX")]
+    pub(crate) range: Option<[f32; 2]>,
+}
+
+/// A heightfield file format, as the command line names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum HeightfieldFormat {
+    /// OpenEXR, 32-bit float.
+    Exr,
+    /// 16-bit grayscale PNG, quantised (the range is recorded in the file).
+    Png,
+    /// 8-bit grayscale PNG, quantised (convert only: scenes write 16-bit PNGs).
+    Png8,
+    /// Raw little-endian u16, quantised, with a JSON sidecar.
+    R16,
+    /// Raw little-endian f32, with a JSON sidecar.
+    R32,
+    /// ESRI ASCII grid.
+    Asc,
+    /// GeoTIFF, 32-bit float.
+    Tif,
+    /// SRTM tile (1201² or 3601², whole metres).
+    Hgt,
+}
+
+impl HeightfieldFormat {
+    /// The file extension.
+    pub(crate) fn extension(self) -> &'static str {
+        match self {
+            Self::Exr => "exr",
+            Self::Png | Self::Png8 => "png",
+            Self::R16 => "r16",
+            Self::R32 => "r32",
+            Self::Asc => "asc",
+            Self::Tif => "tif",
+            Self::Hgt => "hgt",
+        }
+    }
+
+    /// The format written.
+    pub(crate) fn io(self) -> relief::io::Format {
+        use relief::io::Format;
+        match self {
+            Self::Exr => Format::Exr,
+            Self::Png => Format::Png16,
+            Self::Png8 => Format::Png8,
+            Self::R16 => Format::R16,
+            Self::R32 => Format::R32,
+            Self::Asc => Format::Asc,
+            Self::Tif => Format::GeoTiff,
+            Self::Hgt => Format::Hgt,
+        }
+    }
 }
 
 // `relief generate`.
@@ -173,6 +242,8 @@ pub(crate) struct GenerateArgs {
     /// Replace the scene's seed.
     #[arg(long)]
     pub(crate) seed: Option<u64>,
+    #[command(flatten)]
+    pub(crate) outputs: SceneOutputs,
 }
 
 // `relief diffuse`: `generate`'s arguments, restricted to diffusion scenes.
@@ -186,6 +257,8 @@ pub(crate) struct DiffuseArgs {
     /// Replace the scene's seed.
     #[arg(long)]
     pub(crate) seed: Option<u64>,
+    #[command(flatten)]
+    pub(crate) outputs: SceneOutputs,
 }
 
 // `relief contours`.
@@ -214,6 +287,19 @@ pub(crate) struct ConvertArgs {
     pub(crate) input: PathBuf,
     /// Output; the extension picks the format.
     pub(crate) output: PathBuf,
+    /// Resample to `W` or `WxH` samples over the same extent, by bilinear interpolation (exact
+    /// when refining; coarsening by more than 2× aliases, and samples next to no-data become
+    /// no-data).
+    #[arg(long, value_parser = parse_size, value_name = "WxH")]
+    pub(crate) size: Option<(usize, usize)>,
+    /// The format, when the extension allows several (`png8` for an 8-bit .png); it must agree
+    /// with the extension.
+    #[arg(long, value_enum)]
+    pub(crate) format: Option<HeightfieldFormat>,
+    /// Elevations `MIN,MAX` that a 16- or 8-bit output maps its lowest and highest codes to (a
+    /// fixed vertical scale; default: the field's own min and max).
+    #[arg(long, value_parser = parse_range, allow_hyphen_values = true, value_name = "MIN,MAX")]
+    pub(crate) range: Option<[f32; 2]>,
 }
 
 // `relief info`.
@@ -345,6 +431,18 @@ fn parse_size(s: &str) -> Result<(usize, usize), String> {
         return Err(format!("{w} x {h}: each side must be in 2..={}", pipeline::MAX_RESOLUTION));
     }
     Ok((w, h))
+}
+
+/// `MIN,MAX` with MIN < MAX, both finite.
+fn parse_range(s: &str) -> Result<[f32; 2], String> {
+    let usage = || format!("{s:?}: give MIN,MAX with MIN < MAX, e.g. -100,2500");
+    let (a, b) = s.split_once(',').ok_or_else(usage)?;
+    let parse = |v: &str| v.trim().parse::<f32>().map_err(|_| usage());
+    let (min, max) = (parse(a)?, parse(b)?);
+    if !(min.is_finite() && max.is_finite() && min < max) {
+        return Err(usage());
+    }
+    Ok([min, max])
 }
 
 fn parse_window(s: &str) -> Result<[f64; 4], String> {

@@ -115,3 +115,58 @@ fn bad_sizes_say_what_to_give() {
     let stderr = fails(tmp.path(), &["rasterize", "t.json", "--size", "2x", "-o", "t.exr"], 2);
     assert!(stderr.contains("give W or WxH") && !stderr.contains("empty string"), "{stderr}");
 }
+
+#[test]
+fn sizes_formats_and_vertical_ranges_from_the_command_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    ok(dir, &["-q", "demo", "--out", "d", "--resolution", "64x48", "--format", "exr,r16", "--range", "-500,3000"]);
+    let mut names: Vec<String> = std::fs::read_dir(dir.join("d"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "contours.geojson",
+            "contours.svg",
+            "preview.png",
+            "summary.json",
+            "terrain.exr",
+            "terrain.r16",
+            "terrain.r16.json"
+        ]
+    );
+    let exr = relief::io::read(dir.join("d/terrain.exr")).unwrap();
+    let r16 = relief::io::read(dir.join("d/terrain.r16")).unwrap();
+    assert_eq!((exr.nx(), exr.ny()), (64, 48));
+    // Quantised over the fixed range: within half a code of 3500 m / 65535.
+    let step = 3500.0 / 65535.0;
+    assert!(exr.samples().iter().zip(r16.samples()).all(|(a, b)| f64::from((a - b).abs()) <= 0.5 * step + 1e-3));
+    let sidecar: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("d/terrain.r16.json")).unwrap()).unwrap();
+    assert_eq!((sidecar["min"].as_f64(), sidecar["max"].as_f64()), (Some(-500.0), Some(3000.0)));
+    // info says how the codes read; a float format has no codes line.
+    let info = ok(dir, &["info", "d/terrain.r16"]);
+    assert!(info.contains("codes      16-bit: code 0 = -500 m .. code 65535 = 3000 m, step 0.053407 m"), "{info}");
+    assert!(!ok(dir, &["info", "d/terrain.exr"]).contains("codes"));
+    let json: serde_json::Value = serde_json::from_str(&ok(dir, &["info", "--json", "d/terrain.r16"])).unwrap();
+    assert_eq!(json["codes"]["highest_code"], 65535);
+
+    // convert: resampled, 8-bit, over a range; a range the DEM leaves is refused.
+    let dem = root().join("fixtures/dem/jacksboro.asc");
+    let dem = dem.to_str().unwrap();
+    ok(dir, &["-q", "convert", dem, "small.png", "--size", "100x80", "--format", "png8", "--range", "0,2000"]);
+    let small = relief::io::read(dir.join("small.png")).unwrap();
+    assert_eq!((small.nx(), small.ny()), (100, 80));
+    assert!(small.samples().iter().all(|v| (v * 255.0 / 2000.0 - (v * 255.0 / 2000.0).round()).abs() < 1e-3));
+    let stderr = fails(dir, &["convert", dem, "x.exr", "--format", "png8"], 1);
+    assert!(stderr.contains("names another format"), "{stderr}");
+    let stderr = fails(dir, &["convert", dem, "y.png", "--range", "0,300"], 1);
+    assert!(stderr.contains("outside [0, 300]"), "{stderr}");
+    assert!(!dir.join("y.png").exists());
+    let stderr = fails(dir, &["demo", "--format", "png8", "--out", "e"], 1);
+    assert!(stderr.contains("16-bit"), "{stderr}");
+    assert!(fails(dir, &["convert", dem, "z.png", "--range", "9,1"], 2).contains("MIN < MAX"));
+}

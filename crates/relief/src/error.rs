@@ -157,6 +157,18 @@ pub enum SceneError {
         /// The file.
         path: PathBuf,
     },
+    /// The terrain reaches outside the fixed vertical range its 16-bit outputs were asked to use.
+    #[error("the terrain spans [{low}, {high}], outside [{min}, {max}]: widen the range or leave it out")]
+    RangeTooNarrow {
+        /// The range asked for.
+        min: f32,
+        /// Its top.
+        max: f32,
+        /// The terrain's lowest elevation.
+        low: f32,
+        /// Its highest.
+        high: f32,
+    },
     /// The generator needs an explicit `domain`.
     #[error("an {0} scene needs a domain in metres")]
     NeedsDomain(&'static str),

@@ -387,3 +387,25 @@ fn a_run_replaces_the_files_of_the_run_before_it() {
     assert!(outside.is_file());
     std::fs::remove_file(outside).unwrap();
 }
+
+#[test]
+fn a_fixed_vertical_range_too_narrow_for_the_terrain_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = Scene::from_json(&base().to_string()).unwrap();
+    scene.outputs.heightfield = vec!["t.exr".into(), "t.r16".into()];
+    scene.outputs.range = Some([0.0, 1.0]);
+    let err = run(&scene, &root(), dir.path(), &mut ()).unwrap_err();
+    assert_eq!(err.scene_path(), Some("outputs.range"), "{err}");
+    assert!(err.to_string().contains("widen the range"), "{err}");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    // Without a quantised output the range has nothing to scale and is no obstacle.
+    scene.outputs.heightfield = vec!["t.exr".into()];
+    run(&scene, &root(), dir.path(), &mut ()).unwrap();
+    // A wide enough range is written into the sidecar, whatever the terrain spans.
+    scene.outputs.heightfield = vec!["t.r16".into()];
+    scene.outputs.range = Some([-5000.0, 9000.0]);
+    run(&scene, &root(), dir.path(), &mut ()).unwrap();
+    let sidecar: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("t.r16.json")).unwrap()).unwrap();
+    assert_eq!((sidecar["min"].as_f64(), sidecar["max"].as_f64()), (Some(-5000.0), Some(9000.0)));
+}

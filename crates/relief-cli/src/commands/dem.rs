@@ -5,9 +5,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, Result, bail};
 use relief::contours::{ContourSet, Levels, extract_dem};
 use relief::heightfield::{Heightfield, Units};
-use relief::io::Format;
+use relief::io::{Format, Quantisation};
 
-use crate::cli::{ContoursArgs, ConvertArgs, InfoArgs, PreviewArgs};
+use crate::cli::{ContoursArgs, ConvertArgs, HeightfieldFormat, InfoArgs, PreviewArgs};
 use crate::ui::Ui;
 use crate::writes::Written;
 
@@ -64,9 +64,23 @@ fn dem_contours(dem: &Heightfield, levels: &Levels) -> Result<ContourSet> {
 pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
     let (input, output) = (&args.input, &args.output);
     ui.writes().reads(input).writes(output, Written::Heightfield)?.check()?;
-    let format = Format::from_extension(output).context("a heightfield extension")?;
+    let named = Format::from_extension(output).context("a heightfield extension")?;
+    // `--format` only chooses among the formats the extension names (png8 for a .png).
+    let format = match args.format.map(HeightfieldFormat::io) {
+        None => named,
+        Some(f) if f == named || (f == Format::Png8 && named == Format::Png16) => f,
+        Some(_) => bail!("--format: {} names another format", output.display()),
+    };
     let dem = ui.read(input)?;
-    ui.step("write", || relief::io::write(output, &dem))?;
+    let dem = match args.size {
+        Some((nx, ny)) => ui.step("resample", || dem.resample(nx, ny))?,
+        None => dem,
+    };
+    let mut options = relief::io::WriteOptions::default().with_format(format);
+    if let Some([min, max]) = args.range {
+        options = options.with_range(min, max);
+    }
+    ui.step("write", || relief::io::write_with(output, &dem, &options))?;
     ui.say(format_args!("{} ({} x {}) -> {} ({format:?})", input.display(), dem.nx(), dem.ny(), output.display()));
     Ok(())
 }
@@ -74,12 +88,13 @@ pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
 /// `relief info`: size, extent, elevation range and no-data of a heightfield, as text or JSON.
 pub(crate) fn info(args: &InfoArgs, ui: &mut Ui) -> Result<()> {
     let dem = ui.read(&args.dem)?;
-    let text = if args.json { info_json(&args.dem, &dem) } else { info_text(&args.dem, &dem) };
+    let codes = relief::io::quantisation(&args.dem)?;
+    let text = if args.json { info_json(&args.dem, &dem, codes) } else { info_text(&args.dem, &dem, codes) };
     ui.say(format_args!("{text}"));
     Ok(())
 }
 
-fn info_text(path: &Path, dem: &Heightfield) -> String {
+fn info_text(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> String {
     let grid = dem.grid();
     let (e, c) = (grid.extent(), grid.cell_size());
     let unit = match grid.units() {
@@ -104,10 +119,27 @@ fn info_text(path: &Path, dem: &Heightfield) -> String {
         c.x,
         c.y,
         dem.no_data_count()
+    ) + &codes.map(codes_text).unwrap_or_default()
+}
+
+/// How a quantised file's codes read, for `info`.
+fn codes_text(q: Quantisation) -> String {
+    let (lo, hi, bits) = (q.lowest_code, q.highest_code, q.bits);
+    if !q.from_metadata {
+        return format!(
+            "\n  codes      {bits}-bit without relief metadata: code / {hi}, so 0 .. 1 on a 1 m grid (rescale it with a histogram or a DEM of known range)"
+        );
+    }
+    let no_data = q.no_data_code.map_or(String::new(), |c| format!("; code {c} = no-data"));
+    format!(
+        "\n  codes      {bits}-bit: code {lo} = {} m .. code {hi} = {} m, step {:.6} m{no_data}",
+        q.min,
+        q.max,
+        q.step()
     )
 }
 
-fn info_json(path: &Path, dem: &Heightfield) -> String {
+fn info_json(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> String {
     let grid = dem.grid();
     let (e, c) = (grid.extent(), grid.cell_size());
     let stats = dem.statistics();
@@ -122,6 +154,16 @@ fn info_json(path: &Path, dem: &Heightfield) -> String {
         "max": stats.map(|s| s.max),
         "mean": stats.map(|s| s.mean),
         "no_data": dem.no_data_count(),
+        "codes": codes.map(|q| serde_json::json!({
+            "bits": q.bits,
+            "lowest_code": q.lowest_code,
+            "highest_code": q.highest_code,
+            "min": q.min,
+            "max": q.max,
+            "step": q.step(),
+            "no_data_code": q.no_data_code,
+            "from_metadata": q.from_metadata,
+        })),
     });
     serde_json::to_string_pretty(&value).unwrap_or_default()
 }

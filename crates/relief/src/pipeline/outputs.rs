@@ -42,6 +42,12 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
             return Err(E::at(format!("outputs.{field}"), error));
         }
     }
+    if let Some([min, max]) = outputs.range
+        && !(min.is_finite() && max.is_finite() && min < max)
+    {
+        let error = SceneError::OutOfRange { value: format!("[{min}, {max}]"), rule: "must be finite with min < max" };
+        return Err(E::at("outputs.range", error));
+    }
     let mut names: Vec<&Path> = outputs.heightfield.iter().map(PathBuf::as_path).collect();
     names.extend(
         [&outputs.contours_geojson, &outputs.contours_svg, &outputs.divide_tree, &outputs.preview, &outputs.summary]
@@ -115,12 +121,38 @@ fn earlier_files(path: &Path) -> Vec<PathBuf> {
         .collect()
 }
 
+/// A fixed vertical range must hold the whole terrain; checked before any file is written, so
+/// that a range too narrow leaves no half-written set behind.
+fn check_range(terrain: &Terrain, min: f32, max: f32) -> Result<(), ReliefError> {
+    match terrain.heightfield.min_max() {
+        Some((low, high)) if low < min || high > max => {
+            Err(E::at("outputs.range", SceneError::RangeTooNarrow { min, max, low, high }))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Every output but the summary, in order: heightfields, contours, divide tree, preview.
 fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<Vec<PathBuf>, ReliefError> {
     let mut written = Vec::new();
+    let options = match outputs.range {
+        Some([min, max]) => {
+            let quantised = outputs
+                .heightfield
+                .iter()
+                .any(|p| matches!(Format::from_extension(p), Some(Format::Png16 | Format::Png8 | Format::R16)));
+            if quantised {
+                check_range(terrain, min, max)?;
+            }
+            crate::io::WriteOptions::default().with_range(min, max)
+        }
+        None => crate::io::WriteOptions::default(),
+    };
     for name in &outputs.heightfield {
         let path = out_dir.join(name);
-        crate::io::write(&path, &terrain.heightfield)?;
+        crate::io::write_with(&path, &terrain.heightfield, &options)?;
+        let format = Format::from_extension(&path);
+        written.extend(format.map(|f| crate::io::companion_files(&path, f)).unwrap_or_default());
         written.push(path);
     }
     if let Some(name) = &outputs.contours_geojson {

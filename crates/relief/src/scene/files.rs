@@ -1,10 +1,11 @@
 //! Which files a scene reads and which it writes, so that whoever runs it can check the two
 //! apart (an output must never replace an input) and know what a run leaves in its folder.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::{GaussianSource, Generator, HistogramSource, OrometrySource, Outputs, Probability, Scene};
 use crate::gaussian_terrain::Tool;
+use crate::io::Format;
 
 impl Scene {
     /// Every file the scene reads, as written in it (relative paths resolve against the scene
@@ -43,17 +44,22 @@ impl Scene {
     }
 
     /// Every file a run of the scene writes, relative to the output folder, in the order they are
-    /// written (the divide tree only for an orometry scene, the summary last).
-    pub fn output_files(&self) -> Vec<&Path> {
+    /// written (a raw heightfield's sidecar or an ASCII grid's `.prj` before it, the divide tree
+    /// only for an orometry scene, the summary last).
+    pub fn output_files(&self) -> Vec<PathBuf> {
         let o: &Outputs = &self.outputs;
-        let mut files: Vec<&Path> = o.heightfield.iter().map(std::path::PathBuf::as_path).collect();
-        files.extend(o.contours_geojson.as_deref());
-        files.extend(o.contours_svg.as_deref());
-        if matches!(self.generator, Generator::Orometry(_)) {
-            files.extend(o.divide_tree.as_deref());
+        let mut files: Vec<PathBuf> = Vec::new();
+        for path in &o.heightfield {
+            files.extend(Format::from_extension(path).map(|f| crate::io::companion_files(path, f)).unwrap_or_default());
+            files.push(path.clone());
         }
-        files.extend(o.preview.as_deref());
-        files.extend(o.summary.as_deref());
+        files.extend(o.contours_geojson.clone());
+        files.extend(o.contours_svg.clone());
+        if matches!(self.generator, Generator::Orometry(_)) {
+            files.extend(o.divide_tree.clone());
+        }
+        files.extend(o.preview.clone());
+        files.extend(o.summary.clone());
         files
     }
 }

@@ -140,6 +140,11 @@ pub struct Outputs {
     /// Heightfield files; the extension picks the format (.exr, .png, .r16, .r32, .asc, .tif, .hgt).
     #[serde(default = "default_heightfields")]
     pub heightfield: Vec<PathBuf>,
+    /// `[min, max]`: the elevations the 16-bit outputs (.png, .r16) map their lowest and highest
+    /// codes to, for engines that import heightmaps with one fixed height scale (default: the
+    /// terrain's own min and max). A terrain reaching outside it is an error, never clamped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<[f32; 2]>,
     /// Contours as GeoJSON line strings with an `elevation` property.
     #[serde(default = "default_geojson")]
     pub contours_geojson: Option<PathBuf>,
@@ -181,6 +186,7 @@ impl Default for Outputs {
     fn default() -> Self {
         Self {
             heightfield: default_heightfields(),
+            range: None,
             contours_geojson: default_geojson(),
             contours_svg: default_svg(),
             preview: default_preview(),
