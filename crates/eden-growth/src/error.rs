@@ -31,7 +31,7 @@ pub enum EdenError {
         depth: u16,
     },
     /// A depression region must lie inside a raised region (depth ≥ 2) so its floor has a level.
-    #[error("depression region {region} must lie inside a region of depth ≥ 2 (its parent has depth {parent_depth})")]
+    #[error("{}", depression_not_nested(*region, *parent_depth))]
     DepressionNotNested {
         /// The depression.
         region: usize,
@@ -68,7 +68,11 @@ pub enum EdenError {
     },
     /// Two regions at the same depth give different heights (heights apply per depth level).
     #[error(
-        "regions {a} and {b} are both at depth {depth} but give heights {height_a} and {height_b}; heights apply to a whole depth level"
+        "regions {a} and {b} are both at depth {depth} but give heights {height_a} and {height_b}; heights apply to a whole \
+         depth level (the growth shares one front per level): give both {} and draw a region at {} inside region {}",
+        height_a.min(*height_b),
+        height_a.max(*height_b),
+        if height_a > height_b { a } else { b }
     )]
     ConflictingHeights {
         /// The depth level.
@@ -237,4 +241,16 @@ mod tests {
             assert_eq!(e.location(), path, "{e:?}");
         }
     }
+}
+
+/// Why a depression cannot sit where it is, and what to draw instead.
+fn depression_not_nested(region: usize, parent_depth: u16) -> String {
+    if parent_depth == 0 {
+        return format!("depression region {region} lies outside every region: draw it inside a raised region");
+    }
+    format!(
+        "depression region {region} lies directly inside the coastline: a depression's rim is the contour of the level \
+         around it, here the coast's, so its floor would sink below the sea; draw a region around it (a lowland with \
+         its own height) and put the depression inside that, or make it a hole of the coastline for an inland sea"
+    )
 }

@@ -195,6 +195,8 @@ fn bad_regions_are_typed_errors() {
     assert_eq!(err, EdenError::HoleInRaisedRegion { region: 1, depth: 2 });
     let err = RegionTree::new(vec![Region::new(c(0.0, 100.0)), Region::new(c(0.0, 50.0)).as_depression()]).unwrap_err();
     assert_eq!(err, EdenError::DepressionNotNested { region: 1, parent_depth: 1 });
+    // The message says what to draw instead.
+    assert!(err.to_string().contains("draw a region around it"), "{err}");
     let err = RegionTree::new(vec![
         Region::new(c(0.0, 100.0)),
         Region::new(c(0.0, 80.0)),
@@ -219,6 +221,7 @@ fn bad_regions_are_typed_errors() {
     ])
     .unwrap_err();
     assert!(matches!(err, EdenError::ConflictingHeights { depth: 2, .. }), "{err}");
+    assert!(err.to_string().contains("give both 10 and draw a region at 20 inside region 2"), "{err}");
     let err = RegionTree::new(vec![
         Region::new(c(0.0, 100.0)).with_height(50.0),
         Region::new(c(0.0, 50.0)).with_height(40.0),
