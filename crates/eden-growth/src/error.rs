@@ -213,6 +213,18 @@ impl EdenError {
     }
 }
 
+/// Why a depression cannot sit where it is, and what to draw instead.
+fn depression_not_nested(region: usize, parent_depth: u16) -> String {
+    if parent_depth == 0 {
+        return format!("depression region {region} lies outside every region: draw it inside a raised region");
+    }
+    format!(
+        "depression region {region} lies directly inside the coastline: a depression's rim is the contour of the level \
+         around it, here the coast's, so its floor would sink below the sea; draw a region around it (a lowland with \
+         its own height) and put the depression inside that, or make it a hole of the coastline for an inland sea"
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -241,16 +253,4 @@ mod tests {
             assert_eq!(e.location(), path, "{e:?}");
         }
     }
-}
-
-/// Why a depression cannot sit where it is, and what to draw instead.
-fn depression_not_nested(region: usize, parent_depth: u16) -> String {
-    if parent_depth == 0 {
-        return format!("depression region {region} lies outside every region: draw it inside a raised region");
-    }
-    format!(
-        "depression region {region} lies directly inside the coastline: a depression's rim is the contour of the level \
-         around it, here the coast's, so its floor would sink below the sea; draw a region around it (a lowland with \
-         its own height) and put the depression inside that, or make it a hole of the coastline for an inland sea"
-    )
 }

@@ -144,6 +144,9 @@ fn raw_sidecar_problems_name_the_sidecar() {
     std::fs::write(&sidecar, json.replace("\"r16\"", "\"r32\"")).unwrap();
     let err = read(&path).unwrap_err();
     assert!(matches!(err.kind(), IoErrorKind::HeaderMismatch(m) if m.contains("r32")), "{err}");
+    let err = relief_heightfield_io::quantisation(&path).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::HeaderMismatch(m) if m.contains("r32")), "{err}");
+    assert_eq!(err.path(), sidecar);
 
     std::fs::write(&sidecar, json.replace("\"cell_size\":[2.5,5.0]", "\"cell_size\":[-2.5,5.0]")).unwrap();
     let err = read(&path).unwrap_err();
@@ -620,4 +623,25 @@ fn exr_channels_all_count_against_the_cell_limit() {
     assert!(matches!(err.kind(), IoErrorKind::TooLarge { cells: 800, limit: 799 }), "{err}");
     let hf = read_with(&path, &tiny_limits(800)).unwrap();
     assert_eq!((hf.nx(), hf.ny()), (20, 10));
+}
+
+#[test]
+fn a_sidecar_without_min_and_max_must_mark_no_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("n.r16");
+    let grid = GridSpec::new(2, 2, DVec2::ZERO, DVec2::ONE).unwrap();
+    write(&path, &Heightfield::from_samples(grid, vec![f32::NAN; 4]).unwrap()).unwrap();
+    // Every sample no-data: no min or max, code 0 everywhere; reads back as all no-data.
+    assert!(read(&path).unwrap().samples().iter().all(|v| v.is_nan()));
+    // Any other code in such a file is an error, not an elevation made up.
+    std::fs::write(&path, [0u8, 0, 7, 0, 0, 0, 0, 0]).unwrap();
+    let err = read(&path).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::HeaderMismatch(m) if m.contains("code 7")), "{err}");
+    // Without min and max, a sidecar that does not reserve code 0 says nothing of elevations.
+    let sidecar = dir.path().join("n.r16.json");
+    let json = std::fs::read_to_string(&sidecar).unwrap();
+    assert!(json.contains("\"no_data_code\":0"), "{json}");
+    std::fs::write(&sidecar, json.replace(",\"no_data_code\":0", "")).unwrap();
+    let err = read(&path).unwrap_err();
+    assert!(matches!(err.kind(), IoErrorKind::InvalidMetadata(m) if m.contains("min and max")), "{err}");
 }

@@ -350,6 +350,9 @@ fn quantised_formats_take_a_fixed_vertical_range() {
         let coded = (100.0 * codes / 1000.0_f64).round() * 1000.0 / codes;
         assert!((f64::from(back.min_max().unwrap().0) - coded).abs() < 1e-3, "{file}");
     }
+    // A range that is exactly the field's own min and max holds every sample.
+    let (lo, hi) = hf.min_max().unwrap();
+    write_with(dir.path().join("exact.r16"), &hf, &WriteOptions::default().with_range(lo, hi)).unwrap();
     // Outside the range: an error naming the sample, and no file.
     let tight = WriteOptions::default().with_range(0.0, 150.0);
     let out = dir.path().join("tight.png");
@@ -391,7 +394,17 @@ fn a_quantised_file_tells_how_its_codes_map_to_elevations() {
     // A plain image from a paint program reads as code / max_code; float formats have no codes.
     std::fs::remove_file(dir.path().join("b.r16.json")).unwrap();
     let q = quantisation(dir.path().join("b.r16")).unwrap().unwrap();
-    assert_eq!((q.min, q.max, q.lowest_code, q.from_metadata), (0.0, 1.0, 0, false));
+    assert_eq!((q.min, q.max, q.lowest_code, q.highest_code, q.from_metadata), (0.0, 1.0, 0, 65535, false));
+    let plain8 = dir.path().join("plain8.png");
+    let img = [0u8, 9, 255, 4];
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, 2, 2);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.write_header().unwrap().write_image_data(&img).unwrap();
+    std::fs::write(&plain8, &bytes).unwrap();
+    let q = quantisation(&plain8).unwrap().unwrap();
+    assert_eq!((q.bits, q.highest_code, q.from_metadata, q.no_data_code), (8, 255, false, None));
     write(dir.path().join("c.exr"), &hf).unwrap();
     assert_eq!(quantisation(dir.path().join("c.exr")).unwrap(), None);
 }

@@ -67,9 +67,9 @@ fn scene(seed: u64, regions: Vec<Region>, edits: Vec<Edit>, mode: Reconstruction
             label_image: None,
             particles: Some(3_000),
             radius: None,
-            histogram: HistogramSource::Histogram(
+            histogram: Some(HistogramSource::Histogram(
                 Histogram::from_bins(vec![0.0, 100.0, 400.0, 900.0], vec![3.0, 2.0, 1.0]).unwrap(),
-            ),
+            )),
             probability: Probability::Fbm(
                 FbmProbability::new(Fbm { octaves: 4, frequency: 0.002, lacunarity: 2.0, gain: 0.5, seed: 0 }, 2.0)
                     .unwrap(),

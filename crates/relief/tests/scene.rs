@@ -134,7 +134,7 @@ fn bad_polygons_and_region_layouts_name_the_region() {
     assert_path(&v, "generator.contours.regions[1].polygon", "overlap");
     let mut v = base();
     v["generator"]["contours"]["regions"][1]["depression"] = true.into();
-    assert_path(&v, "generator.contours.regions[1].depression", "depth");
+    assert_path(&v, "generator.contours.regions[1].depression", "directly inside the coastline");
     let mut v = base();
     v["generator"]["contours"]["regions"][1]["height"] = (-10.0).into();
     assert_path(&v, "generator.contours.regions", "not above");
@@ -287,7 +287,7 @@ fn histograms_are_the_librarys_or_a_dem() {
         Scene::from_json(&v.to_string())
     };
     let histogram_of = |scene: Scene| match scene.generator {
-        Generator::Contours(g) => g.histogram,
+        Generator::Contours(g) => g.histogram.expect("a histogram"),
         _ => unreachable!("a contour scene"),
     };
     let dem = histogram_of(parse(serde_json::json!({ "dem": "fixtures/dem/jacksboro.asc" })).unwrap());
@@ -408,4 +408,90 @@ fn a_fixed_vertical_range_too_narrow_for_the_terrain_writes_nothing() {
     let sidecar: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("t.r16.json")).unwrap()).unwrap();
     assert_eq!((sidecar["min"].as_f64(), sidecar["max"].as_f64()), (Some(-5000.0), Some(9000.0)));
+}
+
+/// A coast at 0 m, a range at 600 m and a summit at 1200 m, with the histogram `histogram`
+/// (left out when `None`).
+fn stepped(histogram: Option<serde_json::Value>) -> Scene {
+    let square = |a: f64, b: f64, c: f64, d: f64| serde_json::json!({ "exterior": [[a, b], [c, b], [c, d], [a, d]] });
+    let mut generator = serde_json::json!({
+        "regions": [
+            { "polygon": square(0.0, 0.0, 8000.0, 6000.0), "height": 0 },
+            { "polygon": square(2000.0, 1500.0, 6000.0, 4500.0), "height": 600 },
+            { "polygon": square(3500.0, 2500.0, 4500.0, 3500.0), "height": 1200 }
+        ],
+        "particles": 6000
+    });
+    if let Some(h) = histogram {
+        generator["histogram"] = h;
+    }
+    let scene = serde_json::json!({
+        "version": 1, "seed": 3, "generator": { "contours": generator },
+        "reconstruction": { "resolution": [120, 90] }
+    });
+    Scene::from_json(&scene.to_string()).unwrap()
+}
+
+#[test]
+fn region_heights_alone_give_a_histogram_that_fits_them() {
+    let terrain = generate(&stepped(None), &root(), &mut ()).unwrap();
+    let fit = terrain.summary.histogram_match.as_ref().unwrap();
+    assert!(fit.nodes < 1e-3, "nodes KS {}", fit.nodes);
+    assert!(terrain.summary.warnings.is_empty(), "{:?}", terrain.summary.warnings);
+    // One bin per slice between given heights, the top one height step above the last, each
+    // weighted by its levels' share of the nodes.
+    let relief::contours::HistogramSpec::Bins { edges, weights } = terrain.histogram.spec() else {
+        panic!("{:?}", terrain.histogram.spec())
+    };
+    assert_eq!(edges, &[0.0, 600.0, 1200.0, 1800.0]);
+    let graph = terrain.summary.graph.as_ref().unwrap();
+    assert_eq!(weights.iter().sum::<f64>(), graph.inside as f64);
+    // The range covers half the coast's square, the summit 1/48 of it.
+    let share = |k: usize| weights[k] / graph.inside as f64;
+    assert!((share(0) - 0.75).abs() < 0.03 && (share(2) - 1.0 / 48.0).abs() < 0.01, "{weights:?}");
+    // Without heights inside the coastline there is nothing to derive a histogram from.
+    let mut bare = stepped(None);
+    let relief::scene::Generator::Contours(g) = &mut bare.generator else { unreachable!() };
+    g.regions.iter_mut().skip(1).for_each(|r| r.height = None);
+    let err = generate(&bare, &root(), &mut ()).unwrap_err();
+    assert_eq!(err.scene_path(), Some("generator.contours.histogram"), "{err}");
+    assert!(err.to_string().contains("give a histogram, or heights on the coastline"), "{err}");
+}
+
+#[test]
+fn a_histogram_at_odds_with_region_heights_is_warned_about_with_one_that_fits() {
+    let uniform = serde_json::json!({ "uniform": { "min": 0, "max": 2000 } });
+    let terrain = generate(&stepped(Some(uniform)), &root(), &mut ()).unwrap();
+    assert!(terrain.summary.histogram_match.as_ref().unwrap().nodes > 0.3);
+    let [warning] = terrain.summary.warnings.as_slice() else { panic!("{:?}", terrain.summary.warnings) };
+    assert!(warning.contains("the 600 m contour encloses 25 % of the land where the histogram puts 70 %"), "{warning}");
+    // The histogram it suggests, used as it is, fits: no warning then.
+    let start = warning.find("{ \"bins\"").unwrap();
+    let end = start + warning[start..].find("] } }").unwrap() + 5;
+    let suggested: serde_json::Value = serde_json::from_str(&warning[start..end]).unwrap();
+    assert_eq!(suggested["bins"]["edges"], serde_json::json!([0, 600, 1200, 2000]));
+    let weights: Vec<f64> = serde_json::from_value(suggested["bins"]["weights"].clone()).unwrap();
+    assert!((weights.iter().sum::<f64>() - 100.0).abs() < 0.05 && (weights[0] - 75.0).abs() < 1.0, "{weights:?}");
+    let terrain = generate(&stepped(Some(suggested)), &root(), &mut ()).unwrap();
+    assert!(terrain.summary.warnings.is_empty(), "{:?}", terrain.summary.warnings);
+    assert!(terrain.summary.histogram_match.as_ref().unwrap().nodes < 0.02);
+}
+
+#[test]
+fn the_suggested_histogram_keeps_the_shape_of_the_one_given() {
+    let bins = serde_json::json!({ "bins": { "edges": [0, 300, 900, 2000], "weights": [4, 2, 1] } });
+    let terrain = generate(&stepped(Some(bins)), &root(), &mut ()).unwrap();
+    let [warning] = terrain.summary.warnings.as_slice() else { panic!("{:?}", terrain.summary.warnings) };
+    let start = warning.find("{ \"bins\"").unwrap();
+    let end = start + warning[start..].find("] } }").unwrap() + 5;
+    let suggested: serde_json::Value = serde_json::from_str(&warning[start..end]).unwrap();
+    // The given bins split at the region heights.
+    assert_eq!(suggested["bins"]["edges"], serde_json::json!([0, 300, 600, 900, 1200, 2000]));
+    let w: Vec<f64> = serde_json::from_value(suggested["bins"]["weights"].clone()).unwrap();
+    // Within a slice the bins keep their masses' ratio: 4/7 on [0, 300] against 1/7 on [300, 600]
+    // (half of the [300, 900] bin), 1/7 on [600, 900] against 1/11 · 3/7 on [900, 1200].
+    assert!((w[0] / w[1] - 4.0).abs() < 0.02, "{w:?}");
+    assert!((w[2] / w[3] - 11.0 / 3.0).abs() < 0.05, "{w:?}");
+    // And the slices their share of the land: 3/4 below 600 m.
+    assert!((w[0] + w[1] - 75.0).abs() < 1.0, "{w:?}");
 }

@@ -13,9 +13,6 @@ use relief::{Scene, Summary};
 use crate::cli::{DemoArgs, DiffuseArgs, GenerateArgs, HeightfieldFormat, SceneOutputs};
 use crate::ui::Ui;
 
-/// Node heights match the histogram to 1/(2N) unless explicit heights force a different split.
-const HISTOGRAM_WARNING: f64 = 0.02;
-
 /// `relief demo`: the built-in scene, and where to look at it.
 pub(crate) fn demo(args: &DemoArgs, ui: &mut Ui) -> Result<()> {
     let mut scene = Scene::demo();
@@ -175,7 +172,7 @@ fn run_scene(scene: &Scene, file: Option<&Path>, base: &Path, out: &Path, ui: &m
 }
 
 /// The report of a scene run that took `seconds` and wrote `written`: one line on what was made,
-/// the files, then warnings about a diffusion that did not converge or a poor histogram match.
+/// the files, then warnings: a diffusion that did not converge, the generator's own (a poor histogram fit, …).
 fn report(s: &Summary, seconds: f64, written: &[PathBuf], ui: &Ui) {
     let fit =
         s.histogram_match.as_ref().map_or_else(String::new, |h| format!(" (histogram match: KS {:.4})", h.raster));
@@ -196,13 +193,8 @@ fn report(s: &Summary, seconds: f64, written: &[PathBuf], ui: &Ui) {
             d.relative_residual
         ));
     }
-    if let Some(fit) = s.histogram_match.as_ref().filter(|fit| fit.nodes > HISTOGRAM_WARNING) {
-        ui.warn(format_args!(
-            "elevations deviate from the histogram (KS {:.3}): explicit region heights give each \
-             level a fixed share of the histogram, which differs here from its share of the area; adjust the \
-             weights or drop a height",
-            fit.nodes
-        ));
+    for warning in &s.warnings {
+        ui.warn(format_args!("{warning}"));
     }
 }
 

@@ -10,8 +10,8 @@ use super::progress::Timer;
 use super::summary::GraphSummary;
 use super::{Generated, Report};
 use crate::contours::{
-    ContourSet, Histogram, Interpolation, Ranking, Summit, assign_heights, extract_tin, reconstruct_interpolated,
-    reconstruct_stairs,
+    ContourSet, Histogram, HistogramSpec, Interpolation, Ranking, Summit, assign_heights, extract_tin,
+    reconstruct_interpolated, reconstruct_stairs,
 };
 use crate::eden_growth::{
     EdenError, Graph, GraphOptions, LabelMap, ProbabilityMap, RasterProbability, RegionTree, Sampling, Uniform, grow,
@@ -33,7 +33,7 @@ const GENERATOR: &str = "generator.contours";
 struct Inputs {
     source: Source,
     sampling: Sampling,
-    histogram: Histogram,
+    target: Target,
     probability: Box<dyn ProbabilityMap>,
     levels: Vec<f64>,
     edits: Edits,
@@ -45,6 +45,17 @@ struct Inputs {
 enum Source {
     Regions(RegionTree),
     Labels(LabelMap),
+}
+
+/// The histogram the heights follow: the scene's, or one derived from the regions' heights once
+/// the growth has measured how many nodes each level holds.
+enum Target {
+    Given(Histogram),
+    /// The given heights as `(level, height)` from the coastline up, and the top of the last bin.
+    FromHeights {
+        anchors: Vec<(usize, f64)>,
+        top: f64,
+    },
 }
 
 /// The contour generator's run.
@@ -59,11 +70,12 @@ pub(super) fn generate(
     let growth = timer.step("growth", || {
         grow(&graph, inputs.probability.as_ref(), growth_seed(scene.seed)).map_err(|e| E::located(GENERATOR, e))
     })?;
+    let level_ends: Vec<usize> = (1..=growth.levels()).map(|l| growth.level_range(l).end).collect();
+    let histogram = inputs.target.histogram(&level_ends)?;
+    let ranking =
+        Ranking { order: growth.order(), level_ends: &level_ends, level_heights: &graph.level_heights()[1..] };
     let heights = timer.step("heights", || {
-        let level_ends: Vec<usize> = (1..=growth.levels()).map(|l| growth.level_range(l).end).collect();
-        let ranking =
-            Ranking { order: growth.order(), level_ends: &level_ends, level_heights: &graph.level_heights()[1..] };
-        assign_heights(graph.tin().num_points(), &ranking, &inputs.histogram)
+        assign_heights(graph.tin().num_points(), &ranking, &histogram)
             .map_err(|e| E::located(&format!("{GENERATOR}.histogram"), e))
     })?;
     let sea_level = heights.level_boundaries[0];
@@ -77,6 +89,8 @@ pub(super) fn generate(
     let surface = Surface { graph: &graph, heights: &heights.heights, outside: heights.outside };
     let heightfield = timer.step("reconstruction", || inputs.reconstruct(scene, &surface, &contours, sea_level))?;
     let inside: Vec<f64> = growth.order().iter().map(|&v| heights.heights[v as usize]).collect();
+    let nodes_ks = histogram.ks_distance(&inside);
+    let warnings = fit_warning(&histogram, &ranking, nodes_ks).into_iter().collect();
     let report = Report::Contours {
         graph: GraphSummary {
             nodes: graph.tin().num_points(),
@@ -85,10 +99,10 @@ pub(super) fn generate(
             filled_nodes: graph.filled_nodes(),
             levels: graph.max_level(),
         },
-        nodes_ks: inputs.histogram.ks_distance(&inside),
-        histogram: inputs.histogram,
+        nodes_ks,
+        histogram,
     };
-    Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report })
+    Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report, warnings })
 }
 
 /// Seed of the growth, decorrelated from the sampling's.
@@ -125,11 +139,12 @@ impl Inputs {
             (None, false) => Source::Regions(RegionTree::new(g.regions.clone()).map_err(|e| E::located(GENERATOR, e))?),
             (Some(label), true) => Source::Labels(label_map(label, env)?),
         };
-        let histogram = histogram(&g.histogram, env)?;
-        let levels = g
-            .levels
-            .resolve(histogram.min(), histogram.max())
-            .map_err(|e| E::located(&format!("{GENERATOR}.levels"), e))?;
+        let target = match &g.histogram {
+            Some(source) => Target::Given(histogram(source, env)?),
+            None => Target::from_heights(&source)?,
+        };
+        let (min, max) = target.range();
+        let levels = g.levels.resolve(min, max).map_err(|e| E::located(&format!("{GENERATOR}.levels"), e))?;
         let extent = scene.domain.unwrap_or_else(|| match &source {
             Source::Labels(l) => l.grid().extent(),
             Source::Regions(t) => default_domain(t.omega().bounds(), scene.reconstruction.resolution),
@@ -137,16 +152,7 @@ impl Inputs {
         let grid = raster_grid(scene, extent)?;
         let probability = probability(&g.probability, env, &extent, scene.seed)?;
         let edits = Edits::prepare(&scene.edits)?;
-        Ok(Self {
-            source,
-            sampling,
-            histogram,
-            probability,
-            levels,
-            edits,
-            grid,
-            max_particles: env.budget.max_particles,
-        })
+        Ok(Self { source, sampling, target, probability, levels, edits, grid, max_particles: env.budget.max_particles })
     }
 
     fn graph(&self, seed: u64) -> Result<Graph, ReliefError> {
@@ -264,6 +270,131 @@ fn label_map(label: &LabelImage, env: &Env<'_>) -> Result<LabelMap, ReliefError>
     let labels = LabelMap::from_values(grid, image.samples()).map_err(|e| E::at(format!("{at}.path"), e))?;
     Ok(labels.with_depressions(label.depressions))
 }
+
+impl Target {
+    /// The plan for a scene without a histogram: heights on the coastline and at least one level
+    /// inside it are needed.
+    fn from_heights(source: &Source) -> Result<Self, ReliefError> {
+        let heights = match source {
+            Source::Regions(tree) => tree.level_heights(),
+            Source::Labels(_) => &[],
+        };
+        let anchors: Vec<(usize, f64)> =
+            heights.iter().enumerate().skip(1).filter_map(|(l, h)| h.map(|h| (l, h))).collect();
+        match anchors.as_slice() {
+            [(1, _), .., (_, below), (_, last)] => Ok(Self::FromHeights { top: last + (last - below), anchors }),
+            _ => Err(E::at(
+                format!("{GENERATOR}.histogram"),
+                SceneError::Missing(
+                    "a histogram, or heights on the coastline and on a region inside it to derive one from \
+                     (e.g. \"histogram\": { \"uniform\": { \"min\": 0, \"max\": 1000 } })",
+                ),
+            )),
+        }
+    }
+
+    /// The elevations the histogram will span.
+    fn range(&self) -> (f64, f64) {
+        match self {
+            Self::Given(h) => (h.min(), h.max()),
+            Self::FromHeights { anchors, top } => (anchors[0].1, *top),
+        }
+    }
+
+    /// The histogram, given the growth's level ends (`level_ends[l − 1]`: the end of level `l`'s
+    /// ranks): a derived one gives each slice between given heights the share of the nodes its
+    /// levels hold, so each level gets exactly its area's share.
+    fn histogram(&self, level_ends: &[usize]) -> Result<Histogram, ReliefError> {
+        let (anchors, top) = match self {
+            Self::Given(h) => return Ok(h.clone()),
+            Self::FromHeights { anchors, top } => (anchors, *top),
+        };
+        let total = level_ends.last().copied().unwrap_or(0);
+        let start = |l: usize| if l <= 1 { 0 } else { level_ends.get(l - 2).copied().unwrap_or(total) };
+        let mut edges: Vec<f64> = anchors.iter().map(|&(_, h)| h).collect();
+        edges.push(top);
+        let weights = (0..anchors.len())
+            .map(|k| {
+                let end = anchors.get(k + 1).map_or(total, |&(l, _)| start(l));
+                (end - start(anchors[k].0)) as f64
+            })
+            .collect();
+        Histogram::from_bins(edges, weights).map_err(|e| E::located(&format!("{GENERATOR}.histogram"), e))
+    }
+}
+
+/// The warning for node heights far from the histogram, which happens when the given region
+/// heights fix each level's share of the histogram unlike its share of the area; it names the
+/// worst share and a histogram of the same shape, rescaled slice by slice, that fits.
+fn fit_warning(histogram: &Histogram, ranking: &Ranking<'_>, ks: f64) -> Option<String> {
+    if ks <= FIT_WARNING_KS {
+        return None;
+    }
+    let total = ranking.order.len() as f64;
+    // Each given height inside the histogram's range, with the share of the nodes below it.
+    let given: Vec<(f64, f64)> = ranking
+        .level_heights
+        .iter()
+        .enumerate()
+        .filter_map(|(l, h)| h.map(|h| (h, if l == 0 { 0.0 } else { ranking.level_ends[l - 1] as f64 / total })))
+        .filter(|&(h, _)| h > histogram.min() && h < histogram.max())
+        .collect();
+    let (worst_h, worst_below) = given
+        .iter()
+        .copied()
+        .max_by(|a, b| (histogram.cdf(a.0) - a.1).abs().total_cmp(&(histogram.cdf(b.0) - b.1).abs()))?;
+    let (edges, weights) = fitting_bins(histogram, &given);
+    let list = |v: &[f64]| v.iter().map(|x| format!("{x}")).collect::<Vec<_>>().join(", ");
+    Some(format!(
+        "elevations deviate from the histogram (KS {ks:.3}): region heights fix each level's share of it, and the \
+         {worst_h} m contour encloses {:.0} % of the land where the histogram puts {:.0} % above {worst_h} m; the same \
+         shape with the regions' shares: {{ \"bins\": {{ \"edges\": [{}], \"weights\": [{}] }} }}, or leave \
+         `histogram` out to derive one",
+        100.0 * (1.0 - worst_below),
+        100.0 * (1.0 - histogram.cdf(worst_h)),
+        list(&edges),
+        list(&weights)
+    ))
+}
+
+/// Bins with the shape of `histogram` (its own bins, or 16 even ones) split at the `given`
+/// heights, each slice between two given heights rescaled to the share of the nodes it holds;
+/// weights in percent, to 0.01.
+fn fitting_bins(histogram: &Histogram, given: &[(f64, f64)]) -> (Vec<f64>, Vec<f64>) {
+    let (min, max) = (histogram.min(), histogram.max());
+    let mut edges = match histogram.spec() {
+        HistogramSpec::Bins { edges, .. } => edges.clone(),
+        HistogramSpec::Uniform { .. } => vec![min, max],
+        HistogramSpec::Samples(_) => (0..=16).map(|k| min + (max - min) * f64::from(k) / 16.0).collect(),
+    };
+    edges.extend(given.iter().map(|g| g.0));
+    edges.sort_by(f64::total_cmp);
+    edges.dedup();
+    // Slice k spans [bounds[k], bounds[k + 1]] and should hold targets[k + 1] − targets[k].
+    let mut bounds = vec![min];
+    bounds.extend(given.iter().map(|g| g.0));
+    bounds.push(max);
+    let mut targets = vec![0.0];
+    targets.extend(given.iter().map(|g| g.1));
+    targets.push(1.0);
+    let weights = edges
+        .windows(2)
+        .map(|w| {
+            let k = bounds.partition_point(|&b| b <= w[0]).saturating_sub(1).min(bounds.len() - 2);
+            let (lo, hi) = (bounds[k], bounds[k + 1]);
+            let want = targets[k + 1] - targets[k];
+            let have = histogram.cdf(hi) - histogram.cdf(lo);
+            let share =
+                if have > 0.0 { (histogram.cdf(w[1]) - histogram.cdf(w[0])) / have } else { (w[1] - w[0]) / (hi - lo) };
+            (100.0 * want * share * 100.0).round() / 100.0
+        })
+        .collect();
+    (edges, weights)
+}
+
+/// KS distance of the node heights above which [`fit_warning`] speaks: without explicit heights
+/// they match the histogram to 1/(2N).
+const FIT_WARNING_KS: f64 = 0.02;
 
 /// The target histogram: written in the scene, or the elevations of a DEM.
 fn histogram(source: &HistogramSource, env: &Env<'_>) -> Result<Histogram, ReliefError> {

@@ -41,5 +41,6 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
         sea_level: g.sea_level,
         contours: None,
         report: Report::Diffusion(terrain.report),
+        warnings: Vec::new(),
     })
 }

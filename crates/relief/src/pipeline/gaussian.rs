@@ -34,7 +34,7 @@ pub(super) fn generate(
     let heightfield = timer
         .step("rasterize", || rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| E::at(GENERATOR, e)))?;
     let report = Report::Gaussian(GaussianSummary { primitives: terrain.len() });
-    Ok(Generated { heightfield, sea_level: None, contours: None, report })
+    Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new() })
 }
 
 /// The starting vector terrain: written in the scene, read from a file, or fitted to a DEM.

@@ -35,5 +35,5 @@ pub(super) fn generate(scene: &Scene, g: &IslandGenerator, timer: &mut Timer<'_>
         perturbations: island.filters().len(),
     });
     let sea_level = Some(0.5 * g.settings.land_floor);
-    Ok(Generated { heightfield: island.heightfield(), sea_level, contours: None, report })
+    Ok(Generated { heightfield: island.heightfield(), sea_level, contours: None, report, warnings: Vec::new() })
 }

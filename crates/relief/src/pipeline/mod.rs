@@ -51,6 +51,8 @@ pub(crate) struct Generated {
     pub(crate) sea_level: Option<f64>,
     pub(crate) contours: Option<ContourSet>,
     pub(crate) report: Report,
+    /// What the user should know about the result (a poor fit, an input that had no effect).
+    pub(crate) warnings: Vec<String>,
 }
 
 /// The part of the summary only one generator knows.
@@ -131,7 +133,7 @@ pub fn generate_with(
 /// The shared end of every run: post-processes, drainage, the contours of a raster generator at
 /// its levels, and the summary.
 fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<Terrain, ReliefError> {
-    let Generated { heightfield, sea_level, contours, report } = generated;
+    let Generated { heightfield, sea_level, contours, report, warnings } = generated;
     let heightfield = if scene.post.is_empty() {
         heightfield
     } else {
@@ -151,7 +153,8 @@ fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<
         }
     };
     let timings = std::mem::take(&mut timer.timings);
-    let summary = Summary::new(scene, report, &heightfield, &contours, sea_level, drainage, timings);
+    let mut summary = Summary::new(scene, report, &heightfield, &contours, sea_level, drainage, timings);
+    summary.warnings = warnings;
     Ok(Terrain { heightfield, contours, histogram, sea_level, summary })
 }
 

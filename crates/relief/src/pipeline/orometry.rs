@@ -44,7 +44,7 @@ pub(super) fn generate(
         terrain_from_tree(&tree, base, &grid, &options, |_, _| {}).map_err(|e| E::at(GENERATOR, e))
     })?;
     let report = Report::Orometry(summary(tree, &target));
-    Ok(Generated { heightfield, sea_level: None, contours: None, report })
+    Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new() })
 }
 
 /// The target orometry: a DEM analysed, or a saved descriptor.

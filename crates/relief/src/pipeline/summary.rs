@@ -42,6 +42,10 @@ pub struct Summary {
     pub orometry: Option<OrometrySummary>,
     /// Closed basins and stream order of the final heightfield.
     pub drainage: DrainageSummary,
+    /// What the user should know about the result: a poor histogram fit (with a histogram that
+    /// fits), an input that had no effect. The CLI prints them as warnings.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// The files the run wrote, relative to its output folder, this summary last (empty until
     /// [`super::write_outputs`] writes them). A later run into the same folder removes those it
     /// does not write again.
@@ -190,6 +194,7 @@ impl Summary {
             gaussian: None,
             orometry: None,
             drainage,
+            warnings: Vec::new(),
             files: Vec::new(),
             timings_ms,
         };

@@ -16,7 +16,7 @@ impl Scene {
         match &self.generator {
             Generator::Contours(g) => {
                 files.extend(g.label_image.as_ref().map(|l| l.path.as_path()));
-                if let HistogramSource::Dem(path) = &g.histogram {
+                if let Some(HistogramSource::Dem(path)) = &g.histogram {
                     files.push(path);
                 }
                 if let Probability::Image { path, .. } = &g.probability {

@@ -85,8 +85,12 @@ pub struct ContoursGenerator {
     /// Poisson-disc radius in world units, instead of `particles`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius: Option<f64>,
-    /// Target distribution of elevations.
-    pub histogram: HistogramSource,
+    /// Target distribution of elevations. Default, when regions give heights to the coastline
+    /// and at least one level inside it: one bin per slice between the given heights, weighted
+    /// by the area the slice's levels cover (so the fit is exact), the top bin one height step
+    /// above the highest given height.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub histogram: Option<HistogramSource>,
     /// How readily the growth advances where (default uniform).
     #[serde(default)]
     pub probability: Probability,
