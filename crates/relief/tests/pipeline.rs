@@ -412,7 +412,7 @@ fn island_scenes_replay_identically_and_name_the_failing_operation() {
 
 /// An island scene on a 1 km square (the start circle has radius 400 m about the centre) with
 /// `operations`.
-fn island(operations: serde_json::Value) -> Scene {
+fn island(operations: &serde_json::Value) -> Scene {
     let scene = serde_json::json!({
         "version": 1, "seed": 1, "domain": { "min": [0, 0], "max": [1000, 1000] },
         "generator": { "island": { "operations": operations } },
@@ -425,13 +425,13 @@ fn island(operations: serde_json::Value) -> Scene {
 fn strokes_that_keep_the_smaller_piece_and_hills_that_change_nothing_are_warned_about() {
     // Drawn northward at x = 700, a stroke cuts off the land to its left: the larger, western part.
     let north = serde_json::json!([{ "stroke": { "points": [[700, -50], [700, 1050]] } }]);
-    let terrain = generate(&island(north), &root(), &mut ()).unwrap();
+    let terrain = generate(&island(&north), &root(), &mut ()).unwrap();
     let [warning] = terrain.summary.warnings.as_slice() else { panic!("{:?}", terrain.summary.warnings) };
     assert!(warning.starts_with("generator.island.operations[0]: the stroke removed 8"), "{warning}");
     assert!(warning.contains("draw it the other way"), "{warning}");
     // Drawn southward, it cuts off the eastern sliver: what was meant, no warning.
     let south = serde_json::json!([{ "stroke": { "points": [[700, 1050], [700, -50]] } }]);
-    let terrain = generate(&island(south), &root(), &mut ()).unwrap();
+    let terrain = generate(&island(&south), &root(), &mut ()).unwrap();
     assert!(terrain.summary.warnings.is_empty(), "{:?}", terrain.summary.warnings);
     assert!(terrain.summary.island.as_ref().unwrap().area > 0.8 * std::f64::consts::PI * 400.0 * 400.0);
     // Hills raise land only: one in the sea and one off the map change nothing, one on land does.
@@ -441,7 +441,7 @@ fn strokes_that_keep_the_smaller_piece_and_hills_that_change_nothing_are_warned_
         { "add_hill": { "center": [500, 500], "radii": [40, 40], "height": 100 } },
         { "add_hill": { "center": [130, 500], "radii": [40, 40], "height": 100 } }
     ]);
-    let terrain = generate(&island(hills), &root(), &mut ()).unwrap();
+    let terrain = generate(&island(&hills), &root(), &mut ()).unwrap();
     let warnings = &terrain.summary.warnings;
     assert_eq!(warnings.len(), 2, "{warnings:?}");
     assert!(warnings[0].contains("hill 0 (centre 60, 60) lies in the sea"), "{warnings:?}");
