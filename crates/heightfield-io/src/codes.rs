@@ -79,12 +79,12 @@ impl Quantisation {
 /// As [`read`](crate::read): the file or its sidecar cannot be read or is malformed.
 pub fn quantisation(path: impl AsRef<Path>) -> Result<Option<Quantisation>, IoError> {
     let path = path.as_ref();
-    let at = |kind| IoError::new(path, kind);
     let bytes = crate::read_input(path, Limits::default())?;
     match Format::detect(path, &bytes) {
         #[cfg(feature = "png")]
         Some(Format::Png16 | Format::Png8) => {
-            let image = crate::png_gray::read_gray(&bytes, Limits::default()).map_err(at)?;
+            let image =
+                crate::png_gray::read_gray(&bytes, Limits::default()).map_err(|kind| IoError::new(path, kind))?;
             Ok(Some(match &image.meta {
                 Some(meta) => Quantisation::from_metadata(meta, image.bits),
                 None => Quantisation::plain(image.bits, image.transparent),
