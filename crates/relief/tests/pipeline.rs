@@ -497,3 +497,54 @@ fn default_domains_fit_the_inputs_with_square_cells() {
     let e = generate(&flat, &root(), &mut ()).unwrap().heightfield.extent();
     assert!(e.size().y > 0.0 && (e.size().x - e.size().y).abs() < 1e-6, "{e:?}");
 }
+
+/// One arched curve at 800 m with detail noise, on a 64² raster, with `border` (left out when
+/// `None`).
+fn one_curve(border: Option<serde_json::Value>) -> Scene {
+    let mut generator = serde_json::json!({
+        "curves": [{
+            "points": [[0, 0], [1300, 900], [2700, 900], [4000, 0]],
+            "constraints": [{ "u": 0.5, "elevation": { "h": 800, "r": 0 }, "noise": { "amplitude": 40, "roughness": 0.5 } }]
+        }]
+    });
+    if let Some(b) = border {
+        generator["border"] = b;
+    }
+    let scene = serde_json::json!({
+        "version": 1, "generator": { "diffusion": generator }, "reconstruction": { "resolution": [64, 64] }
+    });
+    Scene::from_json(&scene.to_string()).unwrap()
+}
+
+#[test]
+fn a_first_curve_stands_out_and_noise_that_hides_the_relief_is_warned_about() {
+    // Free, as in the paper, one elevation diffuses to itself everywhere: flat, noise on top.
+    let free = generate(&one_curve(Some(serde_json::json!("free"))), &root(), &mut ()).unwrap();
+    let (lo, hi) = free.heightfield.min_max().unwrap();
+    assert!(hi - lo < 200.0 && lo > 650.0, "{lo} .. {hi}");
+    let [warning] = free.summary.warnings.as_slice() else { panic!("{:?}", free.summary.warnings) };
+    assert!(warning.contains("detail noise (amplitude up to 40) is as tall as the relief"), "{warning}");
+    // By default such a scene holds the border at 0 with no noise there: a ridge stands out.
+    let ridge = generate(&one_curve(None), &root(), &mut ()).unwrap();
+    assert!(ridge.summary.warnings.is_empty(), "{:?}", ridge.summary.warnings);
+    let hf = &ridge.heightfield;
+    let (nx, ny) = (hf.nx(), hf.ny());
+    let border = (0..nx).flat_map(|i| [(i, 0), (i, ny - 1)]).chain((0..ny).flat_map(|j| [(0, j), (nx - 1, j)]));
+    assert!(border.into_iter().all(|(i, j)| hf.value(i, j).abs() < 1e-3));
+    let top = hf.sample_bilinear(DVec2::new(2000.0, 850.0)).unwrap();
+    assert!(top > 700.0, "ridge at {top}");
+    // Noise fades away from the curve: the field between the ridge and the border is smooth.
+    let smooth_row = (1..nx - 1).map(|i| hf.value(i, 3)).collect::<Vec<_>>();
+    let wiggle = smooth_row.windows(3).map(|w| (w[0] - 2.0 * w[1] + w[2]).abs()).fold(0.0_f32, f32::max);
+    let near = (1..nx - 1).map(|i| hf.value(i, ny / 2)).collect::<Vec<_>>();
+    let rough = near.windows(3).map(|w| (w[0] - 2.0 * w[1] + w[2]).abs()).fold(0.0_f32, f32::max);
+    assert!(wiggle < 0.25 * rough, "{wiggle} near the border, {rough} near the curve");
+    // An explicit border elevation is held as given; the noise there too when it is held at 0,
+    // else the curve's noise reaches the border.
+    let held = serde_json::json!({ "held": { "elevation": 100, "noise": 0 } });
+    let held = generate(&one_curve(Some(held)), &root(), &mut ()).unwrap();
+    assert!((held.heightfield.value(0, 0) - 100.0).abs() < 1e-3);
+    let noisy = serde_json::json!({ "held": { "elevation": 100 } });
+    let noisy = generate(&one_curve(Some(noisy)), &root(), &mut ()).unwrap();
+    assert!((noisy.heightfield.value(0, 0) - 100.0).abs() > 1e-3);
+}

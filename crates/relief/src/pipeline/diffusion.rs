@@ -3,9 +3,12 @@
 use super::inputs::{bounds, default_domain, raster_grid};
 use super::progress::Timer;
 use super::{Generated, Report};
-use crate::diffusion::{self, SolveOptions, TerrainOptions};
+use glam::DVec2;
+
+use crate::diffusion::{self, Constraint, Elevation, FeatureCurve, Noise, SolveOptions, TerrainOptions};
 use crate::error::SceneError;
-use crate::scene::{DiffusionGenerator, Scene};
+use crate::heightfield::{GridSpec, Heightfield};
+use crate::scene::{Border, DiffusionGenerator, Scene};
 use crate::{ReliefError, ReliefError as E};
 
 const GENERATOR: &str = "generator.diffusion";
@@ -33,14 +36,68 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
         };
         Ok((raster_grid(scene, extent)?, options))
     })?;
+    let curves = with_border(g, &grid)?;
     let terrain = timer
-        .step("diffusion", || diffusion::generate(&g.curves, &grid, &options))
+        .step("diffusion", || diffusion::generate(&curves, &grid, &options))
         .map_err(|e| E::located(GENERATOR, e))?;
+    let warnings = noise_warning(g, &terrain.smooth).into_iter().collect();
     Ok(Generated {
         heightfield: terrain.heightfield,
         sea_level: g.sea_level,
         contours: None,
         report: Report::Diffusion(terrain.report),
-        warnings: Vec::new(),
+        warnings,
+    })
+}
+
+/// The scene's curves, plus a closed curve along the domain's border when it is held (see
+/// [`DiffusionGenerator::border`] for the default).
+fn with_border(g: &DiffusionGenerator, grid: &GridSpec) -> Result<Vec<FeatureCurve>, ReliefError> {
+    let constraints = || g.curves.iter().flat_map(|c| c.constraints.iter());
+    let (elevation, noise) = match g.border {
+        Some(Border::Free) => return Ok(g.curves.clone()),
+        Some(Border::Held { elevation, noise }) => (elevation, noise),
+        None => {
+            let mut heights = constraints().filter_map(|c| c.elevation.map(|e| e.h));
+            let first = heights.next();
+            let flat = first.is_some() && heights.all(|h| Some(h) == first) && constraints().all(|c| c.slope.is_none());
+            if !flat {
+                return Ok(g.curves.clone());
+            }
+            (g.sea_level.unwrap_or(0.0), Some(0.0))
+        }
+    };
+    if !elevation.is_finite() || noise.is_some_and(|a| !(a.is_finite() && a >= 0.0)) {
+        let error = SceneError::OutOfRange {
+            value: format!("{elevation}, noise {noise:?}"),
+            rule: "must be finite, the noise ≥ 0",
+        };
+        return Err(E::at(format!("{GENERATOR}.border"), error));
+    }
+    let e = grid.extent();
+    let ring = [e.min, DVec2::new(e.max.x, e.min.y), e.max, DVec2::new(e.min.x, e.max.y), e.min];
+    let constraint = Constraint {
+        u: 0.0,
+        elevation: Some(Elevation { h: elevation, r: 0.0 }),
+        slope: None,
+        noise: noise.map(|amplitude| Noise { amplitude, roughness: 0.5 }),
+    };
+    let mut curves = g.curves.clone();
+    curves.push(FeatureCurve::polyline(&ring, vec![constraint]));
+    Ok(curves)
+}
+
+/// A warning when the detail noise is as tall as the relief the curves give, which hides them.
+fn noise_warning(g: &DiffusionGenerator, smooth: &Heightfield) -> Option<String> {
+    let amplitude =
+        g.curves.iter().flat_map(|c| &c.constraints).filter_map(|c| c.noise.map(|n| n.amplitude)).fold(0.0, f64::max);
+    let (lo, hi) = smooth.min_max()?;
+    let relief = f64::from(hi - lo);
+    (amplitude > 0.0 && amplitude >= 0.5 * relief).then(|| {
+        format!(
+            "{GENERATOR}: the detail noise (amplitude up to {amplitude}) is as tall as the relief the curves give \
+             ({relief:.1}), so it hides them: lower the noise amplitudes, or give the curves more relief (elevations \
+             apart, slope constraints)"
+        )
     })
 }

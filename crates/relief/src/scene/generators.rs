@@ -165,9 +165,31 @@ pub struct DiffusionGenerator {
     /// Ground below this is drawn as sea and drains (default: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sea_level: Option<f64>,
+    /// What holds the domain's border. Default: free (the paper), unless the curves alone would
+    /// make the terrain flat (one elevation, no slope constraint): then the border is held at
+    /// `sea_level` (or 0) with no detail noise, so that a first curve stands out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub border: Option<Border>,
     /// Contours drawn from the result (default 20 evenly spaced levels).
     #[serde(default = "raster_levels")]
     pub levels: Levels,
+}
+
+/// The domain's border in a diffusion scene.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Border {
+    /// Nothing holds it (the paper): the ground there is whatever the curves diffuse to.
+    Free,
+    /// Held like a curve running round the domain.
+    Held {
+        /// Elevation along the border.
+        elevation: f64,
+        /// Detail-noise amplitude along the border (default: free), 0 to fade the noise out
+        /// away from the curves.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        noise: Option<f64>,
+    },
 }
 
 fn default_tolerance() -> f64 {

@@ -26,8 +26,8 @@ use crate::hydrology::{StreamPower, Thermal};
 use crate::warp::{PathWarp, SlopeModulation};
 
 pub use generators::{
-    ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource, Generator, IslandGenerator, LabelImage,
-    OrometryGenerator, OrometrySource, Probability,
+    Border, ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource, Generator, IslandGenerator,
+    LabelImage, OrometryGenerator, OrometrySource, Probability,
 };
 pub use histogram::HistogramSource;
 
