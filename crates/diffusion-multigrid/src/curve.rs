@@ -255,8 +255,19 @@ impl FeatureCurve {
         hull / step + 8.0 * (p.len() / 3) as f64 + 1.0
     }
 
-    /// The centre line as points `step` apart or closer (at least 8 per cubic piece).
-    fn centre_line(&self, step: f64) -> Vec<DVec2> {
+    /// The centre line as points `step` apart or closer (at least 8 per cubic piece, at most
+    /// 2²⁰), as drawn over a preview.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use relief_diffusion_multigrid::{Constraint, FeatureCurve};
+    ///
+    /// let curve = FeatureCurve::polyline(&[DVec2::ZERO, DVec2::new(10.0, 0.0)], vec![Constraint::default()]);
+    /// let line = curve.centre_line(1.0);
+    /// assert_eq!((line[0], *line.last().unwrap()), (DVec2::ZERO, DVec2::new(10.0, 0.0)));
+    /// assert!(line.windows(2).all(|w| w[0].distance(w[1]) <= 1.0 + 1e-9));
+    /// ```
+    pub fn centre_line(&self, step: f64) -> Vec<DVec2> {
         let p = &self.points;
         if p.len() == 2 {
             let n = ((p[0].distance(p[1]) / step).ceil() as usize).clamp(1, 1 << 20);

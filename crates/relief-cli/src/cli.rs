@@ -329,6 +329,11 @@ pub(crate) struct PreviewArgs {
     /// Largest image side (bigger DEMs are decimated).
     #[arg(long, value_parser = clap::value_parser!(u32).range(2..))]
     pub(crate) max_size: Option<u32>,
+    /// Draw this scene's inputs over the relief (`-` reads it from stdin): coastline white,
+    /// raised regions orange, depressions blue, strokes magenta (a dot at their start), hills
+    /// yellow, curves red, peaks pink, tool selections cyan.
+    #[arg(long, value_name = "SCENE")]
+    pub(crate) inputs: Option<PathBuf>,
 }
 
 // `relief analyze`.

@@ -170,3 +170,48 @@ fn sizes_formats_and_vertical_ranges_from_the_command_line() {
     assert!(stderr.contains("16-bit"), "{stderr}");
     assert!(fails(dir, &["convert", dem, "z.png", "--range", "9,1"], 2).contains("MIN < MAX"));
 }
+
+/// The RGB pixels of a PNG written by `relief preview`.
+fn rgb(path: &Path) -> Vec<[u8; 3]> {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut bytes = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut bytes).unwrap();
+    bytes[..info.buffer_size()].chunks(3).map(|p| [p[0], p[1], p[2]]).collect()
+}
+
+#[test]
+fn previews_show_the_inputs_that_made_the_terrain() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let scene = root().join("fixtures/scenes/elongated-island.json");
+    let scene = scene.to_str().unwrap();
+    ok(dir, &["generate", scene, "--out", "out", "--resolution", "96", "-q"]);
+    ok(dir, &["preview", "out/terrain.exr", "-o", "plain.png"]);
+    ok(dir, &["preview", "out/terrain.exr", "-o", "inputs.png", "--inputs", scene]);
+    let count = |path: &str, colour: [u8; 3]| rgb(&dir.join(path)).iter().filter(|&&p| p == colour).count();
+    // Strokes in magenta and hills in yellow, over the relief that is otherwise the same.
+    for colour in [[255, 0, 200], [255, 230, 0]] {
+        assert_eq!(count("plain.png", colour), 0);
+        assert!(count("inputs.png", colour) > 20, "{colour:?}: {}", count("inputs.png", colour));
+    }
+    // A scene from elsewhere is drawn too, with a word that it does not lie over the terrain.
+    let text = std::fs::read_to_string(scene).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["generator"]["island"]["operations"] = serde_json::json!([{ "stroke": { "points": [[1e6, 0], [1e6, 10]] } }]);
+    std::fs::write(dir.join("far.json"), v.to_string()).unwrap();
+    let out = run(dir, &["preview", "out/terrain.exr", "-o", "far.png", "--inputs", "far.json"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && stderr.contains("none of the scene's inputs lies over out/terrain.exr"),
+        "{stderr}"
+    );
+    // A scene whose inputs are files has nothing to draw, and says so; a broken scene is an error.
+    let label = root().join("fixtures/scenes/range-label.json");
+    let out = run(dir, &["preview", "out/terrain.exr", "-o", "label.png", "--inputs", label.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("has no inputs to draw"));
+    std::fs::write(dir.join("bad.json"), "{").unwrap();
+    let stderr = fails(dir, &["preview", "out/terrain.exr", "-o", "bad.png", "--inputs", "bad.json"], 1);
+    assert!(stderr.starts_with("error: bad.json:1:"), "{stderr}");
+    assert!(!dir.join("bad.png").exists());
+}

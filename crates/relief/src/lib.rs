@@ -77,6 +77,7 @@ mod error;
 pub mod export;
 #[doc(hidden)]
 pub mod harness;
+pub mod overlay;
 pub mod pipeline;
 pub mod scene;
 pub mod vector;

@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context as _, Result, bail};
+use glam::DVec2;
 use relief::contours::{ContourSet, Levels, extract_dem};
 use relief::heightfield::{Heightfield, Units};
 use relief::io::{Format, Quantisation};
@@ -170,7 +171,11 @@ fn info_json(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> Str
 
 /// `relief preview`: a shaded-relief PNG, decimated to `--max-size`, optionally with contours.
 pub(crate) fn preview(args: &PreviewArgs, ui: &mut Ui) -> Result<()> {
-    ui.writes().reads(&args.dem).writes(&args.output, Written::Png)?.check()?;
+    ui.writes().reads(&args.dem).reads_all(args.inputs.clone()).writes(&args.output, Written::Png)?.check()?;
+    let marks = match &args.inputs {
+        Some(path) => Some(input_marks(path, ui)?),
+        None => None,
+    };
     let dem = ui.read(&args.dem)?;
     let dem = match args.max_size {
         Some(m) => decimate(dem, m as usize)?,
@@ -180,10 +185,38 @@ pub(crate) fn preview(args: &PreviewArgs, ui: &mut Ui) -> Result<()> {
         Some(interval) => Some(ui.step("contours", || dem_contours(&dem, &Levels::Interval(interval)))?),
         None => None,
     };
-    let image = ui.step("shade", || relief::export::preview_image(&dem, set.as_ref(), Some(args.sea_level)));
+    let mut image = ui.step("shade", || relief::export::preview_image(&dem, set.as_ref(), Some(args.sea_level)));
+    if let Some(marks) = &marks {
+        let extent = dem.extent();
+        let over = |p: &DVec2| extent.contains(*p);
+        if !marks.is_empty() && !marks.iter().flat_map(|m| &m.points).any(over) {
+            ui.warn(format_args!(
+                "none of the scene's inputs lies over {} (its extent is {:?} to {:?}): is it the scene this \
+                 heightfield came from?",
+                args.dem.display(),
+                extent.min.to_array(),
+                extent.max.to_array()
+            ));
+        }
+        relief::overlay::draw_marks(&mut image, marks, &extent);
+    }
     ui.step("write", || relief::io::write_rgb_png(&args.output, &image))?;
     ui.say(format_args!("wrote {} ({} x {})", args.output.display(), image.width, image.height));
     Ok(())
+}
+
+/// The drawable inputs of the scene at `path`, with a warning when it has none.
+fn input_marks(path: &Path, ui: &Ui) -> Result<Vec<relief::overlay::Mark>> {
+    let scene = super::scenes::load(path, None)?;
+    let marks = relief::overlay::scene_marks(&scene);
+    if marks.is_empty() {
+        ui.warn(format_args!(
+            "{} has no inputs to draw (regions from a label image, or a DEM as the target, are files of \
+             their own: look at them directly)",
+            path.display()
+        ));
+    }
+    Ok(marks)
 }
 
 /// `dem` resampled by the smallest integer stride that brings its longer side to at most

@@ -75,7 +75,7 @@ fn is_stdin(path: &Path) -> bool {
 
 /// The scene at `path` (`-`: standard input), with its seed replaced by `seed` if given. A JSON
 /// error names the file, line and column.
-fn load(path: &Path, seed: Option<u64>) -> Result<Scene> {
+pub(crate) fn load(path: &Path, seed: Option<u64>) -> Result<Scene> {
     let (name, text) = if is_stdin(path) {
         let mut text = String::new();
         std::io::stdin()
