@@ -323,9 +323,10 @@ pub(crate) struct PreviewArgs {
     /// Draw contours every this many units of elevation.
     #[arg(long, value_name = "INTERVAL")]
     pub(crate) contours: Option<f64>,
-    /// Elevation of the sea: lower ground is drawn as water.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub(crate) sea_level: f64,
+    /// Elevation of the sea: lower ground is drawn as water (default: the `--inputs` scene's sea
+    /// level where it sets one, else 0).
+    #[arg(long, allow_negative_numbers = true)]
+    pub(crate) sea_level: Option<f64>,
     /// Largest image side (bigger DEMs are decimated).
     #[arg(long, value_parser = clap::value_parser!(u32).range(2..))]
     pub(crate) max_size: Option<u32>,

@@ -195,6 +195,14 @@ fn previews_show_the_inputs_that_made_the_terrain() {
         assert_eq!(count("plain.png", colour), 0);
         assert!(count("inputs.png", colour) > 20, "{colour:?}: {}", count("inputs.png", colour));
     }
+    // The scene's sea level (half the island's land floor) draws its sea as water; 0 would draw
+    // the sea at exactly 0 as land.
+    ok(dir, &["preview", "out/terrain.exr", "-o", "sea0.png", "--inputs", scene, "--sea-level", "0"]);
+    let corner = |path: &str| rgb(&dir.join(path))[0];
+    assert_eq!(corner("sea0.png"), corner("plain.png"));
+    assert_ne!(corner("inputs.png"), corner("plain.png"));
+    let [r, g, b] = corner("inputs.png");
+    assert!(b > r && b > g, "water is blue: {:?}", [r, g, b]);
     // A scene from elsewhere is drawn too, with a word that it does not lie over the terrain.
     let text = std::fs::read_to_string(scene).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();

@@ -119,6 +119,25 @@ pub fn scene_marks(scene: &Scene) -> Vec<Mark> {
     }
 }
 
+/// The sea level a preview of `scene`'s terrain should draw, where the scene sets it: an island's
+/// (half its land floor), a diffusion scene's `sea_level`, the height given to a contour scene's
+/// outermost regions.
+pub fn scene_sea_level(scene: &Scene) -> Option<f64> {
+    match &scene.generator {
+        Generator::Contours(g) => {
+            let outermost = |r: &&crate::eden_growth::Region| {
+                !g.regions
+                    .iter()
+                    .any(|o| !std::ptr::eq(o, *r) && r.polygon.exterior().iter().all(|&p| o.polygon.contains(p)))
+            };
+            g.regions.iter().filter(outermost).find_map(|r| r.height)
+        }
+        Generator::Island(g) => Some(0.5 * g.settings.land_floor),
+        Generator::Diffusion(g) => g.sea_level,
+        Generator::Gaussian(_) | Generator::Orometry(_) => None,
+    }
+}
+
 /// The bounds fold used for the curves' drawing step.
 fn grow((lo, hi): (DVec2, DVec2), p: &DVec2) -> (DVec2, DVec2) {
     (lo.min(*p), hi.max(*p))

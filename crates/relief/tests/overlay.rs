@@ -5,7 +5,7 @@ use glam::DVec2;
 use relief::Scene;
 use relief::heightfield::Extent;
 use relief::io::RgbImage;
-use relief::overlay::{Mark, Role, draw_marks, scene_marks};
+use relief::overlay::{Mark, Role, draw_marks, scene_marks, scene_sea_level};
 
 fn scene(generator: &serde_json::Value) -> Scene {
     let json =
@@ -29,6 +29,8 @@ fn contour_regions_are_marked_by_nesting_and_kind() {
     assert_eq!(roles(&marks), [Role::Coastline, Role::Raised, Role::Depression]);
     assert!(marks.iter().all(|m| m.closed && m.points.len() == 4));
     assert_eq!(marks[1].points[0], DVec2::new(20.0, 20.0));
+    // The coastline's height is the sea level a preview draws.
+    assert_eq!(scene_sea_level(&s), Some(0.0));
 }
 
 #[test]
@@ -50,6 +52,8 @@ fn island_hills_are_drawn_as_the_operations_leave_them() {
     let ring = &marks[3].points;
     let (lo, hi) = ring.iter().fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
     assert!(((hi - lo) - DVec2::new(12.0, 24.0)).abs().max_element() < 0.1, "{lo} {hi}");
+    // Half the land floor (default 0.1) separates sea from land.
+    assert_eq!(scene_sea_level(&s), Some(0.05));
 }
 
 #[test]
@@ -62,6 +66,7 @@ fn diffusion_curves_and_orometry_peaks_are_marked() {
     let line = &marks[0].points;
     assert_eq!((line[0], line[line.len() - 1]), (DVec2::splat(10.0), DVec2::splat(90.0)));
     assert!(line.len() > 100, "the curve is drawn finely: {} points", line.len());
+    assert_eq!(scene_sea_level(&s), None);
 }
 
 fn grey(n: usize) -> RgbImage {

@@ -172,10 +172,13 @@ fn info_json(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> Str
 /// `relief preview`: a shaded-relief PNG, decimated to `--max-size`, optionally with contours.
 pub(crate) fn preview(args: &PreviewArgs, ui: &mut Ui) -> Result<()> {
     ui.writes().reads(&args.dem).reads_all(args.inputs.clone()).writes(&args.output, Written::Png)?.check()?;
-    let marks = match &args.inputs {
-        Some(path) => Some(input_marks(path, ui)?),
+    let scene = match &args.inputs {
+        Some(path) => Some(super::scenes::load(path, None)?),
         None => None,
     };
+    let marks = scene.as_ref().zip(args.inputs.as_deref()).map(|(scene, path)| input_marks(scene, path, ui));
+    let scene_sea = scene.as_ref().and_then(relief::overlay::scene_sea_level);
+    let sea_level = args.sea_level.or(scene_sea).unwrap_or(0.0);
     let dem = ui.read(&args.dem)?;
     let dem = match args.max_size {
         Some(m) => decimate(dem, m as usize)?,
@@ -185,30 +188,41 @@ pub(crate) fn preview(args: &PreviewArgs, ui: &mut Ui) -> Result<()> {
         Some(interval) => Some(ui.step("contours", || dem_contours(&dem, &Levels::Interval(interval)))?),
         None => None,
     };
-    let mut image = ui.step("shade", || relief::export::preview_image(&dem, set.as_ref(), Some(args.sea_level)));
+    let mut image = ui.step("shade", || relief::export::preview_image(&dem, set.as_ref(), Some(sea_level)));
     if let Some(marks) = &marks {
-        let extent = dem.extent();
-        let over = |p: &DVec2| extent.contains(*p);
-        if !marks.is_empty() && !marks.iter().flat_map(|m| &m.points).any(over) {
-            ui.warn(format_args!(
-                "none of the scene's inputs lies over {} (its extent is {:?} to {:?}): is it the scene this \
-                 heightfield came from?",
-                args.dem.display(),
-                extent.min.to_array(),
-                extent.max.to_array()
-            ));
-        }
-        relief::overlay::draw_marks(&mut image, marks, &extent);
+        draw_inputs(&mut image, marks, &dem, &args.dem, ui);
     }
     ui.step("write", || relief::io::write_rgb_png(&args.output, &image))?;
     ui.say(format_args!("wrote {} ({} x {})", args.output.display(), image.width, image.height));
     Ok(())
 }
 
-/// The drawable inputs of the scene at `path`, with a warning when it has none.
-fn input_marks(path: &Path, ui: &Ui) -> Result<Vec<relief::overlay::Mark>> {
-    let scene = super::scenes::load(path, None)?;
-    let marks = relief::overlay::scene_marks(&scene);
+/// Draws `marks` over the preview of `dem` (read from `path`), with a warning when none lies over
+/// it.
+fn draw_inputs(
+    image: &mut relief::io::RgbImage,
+    marks: &[relief::overlay::Mark],
+    dem: &Heightfield,
+    path: &Path,
+    ui: &Ui,
+) {
+    let extent = dem.extent();
+    let over = |p: &DVec2| extent.contains(*p);
+    if !marks.is_empty() && !marks.iter().flat_map(|m| &m.points).any(over) {
+        ui.warn(format_args!(
+            "none of the scene's inputs lies over {} (its extent is {:?} to {:?}): is it the scene this \
+             heightfield came from?",
+            path.display(),
+            extent.min.to_array(),
+            extent.max.to_array()
+        ));
+    }
+    relief::overlay::draw_marks(image, marks, &extent);
+}
+
+/// The drawable inputs of `scene` (read from `path`), with a warning when it has none.
+fn input_marks(scene: &relief::Scene, path: &Path, ui: &Ui) -> Vec<relief::overlay::Mark> {
+    let marks = relief::overlay::scene_marks(scene);
     if marks.is_empty() {
         ui.warn(format_args!(
             "{} has no inputs to draw (regions from a label image, or a DEM as the target, are files of \
@@ -216,7 +230,7 @@ fn input_marks(path: &Path, ui: &Ui) -> Result<Vec<relief::overlay::Mark>> {
             path.display()
         ));
     }
-    Ok(marks)
+    marks
 }
 
 /// `dem` resampled by the smallest integer stride that brings its longer side to at most
