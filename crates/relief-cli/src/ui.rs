@@ -126,6 +126,21 @@ impl Progress for Ui {
         self.bar = Some(bar);
     }
 
+    fn advance(&mut self, _: &'static str, done: u64, total: u64) {
+        let Some(bar) = &self.bar else { return };
+        if total == 0 {
+            return;
+        }
+        if bar.length() != Some(total) {
+            bar.set_length(total);
+            bar.set_style(
+                ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} {elapsed}, about {eta} left")
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
+        }
+        bar.set_position(done);
+    }
+
     fn finish(&mut self, step: &'static str, elapsed: Duration) {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();

@@ -548,3 +548,40 @@ fn a_first_curve_stands_out_and_noise_that_hides_the_relief_is_warned_about() {
     let noisy = generate(&one_curve(Some(noisy)), &root(), &mut ()).unwrap();
     assert!((noisy.heightfield.value(0, 0) - 100.0).abs() > 1e-3);
 }
+
+/// Every progress report: start, advance (done, total), finish.
+#[derive(Default)]
+struct Reports(Vec<(&'static str, Option<(u64, u64)>)>);
+
+impl Progress for Reports {
+    fn start(&mut self, step: &'static str) {
+        self.0.push((step, None));
+    }
+    fn advance(&mut self, step: &'static str, done: u64, total: u64) {
+        self.0.push((step, Some((done, total))));
+    }
+    fn finish(&mut self, _: &'static str, _: std::time::Duration) {}
+}
+
+#[test]
+fn countable_steps_report_how_far_they_are() {
+    let mut scene = island(&serde_json::json!([
+        { "add_hill": { "center": [500, 500], "radii": [100, 100], "height": 50 } },
+        { "add_hill": { "center": [400, 500], "radii": [80, 80], "height": 30 } },
+        { "add_filters": {} },
+    ]));
+    let post = serde_json::json!([{ "thermal": { "iterations": 5 } }, { "fill": {} }]);
+    scene.post = serde_json::from_value(post).unwrap();
+    let mut reports = Reports::default();
+    generate(&scene, &root(), &mut reports).unwrap();
+    let of = |step: &str| -> Vec<(u64, u64)> {
+        reports.0.iter().filter(|(s, _)| *s == step).filter_map(|&(_, a)| a).collect()
+    };
+    // One unit per operation; one per erosion pass and one per fill, from 0 to the total.
+    assert_eq!(of("island"), [(0, 3), (1, 3), (2, 3), (3, 3)]);
+    assert_eq!(of("post-process"), (0..=6).map(|k| (k, 6)).collect::<Vec<_>>());
+    // Reports come between the step's start and the next step's.
+    let start = reports.0.iter().position(|r| *r == ("post-process", None)).unwrap();
+    assert_eq!(reports.0[start + 1], ("post-process", Some((0, 6))));
+    assert!(of("drainage").is_empty(), "a step that cannot count its work does not report");
+}

@@ -85,7 +85,8 @@ pub(super) fn generate(
         extract_tin(graph.tin(), &heights.heights, &merge_levels(levels)).map_err(|e| E::step("contours", e))
     })?;
     let tolerance = graph.radius() / 20.0;
-    let contours = timer.step("edits", || apply_edits(contours, &inputs.edits, tolerance))?;
+    let edit_count = inputs.edits.len() as u64;
+    let contours = timer.counted("edits", edit_count, |tick| apply_edits(contours, &inputs.edits, tolerance, tick))?;
     let surface = Surface { graph: &graph, heights: &heights.heights, outside: heights.outside };
     let heightfield = timer.step("reconstruction", || inputs.reconstruct(scene, &surface, &contours, sea_level))?;
     let inside: Vec<f64> = growth.order().iter().map(|&v| heights.heights[v as usize]).collect();

@@ -2,6 +2,7 @@
 
 use rayon::prelude::*;
 
+use super::progress::Tick;
 use crate::contours::{Contour, ContourSet, Smoothing};
 use crate::scene::Edit;
 use crate::warp::{Composition, Warp, warp_polyline};
@@ -42,20 +43,35 @@ impl Edits {
     }
 }
 
-/// Applies the edits to the contours in order.
+impl Edits {
+    /// How many edits there are: the units of work [`apply_edits`] ticks.
+    pub(super) fn len(&self) -> usize {
+        self.steps.len()
+    }
+}
+
+/// Applies the edits to the contours in order, ticking each.
 ///
 /// A warp is a bijection, so warped contours never cross — but their polylines only follow the
 /// warped curves to within a tolerance (adaptive subdivision), and where a warp squeezes
 /// neighbouring contours closer than that, the approximations could touch. Each warped set is
 /// therefore checked, and warped again from the same input with a quarter of the tolerance until
 /// it is clean (smoothing guarantees this by construction).
-pub(super) fn apply_edits(mut set: ContourSet, edits: &Edits, tolerance: f64) -> Result<ContourSet, ReliefError> {
+pub(super) fn apply_edits(
+    mut set: ContourSet,
+    edits: &Edits,
+    tolerance: f64,
+    tick: &mut Tick<'_>,
+) -> Result<ContourSet, ReliefError> {
     const REFINEMENTS: u32 = 6;
     for step in &edits.steps {
         set = match step {
             Step::Smooth(s) => set.smoothed(s).map_err(|e| E::step("edits", e))?,
             Step::Warp(k) => {
-                let Some(warp) = edits.warps.get(*k) else { continue };
+                let Some(warp) = edits.warps.get(*k) else {
+                    tick.tick();
+                    continue;
+                };
                 let mut tol = tolerance;
                 let mut round = 0;
                 loop {
@@ -72,6 +88,7 @@ pub(super) fn apply_edits(mut set: ContourSet, edits: &Edits, tolerance: f64) ->
                 }
             }
         };
+        tick.tick();
     }
     Ok(set)
 }

@@ -5,7 +5,7 @@ use std::ops::ControlFlow;
 use std::path::Path;
 
 use super::inputs::{Env, raster_grid};
-use super::progress::Timer;
+use super::progress::{Tick, Timer};
 use super::summary::GaussianSummary;
 use super::{Generated, Report};
 use crate::gaussian_terrain::{
@@ -30,7 +30,7 @@ pub(super) fn generate(
     let mut terrain = timer.step("source", || load_source(&g.source, env, &at))?;
     env.budget.primitives(terrain.len() as u64, &at)?;
     let grid = raster_grid(scene, scene.domain.unwrap_or_else(|| terrain.extent()))?;
-    timer.step("tools", || apply_tools(&mut terrain, g, &grid, env))?;
+    timer.counted("tools", g.operations.len() as u64, |tick| apply_tools(&mut terrain, g, &grid, env, tick))?;
     let heightfield = timer
         .step("rasterize", || rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| E::at(GENERATOR, e)))?;
     let report = Report::Gaussian(GaussianSummary { primitives: terrain.len() });
@@ -64,6 +64,7 @@ fn apply_tools(
     g: &GaussianGenerator,
     grid: &GridSpec,
     env: &Env<'_>,
+    tick: &mut Tick<'_>,
 ) -> Result<(), ReliefError> {
     let mut cx = Tools { env, grid, options: g.skeleton, skeleton: None, here: String::new() };
     for (index, tool) in g.operations.iter().enumerate() {
@@ -73,6 +74,7 @@ fn apply_tools(
             ToolError::Context(e) => e,
         })?;
         env.budget.primitives(terrain.len() as u64, &cx.here)?;
+        tick.tick();
     }
     Ok(())
 }

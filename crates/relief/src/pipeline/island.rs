@@ -23,7 +23,7 @@ pub(super) fn generate(scene: &Scene, g: &IslandGenerator, timer: &mut Timer<'_>
         IslandError::Grid { .. } => E::at("reconstruction.resolution", e),
         e => E::located(GENERATOR, e),
     };
-    let (island, mut warnings) = timer.step("island", || {
+    let (island, mut warnings) = timer.counted("island", g.operations.len() as u64, |tick| {
         let mut island = Island::new(grid, g.settings, scene.seed).map_err(fail)?;
         let mut warnings = Vec::new();
         for (index, op) in g.operations.iter().enumerate() {
@@ -37,6 +37,7 @@ pub(super) fn generate(scene: &Scene, g: &IslandGenerator, timer: &mut Timer<'_>
             }
             .map_err(|e| fail(IslandError::Operation { index, source: Box::new(e) }))?;
             warnings.extend(kinds.and_then(|kinds| stroke_warning(index, &kinds, before, island.area())));
+            tick.tick();
         }
         Ok::<_, ReliefError>((island, warnings))
     })?;

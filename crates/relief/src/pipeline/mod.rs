@@ -137,7 +137,8 @@ fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<
     let heightfield = if scene.post.is_empty() {
         heightfield
     } else {
-        timer.step("post-process", || post::post_process(heightfield, &scene.post, sea_level))?
+        let work = post::post_work(&scene.post);
+        timer.counted("post-process", work, |tick| post::post_process(heightfield, &scene.post, sea_level, tick))?
     };
     let drainage = timer.step("drainage", || post::drainage(&heightfield, sea_level))?;
     let (contours, histogram) = match (contours, &report) {

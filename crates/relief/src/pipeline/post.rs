@@ -2,6 +2,7 @@
 //! the drainage summary. The sea (when the generator has one) and the map border are the base
 //! level water drains to.
 
+use super::progress::Tick;
 use super::summary::DrainageSummary;
 use crate::heightfield::Heightfield;
 use crate::hydrology::{self, D8, HydrologyError, Outlets, StreamPower};
@@ -16,11 +17,23 @@ pub(super) fn outlets(sea_level: Option<f64>) -> Outlets {
     }
 }
 
-/// Runs the scene's post-processes in order.
+/// The units of work of the post-processes, as [`post_process`] ticks them: one per erosion
+/// iteration, one per fill.
+pub(super) fn post_work(post: &[PostProcess]) -> u64 {
+    let units = |step: &PostProcess| match step {
+        PostProcess::StreamPower(law) => law.iterations as u64,
+        PostProcess::Thermal(thermal) => thermal.iterations as u64,
+        PostProcess::Fill {} => 1,
+    };
+    post.iter().map(units).sum()
+}
+
+/// Runs the scene's post-processes in order, ticking each unit of [`post_work`].
 pub(super) fn post_process(
     mut hf: Heightfield,
     post: &[PostProcess],
     sea_level: Option<f64>,
+    tick: &mut Tick<'_>,
 ) -> Result<Heightfield, ReliefError> {
     let outlets = outlets(sea_level);
     for (k, step) in post.iter().enumerate() {
@@ -33,10 +46,13 @@ pub(super) fn post_process(
         match step {
             PostProcess::StreamPower(law) => {
                 let law = StreamPower { outlets, ..law.clone() };
-                law.run(&mut hf, |_| {}).map_err(|e| fail("stream_power", e))?;
+                law.run(&mut hf, |_| tick.tick()).map_err(|e| fail("stream_power", e))?;
             }
-            PostProcess::Thermal(thermal) => thermal.run(&mut hf, |_| {}).map_err(|e| fail("thermal", e))?,
-            PostProcess::Fill {} => hf = hydrology::fill(&hf, outlets).map_err(|e| fail("fill", e))?,
+            PostProcess::Thermal(thermal) => thermal.run(&mut hf, |_| tick.tick()).map_err(|e| fail("thermal", e))?,
+            PostProcess::Fill {} => {
+                hf = hydrology::fill(&hf, outlets).map_err(|e| fail("fill", e))?;
+                tick.tick();
+            }
         }
     }
     Ok(hf)

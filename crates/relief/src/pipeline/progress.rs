@@ -10,12 +10,19 @@ use serde::Serialize;
 /// `"reconstruction"`; the raster generators name theirs (`"diffusion"`, `"island"`,
 /// `"source"`, `"tools"`, `"rasterize"`, `"divide tree"`, `"terrain"`, …); every run then has
 /// `"post-process"` (when the scene has any), `"drainage"`, and `"write"` when outputs are
-/// written. The unit type `()` ignores everything.
+/// written. Steps whose work can be counted also report how far they are ([`Progress::advance`]).
+/// The unit type `()` ignores everything.
 pub trait Progress {
     /// `step` starts.
     fn start(&mut self, step: &'static str);
     /// `step` finished after `elapsed`.
     fn finish(&mut self, step: &'static str, elapsed: Duration);
+    /// Within `step`, `done` of `total` units of work are done: the island's operations, the
+    /// Gaussian tools, the contour edits, the post-processing iterations (each erosion pass one
+    /// unit). Called with `done` rising from 0 to `total`; ignored by default.
+    fn advance(&mut self, step: &'static str, done: u64, total: u64) {
+        let _ = (step, done, total);
+    }
 }
 
 impl Progress for () {
@@ -52,5 +59,34 @@ impl<'a> Timer<'a> {
         self.progress.finish(step, elapsed);
         self.timings.push(Timing { step, ms: elapsed.as_secs_f64() * 1e3 });
         out
+    }
+
+    /// Runs `f` as the step `step` of `total` units of work; `f` reports each unit done through
+    /// the [`Tick`] it is given.
+    pub(crate) fn counted<T>(&mut self, step: &'static str, total: u64, f: impl FnOnce(&mut Tick<'_>) -> T) -> T {
+        self.progress.start(step);
+        let start = Instant::now();
+        self.progress.advance(step, 0, total);
+        let out = f(&mut Tick { progress: &mut *self.progress, step, done: 0, total });
+        let elapsed = start.elapsed();
+        self.progress.finish(step, elapsed);
+        self.timings.push(Timing { step, ms: elapsed.as_secs_f64() * 1e3 });
+        out
+    }
+}
+
+/// Counts the units of work of one step ([`Timer::counted`]) and reports each to the caller.
+pub(crate) struct Tick<'a> {
+    progress: &'a mut dyn Progress,
+    step: &'static str,
+    done: u64,
+    total: u64,
+}
+
+impl Tick<'_> {
+    /// One more unit is done (never counting past the total).
+    pub(crate) fn tick(&mut self) {
+        self.done = (self.done + 1).min(self.total);
+        self.progress.advance(self.step, self.done, self.total);
     }
 }
