@@ -7,8 +7,9 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand};
 use relief::pipeline;
 
-/// Terrain from a few strokes of intent: iso-contour generation, DEM contours, conversion and
-/// previews.
+/// Terrain from a few strokes of intent (nested contours, island sketches, feature curves,
+/// Gaussian primitives, divide trees), and the tools to look at it: DEM contours, conversion,
+/// analysis and previews.
 #[derive(Debug, Parser)]
 #[command(name = "relief", version, long_about = None, propagate_version = true)]
 pub(crate) struct Cli {
@@ -67,9 +68,11 @@ pub(crate) enum Command {
     Contours(ContoursArgs),
     /// Convert a heightfield between formats (chosen by extension).
     Convert(ConvertArgs),
-    /// Describe a heightfield: size, extent, elevation range, no-data.
+    /// Describe a heightfield: size, extent, elevation range, no-data, and what its codes stand
+    /// for (16- and 8-bit files).
     Info(InfoArgs),
-    /// Render a shaded-relief preview (hillshade × hypsometric tint), optionally with contours.
+    /// Render a shaded-relief preview (hillshade × hypsometric tint), optionally with contours and
+    /// a scene's inputs drawn over it.
     Preview(PreviewArgs),
     /// Hydrology of a heightfield: closed basins, stream order and the terrain descriptors of the
     /// contours paper §6.5, optionally compared with a second heightfield.
