@@ -1,4 +1,8 @@
-use glam::DVec2;
+use std::sync::OnceLock;
+
+use glam::{DVec2, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::ploc::{PlocBuilder, PlocSearchDistance, SortPrecision};
 use rayon::prelude::*;
 use relief_tin::poisson_sampling::{Rect, RingIndex};
 use serde::{Deserialize, Serialize};
@@ -216,30 +220,88 @@ impl ContourSet {
 
 /// Parent of every closed contour: the smallest closed contour containing one of its points.
 /// Contours never cross, so one point decides containment.
+///
+/// O(n log n) in the number of rings: a bounding-volume hierarchy over the closed rings' boxes
+/// (obvhs) gives, for each ring's first point, only the rings whose boxes hold it; those larger
+/// than the ring are tried smallest first with an exact point-in-ring test, each ring's edge index
+/// built the first time it is tried (most rings are never anyone's candidate).
 fn nesting(contours: &[Contour]) -> Vec<Option<u32>> {
-    let closed: Vec<usize> = (0..contours.len()).filter(|&k| contours[k].closed).collect();
-    // Extracted and smoothed contours are simple by construction: index them for point-in-ring
-    // queries without re-validating them as polygons.
-    let rings: Vec<Option<RingIndex>> =
-        contours.par_iter().map(|c| (c.closed && c.points.len() >= 3).then(|| RingIndex::new(&c.points))).collect();
-    let area: Vec<f64> = contours.iter().map(|c| c.signed_area().abs()).collect();
-    let bounds: Vec<Rect> = contours.iter().map(Contour::bounds).collect();
-    (0..contours.len())
+    let closed: Vec<usize> =
+        (0..contours.len()).filter(|&k| contours[k].closed && contours[k].points.len() >= 3).collect();
+    let mut parent = vec![None; contours.len()];
+    if closed.len() < 2 {
+        return parent;
+    }
+    let area: Vec<f64> = closed.iter().map(|&k| contours[k].signed_area().abs()).collect();
+    let bounds: Vec<Rect> = closed.iter().map(|&k| contours[k].bounds()).collect();
+    let boxes = RingBoxes::new(&bounds);
+    let rings: Vec<OnceLock<RingIndex>> = closed.iter().map(|_| OnceLock::new()).collect();
+    let ring = |j: usize| rings[j].get_or_init(|| RingIndex::new(&contours[closed[j]].points));
+    let found: Vec<Option<u32>> = (0..closed.len())
         .into_par_iter()
         .map(|k| {
-            if !contours[k].closed {
-                return None;
-            }
-            let probe = contours[k].points[0];
-            closed
-                .iter()
-                .copied()
-                .filter(|&j| j != k && area[j] > area[k] && bounds[j].contains(probe))
-                .filter(|&j| rings[j].as_ref().is_some_and(|r| r.contains(probe)))
-                .min_by(|&a, &b| area[a].total_cmp(&area[b]).then(a.cmp(&b)))
-                .map(|j| j as u32)
+            let probe = contours[closed[k]].points[0];
+            let mut candidates = boxes.holding(probe, |j| j != k && area[j] > area[k] && bounds[j].contains(probe));
+            candidates.sort_unstable_by(|&a, &b| area[a].total_cmp(&area[b]).then(a.cmp(&b)));
+            candidates.into_iter().find(|&j| ring(j).contains(probe)).map(|j| closed[j] as u32)
         })
-        .collect()
+        .collect();
+    for (k, p) in closed.iter().zip(found) {
+        parent[*k] = p;
+    }
+    parent
+}
+
+/// The boxes of the closed rings in a bounding-volume hierarchy, for "which boxes hold this
+/// point" queries. The hierarchy works in f32 about the boxes' common corner; each box is widened
+/// by a few f32 steps so that no box that holds a point in f64 is missed (the caller re-checks
+/// in f64).
+struct RingBoxes {
+    origin: DVec2,
+    bvh: obvhs::bvh2::Bvh2,
+}
+
+impl RingBoxes {
+    fn new(bounds: &[Rect]) -> Self {
+        let origin = bounds.iter().fold(DVec2::INFINITY, |o, b| o.min(b.min));
+        let aabbs: Vec<Aabb> = bounds
+            .iter()
+            .map(|b| {
+                let (lo, hi) = (b.min - origin, b.max - origin);
+                let pad = 4.0 * f64::from(f32::EPSILON) * hi.abs().max_element().max(1.0);
+                Aabb::new(
+                    Vec3A::new((lo.x - pad) as f32, (lo.y - pad) as f32, 0.0),
+                    Vec3A::new((hi.x + pad) as f32, (hi.y + pad) as f32, 0.0),
+                )
+            })
+            .collect();
+        let indices = (0..aabbs.len() as u32).collect();
+        let bvh = PlocBuilder::with_capacity(aabbs.len()).build(
+            PlocSearchDistance::Minimum,
+            &aabbs,
+            indices,
+            SortPrecision::U64,
+            0,
+        );
+        Self { origin, bvh }
+    }
+
+    /// The rings whose boxes hold `p` and that pass `keep`.
+    fn holding(&self, p: DVec2, keep: impl Fn(usize) -> bool) -> Vec<usize> {
+        let q = p - self.origin;
+        let mut out = Vec::new();
+        self.bvh.point_traverse(Vec3A::new(q.x as f32, q.y as f32, 0.0), |bvh, node| {
+            let node = &bvh.nodes[node as usize];
+            let first = node.first_index as usize;
+            for &j in &bvh.primitive_indices[first..first + node.prim_count as usize] {
+                if keep(j as usize) {
+                    out.push(j as usize);
+                }
+            }
+            true
+        });
+        out
+    }
 }
 
 /// The first pair of contours (possibly the same one twice) with segments that touch or cross,

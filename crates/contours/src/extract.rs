@@ -15,6 +15,13 @@ pub(crate) trait Mesh: Sync {
     fn neighbor(&self, t: u32, k: usize) -> Option<u32>;
     fn point(&self, v: u32) -> DVec2;
     fn height(&self, v: u32) -> f64;
+    /// Whether the edge of `t` opposite corner `slot` runs inside a cell of the underlying data
+    /// (a raster cell's diagonal) rather than along data: crossings there are dropped from the
+    /// polylines, so a raster's contours have vertices on cell edges only, as marching squares'.
+    fn internal(&self, t: u32, slot: usize) -> bool {
+        let _ = (t, slot);
+        false
+    }
 }
 
 pub(crate) struct TinMesh<'a> {
@@ -88,6 +95,10 @@ impl Mesh for GridMesh<'_> {
     fn height(&self, v: u32) -> f64 {
         f64::from(self.dem.samples()[v as usize])
     }
+    fn internal(&self, t: u32, slot: usize) -> bool {
+        // The diagonal is opposite corner 1 of the lower triangle and corner 2 of the upper one.
+        slot == if t.is_multiple_of(2) { 1 } else { 2 }
+    }
 }
 
 /// Triangles per parallel work item.
@@ -97,14 +108,15 @@ const CHUNK: usize = 4096;
 /// of the symbolic rule "a node at the level counts as above", which keeps contours apart.
 const TIE_NUDGE: f64 = 1e-6;
 
-/// One contour segment inside a triangle, oriented with higher ground on its left.
+/// One contour segment inside a triangle, oriented with higher ground on its left: it enters
+/// through the edge opposite corner `entry_slot` and leaves through the one opposite `exit_slot`.
+/// Its end points are computed again when the polylines are linked ([`edge_crossing`]), which
+/// keeps a segment at 8 bytes.
 #[derive(Clone, Copy)]
 struct Segment {
     level: u32,
     entry_slot: u8,
     exit_slot: u8,
-    entry: DVec2,
-    exit: DVec2,
 }
 
 /// Where the level `l` crosses the edge between nodes `a` and `b` (one above, one below).
@@ -115,6 +127,13 @@ fn crossing(mesh: &impl Mesh, a: u32, b: u32, l: f64) -> DVec2 {
     let t = ((l - hu) / (hv - hu)).clamp(TIE_NUDGE, 1.0 - TIE_NUDGE);
     let (pu, pv) = (mesh.point(u), mesh.point(v));
     pu + t * (pv - pu)
+}
+
+/// Where level `l` crosses the edge of triangle `t` opposite corner `slot`.
+fn edge_crossing(mesh: &impl Mesh, t: u32, slot: u8, l: f64) -> DVec2 {
+    let c = mesh.corners(t);
+    let k = usize::from(slot);
+    crossing(mesh, c[(k + 1) % 3], c[(k + 2) % 3], l)
 }
 
 /// The segments of triangle `t`, one per level strictly inside its height range, in level order.
@@ -135,11 +154,10 @@ fn triangle_segments(mesh: &impl Mesh, levels: &[f64], t: u32, out: &mut Vec<Seg
         // The lone corner (the only one above, or the only one below).
         let i = (0..3).find(|&i| above[i] == (count == 1)).unwrap_or(0);
         let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-        let p_first = crossing(mesh, c[i], c[i1], l); // on edge (v_i, v_i+1), opposite corner i+2
-        let p_second = crossing(mesh, c[i2], c[i], l); // on edge (v_i+2, v_i), opposite corner i+1
-        let (entry, entry_slot, exit, exit_slot) =
-            if count == 1 { (p_first, i2, p_second, i1) } else { (p_second, i1, p_first, i2) };
-        out.push(Segment { level: k as u32, entry_slot: entry_slot as u8, exit_slot: exit_slot as u8, entry, exit });
+        // The crossing on edge (v_i, v_i+1) is opposite corner i+2, the one on (v_i+2, v_i)
+        // opposite corner i+1; higher ground stays on the left.
+        let (entry_slot, exit_slot) = if count == 1 { (i2, i1) } else { (i1, i2) };
+        out.push(Segment { level: k as u32, entry_slot: entry_slot as u8, exit_slot: exit_slot as u8 });
     }
 }
 
@@ -158,34 +176,46 @@ pub(crate) fn extract(mesh: &impl Mesh, levels: &[f64]) -> Result<ContourSet, Co
                 triangle_segments(mesh, levels, t as u32, &mut segs);
                 counts.push((segs.len() - before) as u32);
             }
+            segs.shrink_to_fit();
             (counts, segs)
         })
         .collect();
+    // Segments stay in their chunks (no second copy of them all): the segments of triangle `t`
+    // are in chunk t / CHUNK, from global index offsets[t] on, and chunk c starts at base[c].
     let mut offsets = Vec::with_capacity(n + 1);
     offsets.push(0u32);
-    let mut segments = Vec::with_capacity(chunks.iter().map(|c| c.1.len()).sum());
+    let mut base = Vec::with_capacity(chunks.len());
+    let mut segments = Vec::with_capacity(chunks.len());
     for (counts, segs) in chunks {
+        base.push(offsets[offsets.len() - 1] as usize);
         for c in counts {
             offsets.push(offsets[offsets.len() - 1] + c);
         }
-        segments.extend(segs);
+        segments.push(segs);
     }
-    let owner: Vec<u32> = (0..n as u32)
-        .flat_map(|t| std::iter::repeat_n(t, (offsets[t as usize + 1] - offsets[t as usize]) as usize))
-        .collect();
+    let total = offsets[n] as usize;
+    let mut owner: Vec<u32> = Vec::with_capacity(total);
+    for t in 0..n {
+        owner.extend(std::iter::repeat_n(t as u32, (offsets[t + 1] - offsets[t]) as usize));
+    }
+    let segment = |s: usize| -> Segment {
+        let c = owner[s] as usize / CHUNK;
+        segments[c][s - base[c]]
+    };
     // The segment of `level` in triangle `t`, if any (segments of a triangle are sorted by level).
     let find = |t: u32, level: u32| -> Option<usize> {
+        let c = t as usize / CHUNK;
         let (a, b) = (offsets[t as usize] as usize, offsets[t as usize + 1] as usize);
-        let k = segments[a..b].partition_point(|s: &Segment| s.level < level);
-        (a + k < b && segments[a + k].level == level).then_some(a + k)
+        let k = segments[c][a - base[c]..b - base[c]].partition_point(|s: &Segment| s.level < level);
+        (a + k < b && segments[c][a + k - base[c]].level == level).then_some(a + k)
     };
     let next =
-        |s: usize| mesh.neighbor(owner[s], segments[s].exit_slot as usize).and_then(|u| find(u, segments[s].level));
+        |s: usize| mesh.neighbor(owner[s], segment(s).exit_slot as usize).and_then(|u| find(u, segment(s).level));
     let prev =
-        |s: usize| mesh.neighbor(owner[s], segments[s].entry_slot as usize).and_then(|u| find(u, segments[s].level));
-    let mut visited = vec![false; segments.len()];
+        |s: usize| mesh.neighbor(owner[s], segment(s).entry_slot as usize).and_then(|u| find(u, segment(s).level));
+    let mut visited = vec![false; total];
     let mut contours = Vec::new();
-    for s0 in 0..segments.len() {
+    for s0 in 0..total {
         if visited[s0] {
             continue;
         }
@@ -199,24 +229,33 @@ pub(crate) fn extract(mesh: &impl Mesh, levels: &[f64]) -> Result<ContourSet, Co
             }
             start = p;
         }
+        let level = segment(s0).level;
+        let height = levels[level as usize];
+        let at = |s: usize, slot: u8| edge_crossing(mesh, owner[s], slot, height);
         let mut points = Vec::new();
         let mut s = start;
         loop {
             visited[s] = true;
-            points.push(segments[s].entry);
+            let seg = segment(s);
+            // Crossings of internal edges are dropped, except where an open line starts.
+            if !mesh.internal(owner[s], usize::from(seg.entry_slot)) || (points.is_empty() && !closed) {
+                points.push(at(s, seg.entry_slot));
+            }
             match next(s) {
                 Some(q) if q == start && closed => break,
                 Some(q) if !visited[q] => s = q,
                 _ => {
-                    points.push(segments[s].exit);
+                    points.push(at(s, seg.exit_slot));
                     break;
                 }
             }
         }
         points.dedup();
-        let level = segments[s0].level;
-        contours.push(Contour { level, height: levels[level as usize], points, closed });
+        points.shrink_to_fit();
+        contours.push(Contour { level, height, points, closed });
     }
+    // The segments are not needed for the nesting tree: free them first.
+    drop((segments, owner, offsets, visited));
     ContourSet::new(levels.to_vec(), contours)
 }
 

@@ -386,3 +386,54 @@ fn interpolated_reconstruction_is_bounded_and_continuous_on_a_cone() {
             .unwrap();
     assert_eq!(clamped.get(100, 100), Some(10.0), "surface values are clamped to one level step");
 }
+
+/// Even-odd point-in-ring, the plain way.
+fn inside_ring(p: DVec2, ring: &[DVec2]) -> bool {
+    let mut inside = false;
+    for (i, &a) in ring.iter().enumerate() {
+        let b = ring[(i + 1) % ring.len()];
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// A DEM of small integers (ties with the levels, saddles everywhere) with a few no-data samples.
+fn rough_dem() -> impl Strategy<Value = Heightfield> {
+    (4usize..20, 4usize..20).prop_flat_map(|(nx, ny)| {
+        proptest::collection::vec(prop_oneof![9 => (0u8..6).prop_map(f32::from), 1 => Just(f32::NAN)], nx * ny)
+            .prop_map(move |v| {
+                let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap();
+                Heightfield::from_samples(grid, v).unwrap()
+            })
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Raster contours are marching squares' lines: vertices on cell edges only (the crossings of
+    /// the cells' diagonals dropped, but where no-data cuts a line), still never crossing, with the nesting tree a brute-force
+    /// search finds.
+    #[test]
+    fn dem_contours_have_vertices_on_cell_edges_never_cross_and_nest(dem in rough_dem()) {
+        let set = extract_dem(&dem, &[0.5, 1.5, 2.0, 2.5, 3.5, 4.5]).unwrap();
+        set.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
+        let on_grid_line = |x: f64| (x - x.round()).abs() < 1e-9;
+        for c in set.contours() {
+            // An open line may end on a diagonal, where the cell's other half holds no-data.
+            let inner = if c.closed { &c.points[..] } else { &c.points[1..c.points.len() - 1] };
+            prop_assert!(inner.iter().all(|p| on_grid_line(p.x) || on_grid_line(p.y)), "{:?}", c.points);
+        }
+        let contours = set.contours();
+        for (k, c) in contours.iter().enumerate() {
+            let expected = c.closed.then(|| {
+                (0..contours.len())
+                    .filter(|&j| j != k && contours[j].closed && inside_ring(c.points[0], &contours[j].points))
+                    .min_by(|&a, &b| contours[a].signed_area().abs().total_cmp(&contours[b].signed_area().abs()))
+            }).flatten();
+            prop_assert_eq!(set.parent(k), expected, "contour {}", k);
+        }
+    }
+}

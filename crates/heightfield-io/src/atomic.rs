@@ -11,6 +11,12 @@ use crate::{IoError, IoErrorKind};
 /// atomic) and is named `.<name>.<random>.tmp`; on any failure it is removed and no file appears
 /// under the final name.
 pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    write_with(path, |w| w.write_all(bytes))
+}
+
+/// As [`write`], with the contents streamed by `fill` through a buffer (so large outputs need not
+/// be held in memory first).
+pub(crate) fn write_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<(), IoError> {
     let err = |e: std::io::Error| IoError::new(path, IoErrorKind::Io(e));
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
@@ -27,7 +33,11 @@ pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     let mut tmp = builder.tempfile_in(dir).map_err(err)?;
-    tmp.write_all(bytes).map_err(err)?;
+    {
+        let mut buffered = std::io::BufWriter::with_capacity(1 << 16, tmp.as_file_mut());
+        fill(&mut buffered).map_err(err)?;
+        buffered.flush().map_err(err)?;
+    }
     tmp.as_file().sync_all().map_err(err)?;
     // On failure `PersistError` hands the temporary file back; dropping it deletes it.
     tmp.persist(path).map_err(|e| err(e.error))?;

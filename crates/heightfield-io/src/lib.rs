@@ -402,6 +402,28 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<(), IoError>
     atomic::write(path.as_ref(), bytes)
 }
 
+/// As [`write_atomic`], with the contents streamed by `fill` through a buffered writer, so that a
+/// large output (a contour map's GeoJSON, say) is never held in memory whole.
+///
+/// ```
+/// use std::io::Write as _;
+///
+/// let dir = tempfile::tempdir()?;
+/// let path = dir.path().join("lines.txt");
+/// relief_heightfield_io::write_atomic_with(&path, |w| (0..3).try_for_each(|k| writeln!(w, "line {k}")))?;
+/// assert_eq!(std::fs::read_to_string(&path)?, "line 0\nline 1\nline 2\n");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// As [`write_atomic`], or the error `fill` returns; either way no file appears under `path`.
+pub fn write_atomic_with(
+    path: impl AsRef<Path>,
+    fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<(), IoError> {
+    atomic::write_with(path.as_ref(), fill)
+}
+
 /// A grayscale view of an image file, for label masks and probability maps: any PNG colour type
 /// (gray, gray + alpha, RGB, RGBA, palette) as luma in [0, 1] with fully transparent pixels as
 /// no-data, on a plain grid (origin 0, cell 1, row 0 south); any other format reads as a

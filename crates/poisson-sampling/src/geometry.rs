@@ -139,19 +139,38 @@ struct EdgeBands {
     inv_h: f64,
     bands: usize,
     offsets: Vec<u32>,
-    edges: Vec<[DVec2; 2]>,
+    /// The rings' vertices, each ring closed by repeating its first: edge `i` runs from
+    /// `points[i]` to `points[i + 1]`.
+    points: Vec<DVec2>,
+    /// Edge indices, band by band (an edge in every band it spans).
+    edges: Vec<u32>,
 }
 
 impl EdgeBands {
     fn new(rings: &[&[DVec2]], y0: f64, y1: f64) -> Self {
-        let total: usize = rings.iter().map(|r| r.len()).sum();
-        let bands = total.clamp(1, 1 << 16);
-        let inv_h = bands as f64 / (y1 - y0);
+        let mut points = Vec::with_capacity(rings.iter().map(|r| r.len() + 1).sum());
+        let mut starts = Vec::new();
+        for ring in rings.iter().filter(|r| !r.is_empty()) {
+            starts.extend((points.len()..points.len() + ring.len()).map(|i| i as u32));
+            points.extend_from_slice(ring);
+            points.push(ring[0]);
+        }
+        let edge = |i: u32| [points[i as usize], points[i as usize + 1]];
+        // An edge is stored in every band it spans: one band per edge, unless the rings wind up
+        // and down so much (a crinkly contour) that the copies would pass 3 per edge.
+        let travel: f64 = starts.iter().map(|&i| (edge(i)[0].y - edge(i)[1].y).abs()).sum();
+        let (total, height) = (starts.len(), y1 - y0);
+        let by_travel = if travel > 0.0 { 3.0 * total as f64 * height / travel } else { f64::INFINITY };
+        let bands = (total as f64).min(by_travel).clamp(1.0, f64::from(1u32 << 16)) as usize;
+        let inv_h = bands as f64 / height;
         let band_of = |y: f64| (((y - y0) * inv_h) as usize).min(bands - 1);
-        let ring_edges = || rings.iter().flat_map(|r| (0..r.len()).map(move |i| [r[i], r[(i + 1) % r.len()]]));
+        let span = |i: u32| {
+            let [a, b] = edge(i);
+            band_of(a.y.min(b.y))..=band_of(a.y.max(b.y))
+        };
         let mut counts = vec![0u32; bands + 1];
-        for [a, b] in ring_edges() {
-            for band in band_of(a.y.min(b.y))..=band_of(a.y.max(b.y)) {
+        for &i in &starts {
+            for band in span(i) {
                 counts[band + 1] += 1;
             }
         }
@@ -159,14 +178,14 @@ impl EdgeBands {
             counts[i + 1] += counts[i];
         }
         let mut fill = counts.clone();
-        let mut edges = vec![[DVec2::ZERO; 2]; counts[bands] as usize];
-        for e @ [a, b] in ring_edges() {
-            for band in band_of(a.y.min(b.y))..=band_of(a.y.max(b.y)) {
-                edges[fill[band] as usize] = e;
+        let mut edges = vec![0u32; counts[bands] as usize];
+        for &i in &starts {
+            for band in span(i) {
+                edges[fill[band] as usize] = i;
                 fill[band] += 1;
             }
         }
-        Self { y0, y1, inv_h, bands, offsets: counts, edges }
+        Self { y0, y1, inv_h, bands, offsets: counts, points, edges }
     }
 
     #[inline]
@@ -176,7 +195,8 @@ impl EdgeBands {
         }
         let band = (((p.y - self.y0) * self.inv_h) as usize).min(self.bands - 1);
         let (lo, hi) = (self.offsets[band] as usize, self.offsets[band + 1] as usize);
-        self.edges[lo..hi].iter().filter(|[a, b]| crosses_ray(p, *a, *b)).count() % 2 == 1
+        let crosses = |&i: &u32| crosses_ray(p, self.points[i as usize], self.points[i as usize + 1]);
+        self.edges[lo..hi].iter().filter(|i| crosses(i)).count() % 2 == 1
     }
 }
 

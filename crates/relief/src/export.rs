@@ -14,25 +14,45 @@ use crate::orometry::{DivideTree, Orometry};
 /// The contours as a GeoJSON `FeatureCollection` of `LineString`s (closed ones repeat their first
 /// point), each with properties `id`, `elevation`, `level`, `closed` and `parent` (the id of the
 /// innermost contour around it, or null) — the shape `gdal_contour` produces, plus the nesting.
+/// [`write_contours_geojson`] streams the same text to a writer.
 pub fn contours_geojson(set: &ContourSet) -> String {
-    let features: Vec<serde_json::Value> = set
-        .contours()
-        .iter()
-        .enumerate()
-        .map(|(k, c)| {
-            let mut coords: Vec<[f64; 2]> = c.points.iter().map(|p| [p.x, p.y]).collect();
-            if c.closed {
-                coords.push([c.points[0].x, c.points[0].y]);
-            }
-            json!({
-                "type": "Feature",
-                "properties": { "id": k, "elevation": c.height, "level": c.level, "closed": c.closed, "parent": set.parent(k) },
-                "geometry": { "type": "LineString", "coordinates": coords },
-            })
-        })
-        .collect();
-    let collection = json!({ "type": "FeatureCollection", "features": features });
-    serde_json::to_string(&collection).unwrap_or_default()
+    let mut bytes = Vec::new();
+    // Writing to memory cannot fail, and the writer produces UTF-8.
+    let _ = write_contours_geojson(set, &mut bytes);
+    String::from_utf8(bytes).unwrap_or_default()
+}
+
+/// Streams [`contours_geojson`]'s text to `w` feature by feature, holding no copy of the whole
+/// (a contour map of a large DEM runs to hundreds of megabytes).
+///
+/// # Errors
+/// The writer's.
+pub fn write_contours_geojson(set: &ContourSet, w: &mut dyn std::io::Write) -> std::io::Result<()> {
+    let number = |w: &mut dyn std::io::Write, x: f64| serde_json::to_writer(&mut *w, &x).map_err(std::io::Error::other);
+    w.write_all(br#"{"features":["#)?;
+    for (k, c) in set.contours().iter().enumerate() {
+        if k > 0 {
+            w.write_all(b",")?;
+        }
+        w.write_all(br#"{"geometry":{"coordinates":["#)?;
+        let closing = c.closed.then(|| c.points[0]);
+        for (i, p) in c.points.iter().chain(closing.iter()).enumerate() {
+            w.write_all(if i == 0 { b"[" } else { b",[" })?;
+            number(w, p.x)?;
+            w.write_all(b",")?;
+            number(w, p.y)?;
+            w.write_all(b"]")?;
+        }
+        write!(w, r#"],"type":"LineString"}},"properties":{{"closed":{},"elevation":"#, c.closed)?;
+        number(w, c.height)?;
+        write!(w, r#","id":{k},"level":{},"parent":"#, c.level)?;
+        match set.parent(k) {
+            Some(p) => write!(w, "{p}")?,
+            None => w.write_all(b"null")?,
+        }
+        w.write_all(br#"},"type":"Feature"}"#)?;
+    }
+    w.write_all(br#"],"type":"FeatureCollection"}"#)
 }
 
 /// A divide tree as a GeoJSON `FeatureCollection`: peaks and saddles as `Point`s (property

@@ -39,7 +39,7 @@ pub(crate) fn contours(args: &ContoursArgs, ui: &mut Ui) -> Result<()> {
     let set = ui.step("contours", || dem_contours(&dem, &levels))?;
     ui.step("write", || -> Result<()> {
         if let Some(path) = &geojson {
-            relief::io::write_atomic(path, relief::export::contours_geojson(&set).as_bytes())?;
+            relief::io::write_atomic_with(path, |w| relief::export::write_contours_geojson(&set, w))?;
         }
         if let Some(path) = &args.svg {
             relief::io::write_atomic(path, relief::export::contours_svg(&set, &dem.extent(), 1024).as_bytes())?;

@@ -156,8 +156,9 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         written.push(path);
     }
     if let Some(name) = &outputs.contours_geojson {
-        let text = crate::export::contours_geojson(&terrain.contours);
-        written.push(write_text(out_dir, name, &text)?);
+        let path = out_dir.join(name);
+        crate::io::write_atomic_with(&path, |w| crate::export::write_contours_geojson(&terrain.contours, w))?;
+        written.push(path);
     }
     if let Some(name) = &outputs.contours_svg {
         let text = crate::export::contours_svg(&terrain.contours, &terrain.heightfield.extent(), SVG_WIDTH);
