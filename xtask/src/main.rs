@@ -8,6 +8,8 @@
 //!   a filtered `cargo bench`, say) without running anything but the paired TIN measurement.
 //! - `fuzz [SECONDS] [TARGET]...`: runs the cargo-fuzz targets under `fuzz/` (nightly), each for
 //!   SECONDS (default 600); see `fuzz.rs`.
+//! - `gdal-contours`: measures `relief contours` beside `gdal_contour` (needs `gdal-bin`) and
+//!   prints the section `bench` puts in the report (see `gdal.rs`).
 //! - `gallery`: renders the demo and every fixture scene and writes `docs/gallery.md`.
 //!
 //! Dependency-light on purpose (`anyhow`, `serde_json`): it builds in seconds and never needs the
@@ -16,6 +18,7 @@
 mod bench;
 mod fuzz;
 mod gallery;
+mod gdal;
 mod references;
 
 use std::path::{Path, PathBuf};
@@ -35,6 +38,10 @@ fn main() -> Result<()> {
             bench::run(&root, flag("--quick"), &packages, flag("--report-only"))
         }
         Some("gallery") => gallery::run(&root),
+        Some("gdal-contours") => {
+            print!("{}", gdal::contour_runs(&root, false)?);
+            Ok(())
+        }
         Some("fuzz") => {
             let seconds = args.get(1).and_then(|a| a.parse::<u64>().ok());
             let targets: Vec<String> = args.iter().skip(if seconds.is_some() { 2 } else { 1 }).cloned().collect();
@@ -42,7 +49,7 @@ fn main() -> Result<()> {
         }
         Some("help" | "--help" | "-h") | None => {
             println!(
-                "usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gallery | fuzz [SECONDS] [TARGET]...>"
+                "usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gdal-contours | gallery | fuzz [SECONDS] [TARGET]...>"
             );
             Ok(())
         }

@@ -64,7 +64,9 @@ pub(crate) enum Command {
     /// Generate a feature-curve scene (a `diffusion` generator): curves with elevation, slope and
     /// noise constraints diffused into a terrain (Hnaidi et al. 2010).
     Diffuse(DiffuseArgs),
-    /// Extract contour lines from a DEM (as GDAL's contour utility does).
+    /// Extract contour lines from a DEM by marching squares, with their nesting (GDAL's contour
+    /// utility draws the same kind of lines, but resolves saddles by the cell's mean and carries
+    /// lines on to the raster's outer edge).
     Contours(ContoursArgs),
     /// Convert a heightfield between formats (chosen by extension).
     Convert(ConvertArgs),
