@@ -68,3 +68,8 @@ pub use histogram::{Histogram, HistogramSpec};
 pub use levels::{Levels, MAX_LEVELS, evenly_spaced_levels, interval_levels};
 pub use reconstruct::{Interpolation, Summit, reconstruct_interpolated, reconstruct_stairs};
 pub use smooth::Smoothing;
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

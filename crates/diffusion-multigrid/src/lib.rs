@@ -52,3 +52,8 @@ pub use raster::MAX_STATIONS;
 pub use relief_heightfield as heightfield;
 pub use solver::{DiffusionProblem, SolveOptions, SolveReport, Solver};
 pub use terrain::{FeatureTerrain, TerrainOptions, generate};
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

@@ -46,3 +46,8 @@ pub use graph::{Graph, GraphOptions, Sampling};
 pub use growth::{Growth, UNRANKED, grow};
 pub use probability::{FbmProbability, ProbabilityMap, RasterProbability, Uniform};
 pub use regions::{LabelMap, MAX_LABEL_LEVELS, Region, RegionTree};
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

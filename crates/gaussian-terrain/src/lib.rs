@@ -82,3 +82,8 @@ pub use skeleton::{Attachment, Skeleton, SkeletonOptions};
 pub use terrain::{Atlas, Landform, MAX_PRIMITIVES, VectorTerrain};
 pub use tool::{Tool, ToolContext, ToolError};
 pub use vectorize::{Progress, VectorizeOptions, VectorizeReport, Vectorized, vectorize};
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

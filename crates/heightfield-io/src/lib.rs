@@ -536,3 +536,8 @@ fn override_grid(hf: Heightfield, origin: Option<DVec2>, units: Option<Units>) -
         .map_err(|e| IoErrorKind::InvalidMetadata(e.to_string()))?;
     Ok(Heightfield::from_samples(grid, hf.into_samples())?)
 }
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

@@ -51,3 +51,8 @@ pub use error::HeightfieldError;
 pub use fill::{FillRules, fill_depressions, fill_depressions_with};
 pub use grid::{Extent, GridSpec, MAX_SAMPLES, Units, metres_per_degree};
 pub use heightfield::{Heightfield, Statistics};
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

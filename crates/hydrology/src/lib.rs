@@ -65,3 +65,8 @@ pub use erosion::{Field, StreamPower, Thermal};
 pub use error::HydrologyError;
 pub use flow::{D8, Mfd, NO_RECEIVER, mfd_drainage_area, strahler};
 pub use relief_heightfield as heightfield;
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

@@ -55,3 +55,8 @@ pub use error::IslandError;
 pub use geometry::EditKind;
 pub use hill::Hill;
 pub use island::{Island, IslandSettings, MAX_CELLS, MAX_FILTERS, Operation};
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

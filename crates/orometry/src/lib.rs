@@ -103,3 +103,8 @@ pub fn synthesize(
     let hf = terrain_from_tree(&tree, descriptor.domain.min_elevation, grid, &options.terrain, progress)?;
     Ok((tree, hf))
 }
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

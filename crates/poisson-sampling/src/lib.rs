@@ -42,3 +42,8 @@ pub use geometry::{
     signed_area,
 };
 pub use sampler::{DEFAULT_ATTEMPTS, DEFAULT_MAX_POINTS, DENSITY, PoissonDisc, TaggedSamples, radius_for_count};
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

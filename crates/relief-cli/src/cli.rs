@@ -241,7 +241,7 @@ pub(crate) struct GenerateArgs {
     /// The scene (JSON; `relief schema` prints its JSON Schema), or `-` to read it from standard
     /// input (its relative paths then resolve against the current folder).
     pub(crate) scene: PathBuf,
-    /// Output directory (default: relief-out/<scene name>).
+    /// Output directory (default: `relief-out/<scene name>`).
     #[arg(long)]
     pub(crate) out: Option<PathBuf>,
     /// Replace the scene's seed.
@@ -256,7 +256,7 @@ pub(crate) struct GenerateArgs {
 pub(crate) struct DiffuseArgs {
     /// The scene (JSON; its generator must be `diffusion`), or `-` to read it from standard input.
     pub(crate) scene: PathBuf,
-    /// Output directory (default: relief-out/<scene name>).
+    /// Output directory (default: `relief-out/<scene name>`).
     #[arg(long)]
     pub(crate) out: Option<PathBuf>,
     /// Replace the scene's seed.
@@ -277,7 +277,7 @@ pub(crate) struct ContoursArgs {
     /// This many evenly spaced levels between the lowest and highest elevation.
     #[arg(long)]
     pub(crate) levels: Option<usize>,
-    /// GeoJSON output (default: <DEM name>.contours.geojson when no output is given).
+    /// GeoJSON output (default: `<DEM name>.contours.geojson` when no output is given).
     #[arg(long)]
     pub(crate) geojson: Option<PathBuf>,
     /// SVG output.

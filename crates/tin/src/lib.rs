@@ -1,6 +1,6 @@
 //! Delaunay triangulated irregular networks (TINs) as compact flat arrays — nodes, counter-clockwise
 //! triangles, triangle neighbours, CSR vertex adjacency, boundary flags — with point location,
-//! barycentric interpolation and parallel rasterization of per-node values to a [`Heightfield`].
+//! barycentric interpolation and parallel rasterization of per-node values to a [`Heightfield`](relief_heightfield::Heightfield).
 //!
 //! This is the graph the contours paper grows on (Huftier et al. 2025, §4.3: "a Delaunay
 //! triangulation … gives the graph G"; §4.4 extracts iso-contours from it), and the mesh the
@@ -55,3 +55,8 @@ pub use tin::{MAX_POINTS, NO_TRIANGLE, Tin};
 pub use relief_heightfield as heightfield;
 /// Blue-noise sampling and polygon domains (re-exported `relief-poisson-sampling`).
 pub use relief_poisson_sampling as poisson_sampling;
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

@@ -55,3 +55,8 @@ pub use path::{MAX_DISCS, PathOptions, PathWarp};
 pub use profile::Profile;
 pub use slope::SlopeModulation;
 pub use warp::{Composition, Warp};
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

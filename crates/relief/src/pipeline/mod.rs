@@ -1,5 +1,5 @@
 //! Scene → terrain: the run reads a scene's inputs, has its generator produce a heightfield
-//! ([`Generated`]), post-processes it, draws its contours, summarizes the run and writes every
+//! (`Generated`), post-processes it, draws its contours, summarizes the run and writes every
 //! output.
 //!
 //! ```text
@@ -7,8 +7,8 @@
 //!        ─► post-processes ─► drainage ─► contours (raster generators) ─► Summary ─► outputs
 //! ```
 //!
-//! Each generator is a module of its own returning the same [`Generated`]; the summary is built
-//! in one place ([`Summary::new`]). Every scene value is checked before the expensive work
+//! Each generator is a module of its own returning the same `Generated`; the summary is built
+//! in one place (`Summary::new`). Every scene value is checked before the expensive work
 //! starts, and a bad one fails with a [`ReliefError::Scene`] naming its JSON path
 //! (`generator.contours.regions[2].polygon`, `edits[1].warp.radius`, …), whichever step finds it.
 
