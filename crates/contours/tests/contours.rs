@@ -437,3 +437,25 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn lines_cut_open_by_no_data_have_no_parent_even_inside_a_closed_ring() {
+    // A cone over 21 × 21 with a 3 × 3 no-data block on its summit: the 2 m contour closes around
+    // everything, the 7.5 m one is cut open where it meets the hole's triangles.
+    let grid = GridSpec::new(21, 21, DVec2::ZERO, DVec2::ONE).unwrap();
+    let mut dem = Heightfield::from_fn(grid, |p| (10.0 - p.distance(DVec2::splat(10.0))) as f32).unwrap();
+    for j in 9..12 {
+        for i in 9..12 {
+            dem.set(i, j, f32::NAN).unwrap();
+        }
+    }
+    let set = extract_dem(&dem, &[2.0, 7.5]).unwrap();
+    set.check_invariants().unwrap();
+    let open: Vec<usize> = (0..set.len()).filter(|&k| !set.contours()[k].closed).collect();
+    assert!(!open.is_empty(), "the hole cuts the upper contour open");
+    let ring = (0..set.len()).find(|&k| set.contours()[k].closed && set.contours()[k].height == 2.0).unwrap();
+    for k in open {
+        assert_eq!(set.parent(k), None, "open contour {k}");
+    }
+    assert_eq!(set.children(ring).count(), 0, "open lines are nobody's children");
+}

@@ -1,4 +1,5 @@
-//! Single-band `GeoTIFF` via the `tiff` crate: read 8–64-bit integer and float samples, write f32 with
+//! Single-band `GeoTIFF` via the `tiff` crate: read 8–64-bit integer and float samples (with the
+//! band scale and offset GDAL keeps in its metadata tag applied), write f32 with
 //! `ModelPixelScale`, `ModelTiepoint`, `GeoKeyDirectory` (`PixelIsPoint`) and `GDAL_NODATA`.
 
 use std::io::{Cursor, Seek, Write};
@@ -24,6 +25,8 @@ const MODEL_PROJECTED: u16 = 1;
 const MODEL_GEOGRAPHIC: u16 = 2;
 const RASTER_PIXEL_IS_POINT: u16 = 2;
 const GCS_WGS_84: u16 = 4326;
+/// GDAL's private tag holding band metadata as XML (scale, offset, statistics).
+const GDAL_METADATA: u16 = 42112;
 
 fn tiff_error(e: TiffError, found: usize) -> IoErrorKind {
     match e {
@@ -44,6 +47,8 @@ struct GeoTags {
     transform: Option<Vec<f64>>,
     keys: Option<Vec<u16>>,
     nodata: Option<String>,
+    /// GDAL's metadata XML (tag 42112), where band scale and offset live.
+    metadata: Option<String>,
 }
 
 impl GeoTags {
@@ -62,7 +67,35 @@ impl GeoTags {
                 .map(|v| v.into_u16_vec().map_err(err))
                 .transpose()?,
             nodata: dec.find_tag(Tag::GdalNodata).map_err(err)?.map(|v| v.into_string().map_err(err)).transpose()?,
+            metadata: dec
+                .find_tag(Tag::Unknown(GDAL_METADATA))
+                .map_err(err)?
+                .map(|v| v.into_string().map_err(err))
+                .transpose()?,
         })
+    }
+
+    /// The band's `(scale, offset)` from GDAL's metadata (elevation = code × scale + offset),
+    /// `(1, 0)` when it gives none.
+    fn scale_offset(&self) -> Result<(f64, f64), IoErrorKind> {
+        let Some(xml) = &self.metadata else { return Ok((1.0, 0.0)) };
+        let item = |role: &str| -> Result<Option<f64>, IoErrorKind> {
+            let Some(at) = xml.find(&format!("role=\"{role}\"")) else { return Ok(None) };
+            let rest = &xml[at..];
+            let text = rest.find('>').and_then(|a| rest[a + 1..].find('<').map(|b| &rest[a + 1..a + 1 + b]));
+            let value = text.map(str::trim).unwrap_or_default();
+            match value.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(Some(v)),
+                _ => {
+                    Err(IoErrorKind::InvalidMetadata(format!("GDAL metadata {role} {value:?} is not a finite number")))
+                }
+            }
+        };
+        let (scale, offset) = (item("scale")?.unwrap_or(1.0), item("offset")?.unwrap_or(0.0));
+        if scale == 0.0 {
+            return Err(IoErrorKind::InvalidMetadata("GDAL metadata scale is 0".to_owned()));
+        }
+        Ok((scale, offset))
     }
 
     /// The inline value of `GeoKey` `id` (keys stored in other tags are not needed here).
@@ -116,16 +149,18 @@ impl GeoTags {
     }
 }
 
-/// Converts decoded samples to f32, mapping the no-data value to NaN.
-fn to_f32<T: Copy>(v: Vec<T>, nodata: Option<f64>, f: impl Fn(T) -> f64) -> Vec<f32> {
+/// Converts decoded codes to f32 elevations (`code × scale + offset`, in f64), mapping the no-data
+/// code to NaN.
+fn to_f32<T: Copy>(v: Vec<T>, nodata: Option<f64>, (scale, offset): (f64, f64), f: impl Fn(T) -> f64) -> Vec<f32> {
+    let elevation = |x: f64| (x * scale + offset) as f32;
     match nodata {
-        None => v.into_iter().map(|x| f(x) as f32).collect(),
+        None => v.into_iter().map(|x| elevation(f(x))).collect(),
         Some(nd) => v
             .into_iter()
             .map(|x| {
                 let x = f(x);
                 // Float rasters often carry a nodata string that only matches after rounding to f32.
-                if x == nd || x as f32 == nd as f32 { f32::NAN } else { x as f32 }
+                if x == nd || x as f32 == nd as f32 { f32::NAN } else { elevation(x) }
             })
             .collect(),
     }
@@ -164,18 +199,20 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
     let geo = GeoTags::read(&mut dec, found)?;
     let grid = geo.grid(w as usize, h as usize)?;
     let nd = geo.nodata()?;
+    // Stored codes become elevations; no-data is matched on the codes, as GDAL does.
+    let so = geo.scale_offset()?;
     let mut samples = match dec.read_image().map_err(err)? {
-        DecodingResult::F32(v) => to_f32(v, nd, f64::from),
-        DecodingResult::F64(v) => to_f32(v, nd, |x| x),
-        DecodingResult::F16(v) => to_f32(v, nd, |x| f64::from(x.to_f32())),
-        DecodingResult::U8(v) => to_f32(v, nd, f64::from),
-        DecodingResult::I8(v) => to_f32(v, nd, f64::from),
-        DecodingResult::U16(v) => to_f32(v, nd, f64::from),
-        DecodingResult::I16(v) => to_f32(v, nd, f64::from),
-        DecodingResult::U32(v) => to_f32(v, nd, f64::from),
-        DecodingResult::I32(v) => to_f32(v, nd, f64::from),
-        DecodingResult::U64(v) => to_f32(v, nd, |x| x as f64),
-        DecodingResult::I64(v) => to_f32(v, nd, |x| x as f64),
+        DecodingResult::F32(v) => to_f32(v, nd, so, f64::from),
+        DecodingResult::F64(v) => to_f32(v, nd, so, |x| x),
+        DecodingResult::F16(v) => to_f32(v, nd, so, |x| f64::from(x.to_f32())),
+        DecodingResult::U8(v) => to_f32(v, nd, so, f64::from),
+        DecodingResult::I8(v) => to_f32(v, nd, so, f64::from),
+        DecodingResult::U16(v) => to_f32(v, nd, so, f64::from),
+        DecodingResult::I16(v) => to_f32(v, nd, so, f64::from),
+        DecodingResult::U32(v) => to_f32(v, nd, so, f64::from),
+        DecodingResult::I32(v) => to_f32(v, nd, so, f64::from),
+        DecodingResult::U64(v) => to_f32(v, nd, so, |x| x as f64),
+        DecodingResult::I64(v) => to_f32(v, nd, so, |x| x as f64),
     };
     if samples.len() != cells {
         return Err(IoErrorKind::HeaderMismatch(format!("TIFF is {w}x{h} but decoded to {} samples", samples.len())));

@@ -394,6 +394,35 @@ mod tiff_input {
         assert_eq!(hf.value(2, 0), 6.0);
         assert!(hf.is_no_data(1, 0));
     }
+
+    /// `fixtures/gdal/scale-offset.tif`: Int16 codes 1 2 3 4 / 10 −9999 30 40 / 100 200 300 400
+    /// (north row first), written by `gdal_translate -q -ot Int16 -a_scale 0.5 -a_offset 100
+    /// -co COMPRESS=DEFLATE` from an ASCII grid with NODATA −9999, 30 m cells from (1000, 2000).
+    #[test]
+    fn gdal_scale_and_offset_turn_codes_into_elevations() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/gdal/scale-offset.tif");
+        let hf = relief_heightfield_io::read(&path).unwrap();
+        // Elevation = code × 0.5 + 100; the no-data code stays no-data (it is matched before scaling).
+        assert_eq!(hf.value(0, 2), 100.5, "north-west code 1");
+        assert_eq!(hf.value(3, 2), 102.0);
+        assert_eq!(hf.value(2, 1), 115.0, "code 30");
+        assert_eq!(hf.value(3, 0), 300.0, "south-east code 400");
+        assert!(hf.is_no_data(1, 1));
+        assert_eq!(hf.grid().cell_size(), DVec2::splat(30.0));
+    }
+
+    #[test]
+    fn unreadable_gdal_scale_is_an_error_naming_it() {
+        use tiff::tags::Tag;
+        let mut out = std::io::Cursor::new(Vec::new());
+        let mut enc = tiff::encoder::TiffEncoder::new(&mut out).unwrap();
+        let mut image = enc.new_image::<tiff::encoder::colortype::GrayI16>(2, 1).unwrap();
+        let xml = r#"<GDALMetadata><Item name="SCALE" sample="0" role="scale">lots</Item></GDALMetadata>"#;
+        image.encoder().write_tag(Tag::Unknown(42112), xml).unwrap();
+        image.write_data(&[1i16, 2]).unwrap();
+        let err = read_bytes(out.get_ref(), Format::GeoTiff, "s.tif", &ReadOptions::default()).unwrap_err();
+        assert!(err.to_string().contains("scale \"lots\" is not a finite number"), "{err}");
+    }
 }
 
 // --- Format detection -------------------------------------------------------------------------------
