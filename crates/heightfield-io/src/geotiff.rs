@@ -167,6 +167,12 @@ fn to_f32<T: Copy>(v: Vec<T>, nodata: Option<f64>, (scale, offset): (f64, f64), 
 }
 
 pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErrorKind> {
+    decode_placed(bytes, limits).map(|(hf, _)| hf)
+}
+
+/// As [`decode`], also saying whether the file placed itself (geo tags): without them its grid
+/// is in pixels from the origin, and a world file beside it may place it.
+pub(crate) fn decode_placed(bytes: &[u8], limits: Limits) -> Result<(Heightfield, bool), IoErrorKind> {
     let found = bytes.len();
     let err = |e| tiff_error(e, found);
     let mut tiff_limits = tiff::decoder::Limits::default();
@@ -197,6 +203,7 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
         }
     }
     let geo = GeoTags::read(&mut dec, found)?;
+    let placed = geo.scale.is_some() || geo.tiepoint.is_some() || geo.transform.is_some();
     let grid = geo.grid(w as usize, h as usize)?;
     let nd = geo.nodata()?;
     // Stored codes become elevations; no-data is matched on the codes, as GDAL does.
@@ -218,7 +225,7 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
         return Err(IoErrorKind::HeaderMismatch(format!("TIFF is {w}x{h} but decoded to {} samples", samples.len())));
     }
     flip_rows(&mut samples, w as usize);
-    Ok(Heightfield::from_samples(grid, samples)?)
+    Ok((Heightfield::from_samples(grid, samples)?, placed))
 }
 
 fn write_image<W: Write + Seek, K: TiffKind>(

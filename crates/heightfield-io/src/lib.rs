@@ -84,6 +84,8 @@ mod openexr;
 mod png_gray;
 mod preview;
 mod raw;
+#[cfg(feature = "geotiff")]
+mod world;
 
 mod format;
 
@@ -217,7 +219,8 @@ pub fn read(path: impl AsRef<Path>) -> Result<Heightfield, IoError> {
 /// Reads a heightfield with explicit options.
 ///
 /// Sidecars are read from beside the file: `<file>.json` for raw formats, `<stem>.prj` for ASCII
-/// grids (degrees when it describes a geographic CRS).
+/// grids (degrees when it describes a geographic CRS), and for a `GeoTIFF` without geo tags a
+/// world file (`<stem>.tfw`, `.tifw` or `.wld`), as GDAL reads them.
 ///
 /// # Errors
 /// As [`read`].
@@ -247,9 +250,25 @@ pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Height
                 _ => hf,
             }
         }
+        #[cfg(feature = "geotiff")]
+        Format::GeoTiff => {
+            let (hf, placed) = geotiff::decode_placed(&bytes, options.limits).map_err(at)?;
+            if placed { hf } else { placed_by_world_file(hf, path)? }
+        }
         _ => decode_bytes(&bytes, format, path, options).map_err(at)?,
     };
     override_grid(hf, options.origin, options.units).map_err(at)
+}
+
+/// `hf` (a TIFF without geo tags) placed by the first world file found beside `path`, if any.
+#[cfg(feature = "geotiff")]
+fn placed_by_world_file(hf: Heightfield, path: &Path) -> Result<Heightfield, IoError> {
+    for candidate in world::candidates(path) {
+        if let Some(text) = read_small_text(&candidate, 1 << 12)? {
+            return world::place(hf, &text).map_err(|k| IoError::new(&candidate, k));
+        }
+    }
+    Ok(hf)
 }
 
 /// Decodes a file held in memory; `name` appears in errors and, for `.hgt`, gives the tile corner.

@@ -411,6 +411,34 @@ mod tiff_input {
         assert_eq!(hf.grid().cell_size(), DVec2::splat(30.0));
     }
 
+    /// `fixtures/gdal/world-file.tif` + `.tfw`: a baseline TIFF with no geo tags, placed only by its
+    /// world file (`gdal_translate -q -ot Float32 -co PROFILE=BASELINE -co TFW=YES`, 30 m cells,
+    /// upper-left pixel centre (1015, 2075)).
+    #[test]
+    fn a_world_file_places_a_tiff_without_geo_tags() {
+        let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/gdal");
+        let hf = relief_heightfield_io::read(fixtures.join("world-file.tif")).unwrap();
+        assert_eq!(hf.grid().cell_size(), DVec2::splat(30.0));
+        assert_eq!(hf.grid().origin(), DVec2::new(1015.0, 2015.0), "the south-west sample, two rows below");
+        assert_eq!(hf.value(0, 2), 1.0, "north-west pixel");
+        // Without it the grid is in pixels; a `.wld` serves too; a rotated one is refused by name.
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::copy(fixtures.join("world-file.tif"), dir.path().join("t.tif")).unwrap();
+        let bare = relief_heightfield_io::read(dir.path().join("t.tif")).unwrap();
+        assert_eq!((bare.grid().origin(), bare.grid().cell_size()), (DVec2::ZERO, DVec2::ONE));
+        std::fs::write(dir.path().join("t.wld"), "2\n0\n0\n-2\n10\n20\n").unwrap();
+        let placed = relief_heightfield_io::read(dir.path().join("t.tif")).unwrap();
+        assert_eq!((placed.grid().origin(), placed.grid().cell_size()), (DVec2::new(10.0, 16.0), DVec2::splat(2.0)));
+        std::fs::write(dir.path().join("t.tfw"), "2\n0.1\n0\n-2\n10\n20\n").unwrap();
+        let err = relief_heightfield_io::read(dir.path().join("t.tif")).unwrap_err();
+        assert!(err.to_string().contains("t.tfw") && err.to_string().contains("rotated"), "{err}");
+        // A tagged GeoTIFF keeps its own placement whatever lies beside it, as in GDAL.
+        std::fs::copy(fixtures.join("scale-offset.tif"), dir.path().join("g.tif")).unwrap();
+        std::fs::write(dir.path().join("g.tfw"), "2\n0\n0\n-2\n10\n20\n").unwrap();
+        let tagged = relief_heightfield_io::read(dir.path().join("g.tif")).unwrap();
+        assert_eq!(tagged.grid().cell_size(), DVec2::splat(30.0));
+    }
+
     #[test]
     fn unreadable_gdal_scale_is_an_error_naming_it() {
         use tiff::tags::Tag;
