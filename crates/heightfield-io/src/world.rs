@@ -37,5 +37,5 @@ pub(crate) fn place(hf: Heightfield, text: &str) -> Result<Heightfield, IoErrorK
     let ny = hf.ny();
     let origin = DVec2::new(c, f + e * (ny.saturating_sub(1)) as f64);
     let grid = GridSpec::new(hf.nx(), ny, origin, DVec2::new(a, -e))?.with_units(hf.grid().units())?;
-    Ok(Heightfield::from_samples(grid, hf.samples().to_vec())?)
+    Ok(Heightfield::from_samples(grid, hf.into_samples())?)
 }
