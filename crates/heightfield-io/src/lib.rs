@@ -120,6 +120,13 @@ pub struct ReadOptions {
     /// Position of sample `(0, 0)` (the south-west sample), overriding the file; needed for a `.hgt`
     /// tile whose file name is not a tile name such as `N36W085`.
     pub origin: Option<DVec2>,
+    /// Distance between samples `(x, y)`, overriding the file (a heightmap image has none: it
+    /// reads at 1 unit per sample).
+    pub cell_size: Option<DVec2>,
+    /// The elevations a plain 8/16-bit image's (or a sidecar-less `.r16`'s) lowest and highest
+    /// codes stand for: codes map linearly onto `[min, max]` instead of `[0, 1]`. Refused for files
+    /// that store elevations (float formats, or codes with their range recorded).
+    pub z_range: Option<(f64, f64)>,
 }
 
 impl ReadOptions {
@@ -155,6 +162,20 @@ impl ReadOptions {
     #[must_use]
     pub fn with_origin(mut self, origin: DVec2) -> Self {
         self.origin = Some(origin);
+        self
+    }
+
+    /// The same options with samples `cell_size` apart.
+    #[must_use]
+    pub fn with_cell_size(mut self, cell_size: DVec2) -> Self {
+        self.cell_size = Some(cell_size);
+        self
+    }
+
+    /// The same options mapping a plain image's codes onto `[min, max]`.
+    #[must_use]
+    pub fn with_z_range(mut self, min: f64, max: f64) -> Self {
+        self.z_range = Some((min, max));
         self
     }
 }
@@ -245,7 +266,8 @@ pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Height
             let prj_path = path.with_extension("prj");
             match read_small_text(&prj_path, 1 << 16)? {
                 Some(prj) if options.units.is_none() => {
-                    override_grid(hf, None, Some(asc::prj_units(&prj))).map_err(|k| IoError::new(&prj_path, k))?
+                    override_grid(hf, &ReadOptions::default().with_units(asc::prj_units(&prj)))
+                        .map_err(|k| IoError::new(&prj_path, k))?
                 }
                 _ => hf,
             }
@@ -257,7 +279,36 @@ pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Height
         }
         _ => decode_bytes(&bytes, format, path, options).map_err(at)?,
     };
-    override_grid(hf, options.origin, options.units).map_err(at)
+    let hf = override_grid(hf, options).map_err(at)?;
+    match options.z_range {
+        Some(range) => stretch_codes(hf, range, path),
+        None => Ok(hf),
+    }
+}
+
+/// A plain image's `[0, 1]` code values mapped onto `[min, max]` ([`ReadOptions::z_range`]).
+fn stretch_codes(hf: Heightfield, (min, max): (f64, f64), path: &Path) -> Result<Heightfield, IoError> {
+    let at = |kind| IoError::new(path, kind);
+    if !(min.is_finite() && max.is_finite() && min < max) {
+        return Err(at(IoErrorKind::InvalidMetadata(format!("z range {min}..{max}: give finite min < max"))));
+    }
+    match quantisation(path)? {
+        Some(q) if !q.from_metadata => {}
+        Some(q) => {
+            return Err(at(IoErrorKind::InvalidMetadata(format!(
+                "its codes already stand for {}..{} (recorded with the file): a z range is for plain images",
+                q.min, q.max
+            ))));
+        }
+        None => {
+            return Err(at(IoErrorKind::InvalidMetadata(
+                "it stores elevations: a z range is for plain 8/16-bit images and .r16 files".to_owned(),
+            )));
+        }
+    }
+    let grid = *hf.grid();
+    let samples = hf.into_samples().into_iter().map(|v| (min + f64::from(v) * (max - min)) as f32).collect();
+    Heightfield::from_samples(grid, samples).map_err(|e| at(e.into()))
 }
 
 /// `hf` (a TIFF without geo tags) placed by the first world file found beside `path`, if any.
@@ -289,7 +340,7 @@ pub fn read_bytes(
     let name = name.as_ref();
     let at = |kind| IoError::new(name, kind);
     let hf = decode_bytes(bytes, format, name, options).map_err(at)?;
-    override_grid(hf, options.origin, options.units).map_err(at)
+    override_grid(hf, options).map_err(at)
 }
 
 fn decode_bytes(bytes: &[u8], format: Format, name: &Path, options: &ReadOptions) -> Result<Heightfield, IoErrorKind> {
@@ -545,12 +596,13 @@ fn read_small_text(path: &Path, max: u64) -> Result<Option<String>, IoError> {
 }
 
 /// Applies the origin and units overrides of [`ReadOptions`].
-fn override_grid(hf: Heightfield, origin: Option<DVec2>, units: Option<Units>) -> Result<Heightfield, IoErrorKind> {
-    if origin.is_none() && units.is_none() {
+fn override_grid(hf: Heightfield, options: &ReadOptions) -> Result<Heightfield, IoErrorKind> {
+    let (origin, units, cell) = (options.origin, options.units, options.cell_size);
+    if origin.is_none() && units.is_none() && cell.is_none() {
         return Ok(hf);
     }
     let g = *hf.grid();
-    let grid = GridSpec::new(g.nx(), g.ny(), origin.unwrap_or(g.origin()), g.cell_size())
+    let grid = GridSpec::new(g.nx(), g.ny(), origin.unwrap_or(g.origin()), cell.unwrap_or(g.cell_size()))
         .and_then(|n| n.with_units(units.unwrap_or(g.units())))
         .map_err(|e| IoErrorKind::InvalidMetadata(e.to_string()))?;
     Ok(Heightfield::from_samples(grid, hf.into_samples())?)

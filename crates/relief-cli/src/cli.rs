@@ -40,6 +40,19 @@ pub(crate) struct Cli {
     /// Most divide-tree peaks an orometry scene may ask for (default 200 000).
     #[arg(long, global = true, value_name = "N")]
     max_peaks: Option<u64>,
+    /// What a plain 8/16-bit heightmap's (or a sidecar-less .r16's) lowest and highest codes
+    /// stand for, in elevation units (default 0 and 1); refused for files that store elevations.
+    #[arg(long, global = true, value_parser = parse_range, allow_hyphen_values = true, value_name = "MIN,MAX")]
+    z_range: Option<[f32; 2]>,
+    /// Distance between samples of the heightfields read, overriding the file (`S` or `SX,SY`).
+    #[arg(long, global = true, value_parser = parse_cell_size, value_name = "S")]
+    cell_size: Option<[f64; 2]>,
+    /// Position `X,Y` of the south-west sample of the heightfields read, overriding the file.
+    #[arg(long, global = true, value_parser = parse_point, allow_hyphen_values = true, value_name = "X,Y")]
+    origin: Option<[f64; 2]>,
+    /// `W` or `WxH` of a .r16/.r32 file without a sidecar (default: square).
+    #[arg(long, global = true, value_parser = parse_size, value_name = "WxH")]
+    raw_size: Option<(usize, usize)>,
 }
 
 impl Cli {
@@ -50,6 +63,29 @@ impl Cli {
             .with_max_particles(self.max_particles.unwrap_or(d.max_particles))
             .with_max_primitives(self.max_primitives.unwrap_or(d.max_primitives))
             .with_max_peaks(self.max_peaks.unwrap_or(d.max_peaks))
+    }
+}
+
+impl Cli {
+    /// How every heightfield a command reads is read: the budget's cell cap and the flags that
+    /// say what a file does not (vertical range, cell size, origin, raw size).
+    pub(crate) fn read_options(&self) -> relief::io::ReadOptions {
+        let budget = self.budget();
+        let mut read = relief::io::ReadOptions::default()
+            .with_limits(relief::io::Limits::default().with_max_cells(budget.max_cells));
+        if let Some([min, max]) = self.z_range {
+            read = read.with_z_range(f64::from(min), f64::from(max));
+        }
+        if let Some([x, y]) = self.cell_size {
+            read = read.with_cell_size(glam::DVec2::new(x, y));
+        }
+        if let Some([x, y]) = self.origin {
+            read = read.with_origin(glam::DVec2::new(x, y));
+        }
+        if let Some((w, h)) = self.raw_size {
+            read = read.with_raw_dims(w, h);
+        }
+        read
     }
 }
 
@@ -101,9 +137,14 @@ pub(crate) struct CompletionsArgs {
     pub(crate) shell: clap_complete::Shell,
 }
 
-/// What every subcommand's help says instead of repeating the global options.
-const GLOBAL_OPTIONS: &str = "Global options (-v, -q, -f, --threads, --max-cells, --max-particles, --max-primitives, --max-peaks) \
-     go before or after the subcommand; `relief --help` describes them.";
+/// What every subcommand's help says instead of repeating the global options: their names.
+fn global_options_named(globals: &[clap::Arg]) -> String {
+    let names: Vec<String> = globals
+        .iter()
+        .map(|a| a.get_short().map_or_else(|| format!("--{}", a.get_long().unwrap_or_default()), |c| format!("-{c}")))
+        .collect();
+    format!("Global options ({}) go before or after the subcommand; `relief --help` describes them.", names.join(", "))
+}
 
 /// The command line as clap sees it: the derive's, with the global options described once, at
 /// the end of `relief --help`, and only named in each subcommand's help.
@@ -112,13 +153,14 @@ pub(crate) fn command() -> clap::Command {
     let mut cmd = Cli::command();
     let globals: Vec<clap::Arg> = cmd.get_arguments().filter(|a| a.is_global_set()).cloned().collect();
     let listing = global_options(&globals);
+    let named = global_options_named(&globals);
     // A hidden global option is still parsed everywhere; it is just not listed.
     for arg in &globals {
         cmd = cmd.mut_arg(arg.get_id(), |a| a.hide(true));
     }
     let names: Vec<String> = cmd.get_subcommands().map(|s| s.get_name().to_owned()).collect();
     for name in names {
-        cmd = cmd.mut_subcommand(name, |sub| sub.after_help(GLOBAL_OPTIONS));
+        cmd = cmd.mut_subcommand(name, |sub| sub.after_help(named.clone()));
     }
     cmd.after_help(listing)
 }
@@ -454,6 +496,24 @@ fn parse_range(s: &str) -> Result<[f32; 2], String> {
         return Err(usage());
     }
     Ok([min, max])
+}
+
+/// `S` or `SX,SY`, positive and finite.
+fn parse_cell_size(s: &str) -> Result<[f64; 2], String> {
+    let usage = || format!("{s:?}: give S or SX,SY (positive), e.g. 30 or 0.5,0.25");
+    let parse = |v: &str| v.trim().parse::<f64>().ok().filter(|x| x.is_finite() && *x > 0.0).ok_or_else(usage);
+    match s.split_once(',') {
+        Some((x, y)) => Ok([parse(x)?, parse(y)?]),
+        None => parse(s).map(|v| [v, v]),
+    }
+}
+
+/// `X,Y`, finite.
+fn parse_point(s: &str) -> Result<[f64; 2], String> {
+    let usage = || format!("{s:?}: give X,Y, e.g. 500000,4100000");
+    let (x, y) = s.split_once(',').ok_or_else(usage)?;
+    let parse = |v: &str| v.trim().parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(usage);
+    Ok([parse(x)?, parse(y)?])
 }
 
 fn parse_window(s: &str) -> Result<[f64; 4], String> {

@@ -54,7 +54,7 @@ fn run(cli: &Cli) -> Result<()> {
         (false, true) => Verbosity::Verbose,
         (false, false) => Verbosity::Normal,
     };
-    let ui = &mut Ui::new(verbosity, cli.force, cli.budget());
+    let ui = &mut Ui::new(verbosity, cli.force, cli.budget(), cli.read_options());
     match &cli.command {
         Command::Demo(args) => scenes::demo(args, ui),
         Command::Generate(args) => scenes::generate(args, ui),

@@ -24,7 +24,7 @@ pub(crate) enum Verbosity {
 
 /// Spinners on stderr, step timings with `-v`, reports on stdout unless `-q`.
 pub(crate) struct Ui {
-    /// What every command reads under: the budget's cell cap.
+    /// What every command reads under: the budget's cell cap and the global read flags.
     read: relief::io::ReadOptions,
     /// The budget scenes run under.
     budget: relief::Budget,
@@ -36,9 +36,12 @@ pub(crate) struct Ui {
 }
 
 impl Ui {
-    pub(crate) fn new(verbosity: Verbosity, force: bool, budget: relief::Budget) -> Self {
-        let read = relief::io::ReadOptions::default()
-            .with_limits(relief::io::Limits::default().with_max_cells(budget.max_cells));
+    pub(crate) fn new(
+        verbosity: Verbosity,
+        force: bool,
+        budget: relief::Budget,
+        read: relief::io::ReadOptions,
+    ) -> Self {
         let draw = verbosity != Verbosity::Quiet && std::io::stderr().is_terminal();
         Self { read, budget, verbosity, force, bar: None, draw }
     }

@@ -223,3 +223,48 @@ fn previews_show_the_inputs_that_made_the_terrain() {
     assert!(stderr.starts_with("error: bad.json:1:"), "{stderr}");
     assert!(!dir.join("bad.png").exists());
 }
+
+#[test]
+fn read_flags_say_what_a_heightmap_means() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // An 8-bit heightmap as a paint program saves it: codes only, no range, no placement.
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, 3, 2);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.write_header().unwrap().write_image_data(&[0, 51, 255, 102, 204, 153]).unwrap();
+    std::fs::write(dir.join("paint.png"), &bytes).unwrap();
+    let info = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["info", "paint.png", "--json"];
+        args.extend_from_slice(extra);
+        serde_json::from_str(&ok(dir, &args)).unwrap()
+    };
+    let plain = info(&[]);
+    assert_eq!((plain["min"].as_f64(), plain["max"].as_f64()), (Some(0.0), Some(1.0)));
+    let meant = info(&["--z-range", "100,600", "--cell-size", "30", "--origin", "1000,-2000"]);
+    assert_eq!((meant["min"].as_f64(), meant["max"].as_f64()), (Some(100.0), Some(600.0)));
+    assert_eq!(meant["cell_size"], serde_json::json!([30.0, 30.0]));
+    assert_eq!(meant["extent"]["min"], serde_json::json!([1000.0, -2000.0]), "the south-west sample");
+    assert_eq!(meant["outer_extent"]["min"], serde_json::json!([985.0, -2015.0]), "its cell's corner, half a cell out");
+    let text = ok(dir, &["info", "paint.png"]);
+    assert!(text.contains("sample centres") && text.contains("outer edges") && text.contains("--z-range"), "{text}");
+    // The flags reach every command that reads: the converted EXR keeps the meant elevations.
+    ok(dir, &["convert", "paint.png", "paint.exr", "--z-range", "100,600", "-q"]);
+    let converted: serde_json::Value = serde_json::from_str(&ok(dir, &["info", "paint.exr", "--json"])).unwrap();
+    assert_eq!(converted["max"].as_f64(), Some(600.0));
+    // A file that stores elevations refuses a z range; a raw file gets its size.
+    let stderr = fails(dir, &["info", "paint.exr", "--z-range", "0,1"], 1);
+    assert!(stderr.contains("stores elevations"), "{stderr}");
+    ok(dir, &["convert", "paint.exr", "coded.png", "-q"]);
+    let stderr = fails(dir, &["info", "coded.png", "--z-range", "0,1"], 1);
+    assert!(stderr.contains("already stand for 100..600"), "{stderr}");
+    std::fs::write(dir.join("six.r16"), [0u8; 2 * 6 * 4]).unwrap();
+    let stderr = fails(dir, &["info", "six.r16"], 1);
+    assert!(stderr.contains("six.r16"), "{stderr}");
+    let raw: serde_json::Value =
+        serde_json::from_str(&ok(dir, &["info", "six.r16", "--raw-size", "6x4", "--json"])).unwrap();
+    assert_eq!((raw["nx"].as_u64(), raw["ny"].as_u64()), (Some(6), Some(4)));
+    let stderr = fails(dir, &["info", "paint.png", "--cell-size", "0"], 2);
+    assert!(stderr.contains("give S or SX,SY"), "{stderr}");
+}

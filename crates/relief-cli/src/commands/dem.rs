@@ -108,7 +108,7 @@ fn info_text(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> Str
         |s| format!("{} .. {} (mean {:.3}, std dev {:.3})", s.min, s.max, s.mean, s.std_dev),
     );
     format!(
-        "{}\n  size       {} x {} ({} samples)\n  extent     x {} .. {}, y {} .. {} ({unit})\n  cell size  {} x {} {unit}\n  elevation  {range}\n  no-data    {}",
+        "{}\n  size       {} x {} ({} samples)\n  extent     x {} .. {}, y {} .. {} ({unit}, sample centres)\n  corners    x {} .. {}, y {} .. {} ({unit}, the cells' outer edges)\n  cell size  {} x {} {unit}\n  elevation  {range}\n  no-data    {}",
         path.display(),
         dem.nx(),
         dem.ny(),
@@ -117,6 +117,10 @@ fn info_text(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> Str
         e.max.x,
         e.min.y,
         e.max.y,
+        e.min.x - 0.5 * c.x,
+        e.max.x + 0.5 * c.x,
+        e.min.y - 0.5 * c.y,
+        e.max.y + 0.5 * c.y,
         c.x,
         c.y,
         dem.no_data_count()
@@ -128,7 +132,7 @@ fn codes_text(q: Quantisation) -> String {
     let (lo, hi, bits) = (q.lowest_code, q.highest_code, q.bits);
     if !q.from_metadata {
         return format!(
-            "\n  codes      {bits}-bit without relief metadata: code / {hi}, so 0 .. 1 on a 1 m grid (rescale it with a histogram or a DEM of known range)"
+            "\n  codes      {bits}-bit without relief metadata: code / {hi}, so 0 .. 1 on a 1 m grid unless --z-range MIN,MAX and --cell-size S say what it means"
         );
     }
     let no_data = q.no_data_code.map_or(String::new(), |c| format!("; code {c} = no-data"));
@@ -149,6 +153,7 @@ fn info_json(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> Str
         "nx": dem.nx(),
         "ny": dem.ny(),
         "extent": { "min": [e.min.x, e.min.y], "max": [e.max.x, e.max.y] },
+        "outer_extent": { "min": [e.min.x - 0.5 * c.x, e.min.y - 0.5 * c.y], "max": [e.max.x + 0.5 * c.x, e.max.y + 0.5 * c.y] },
         "cell_size": [c.x, c.y],
         "units": match grid.units() { Units::Metres => "metres", Units::Degrees => "degrees" },
         "min": stats.map(|s| s.min),
