@@ -152,7 +152,9 @@ impl GeoTags {
 /// Converts decoded codes to f32 elevations (`code × scale + offset`, in f64), mapping the no-data
 /// code to NaN.
 fn to_f32<T: Copy>(v: Vec<T>, nodata: Option<f64>, (scale, offset): (f64, f64), f: impl Fn(T) -> f64) -> Vec<f32> {
-    let elevation = |x: f64| (x * scale + offset) as f32;
+    // Without a scale the codes pass through untouched (keeping −0.0, which `x · 1 + 0` would not).
+    let identity = scale == 1.0 && offset == 0.0;
+    let elevation = |x: f64| if identity { x as f32 } else { (x * scale + offset) as f32 };
     match nodata {
         None => v.into_iter().map(|x| elevation(f(x))).collect(),
         Some(nd) => v
