@@ -459,3 +459,20 @@ fn lines_cut_open_by_no_data_have_no_parent_even_inside_a_closed_ring() {
     }
     assert_eq!(set.children(ring).count(), 0, "open lines are nobody's children");
 }
+
+#[test]
+fn the_smallest_dems_have_their_contours_and_thinner_ones_none() {
+    let ramp = |nx, ny| {
+        let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap();
+        Heightfield::from_fn(grid, |p| (p.x + p.y) as f32).unwrap()
+    };
+    // One cell: the 0.5 line cuts its south-west corner.
+    let set = extract_dem(&ramp(2, 2), &[0.5]).unwrap();
+    assert_eq!(set.len(), 1);
+    assert_eq!(set.contours()[0].points.len(), 2);
+    assert_eq!(extract_dem(&ramp(2, 5), &[2.5]).unwrap().len(), 1);
+    assert_eq!(extract_dem(&ramp(5, 2), &[2.5]).unwrap().len(), 1);
+    // A single row or column has no cell.
+    assert!(extract_dem(&ramp(1, 5), &[2.5]).unwrap().is_empty());
+    assert!(extract_dem(&ramp(5, 1), &[2.5]).unwrap().is_empty());
+}
