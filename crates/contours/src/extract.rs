@@ -161,102 +161,131 @@ fn triangle_segments(mesh: &impl Mesh, levels: &[f64], t: u32, out: &mut Vec<Seg
     }
 }
 
+/// Every triangle's segments, parallel over chunks of triangles. Segments stay in their chunks
+/// (no second copy of them all): the segments of triangle `t` are in chunk t / CHUNK, from global
+/// index `offsets[t]` on, and chunk c starts at `base[c]`.
+struct Segments {
+    chunks: Vec<Vec<Segment>>,
+    base: Vec<usize>,
+    offsets: Vec<u32>,
+    /// The triangle of each segment, by global index.
+    owner: Vec<u32>,
+}
+
+impl Segments {
+    fn new(mesh: &impl Mesh, levels: &[f64]) -> Self {
+        let n = mesh.num_triangles();
+        let per_chunk: Vec<(Vec<u32>, Vec<Segment>)> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let mut counts = Vec::with_capacity(CHUNK);
+                let mut segs = Vec::new();
+                for t in c * CHUNK..n.min((c + 1) * CHUNK) {
+                    let before = segs.len();
+                    triangle_segments(mesh, levels, t as u32, &mut segs);
+                    counts.push((segs.len() - before) as u32);
+                }
+                segs.shrink_to_fit();
+                (counts, segs)
+            })
+            .collect();
+        let mut offsets = Vec::with_capacity(n + 1);
+        offsets.push(0u32);
+        let mut base = Vec::with_capacity(per_chunk.len());
+        let mut chunks = Vec::with_capacity(per_chunk.len());
+        for (counts, segs) in per_chunk {
+            base.push(offsets[offsets.len() - 1] as usize);
+            for c in counts {
+                offsets.push(offsets[offsets.len() - 1] + c);
+            }
+            chunks.push(segs);
+        }
+        let mut owner: Vec<u32> = Vec::with_capacity(offsets[n] as usize);
+        for t in 0..n {
+            owner.extend(std::iter::repeat_n(t as u32, (offsets[t + 1] - offsets[t]) as usize));
+        }
+        Self { chunks, base, offsets, owner }
+    }
+
+    fn len(&self) -> usize {
+        self.owner.len()
+    }
+
+    fn get(&self, s: usize) -> Segment {
+        let c = self.owner[s] as usize / CHUNK;
+        self.chunks[c][s - self.base[c]]
+    }
+
+    /// The segment of `level` in triangle `t`, if any (a triangle's segments are in level order).
+    fn find(&self, t: u32, level: u32) -> Option<usize> {
+        let c = t as usize / CHUNK;
+        let (a, b) = (self.offsets[t as usize] as usize, self.offsets[t as usize + 1] as usize);
+        let local = &self.chunks[c][a - self.base[c]..b - self.base[c]];
+        let k = local.partition_point(|s| s.level < level);
+        (k < local.len() && local[k].level == level).then_some(a + k)
+    }
+
+    /// The segment that continues `s` across its exit edge (or, with `back`, its entry edge).
+    fn neighbour(&self, mesh: &impl Mesh, s: usize, back: bool) -> Option<usize> {
+        let seg = self.get(s);
+        let slot = if back { seg.entry_slot } else { seg.exit_slot };
+        mesh.neighbor(self.owner[s], usize::from(slot)).and_then(|u| self.find(u, seg.level))
+    }
+}
+
 /// Marching triangles over `mesh` for all `levels` at once: O(triangles + output), parallel over
 /// triangles, then segments are linked through the mesh's neighbour relation into polylines.
 pub(crate) fn extract(mesh: &impl Mesh, levels: &[f64]) -> Result<ContourSet, ContoursError> {
     check_levels(levels)?;
-    let n = mesh.num_triangles();
-    let chunks: Vec<(Vec<u32>, Vec<Segment>)> = (0..n.div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| {
-            let mut counts = Vec::with_capacity(CHUNK);
-            let mut segs = Vec::new();
-            for t in c * CHUNK..n.min((c + 1) * CHUNK) {
-                let before = segs.len();
-                triangle_segments(mesh, levels, t as u32, &mut segs);
-                counts.push((segs.len() - before) as u32);
-            }
-            segs.shrink_to_fit();
-            (counts, segs)
-        })
-        .collect();
-    // Segments stay in their chunks (no second copy of them all): the segments of triangle `t`
-    // are in chunk t / CHUNK, from global index offsets[t] on, and chunk c starts at base[c].
-    let mut offsets = Vec::with_capacity(n + 1);
-    offsets.push(0u32);
-    let mut base = Vec::with_capacity(chunks.len());
-    let mut segments = Vec::with_capacity(chunks.len());
-    for (counts, segs) in chunks {
-        base.push(offsets[offsets.len() - 1] as usize);
-        for c in counts {
-            offsets.push(offsets[offsets.len() - 1] + c);
-        }
-        segments.push(segs);
-    }
-    let total = offsets[n] as usize;
-    let mut owner: Vec<u32> = Vec::with_capacity(total);
-    for t in 0..n {
-        owner.extend(std::iter::repeat_n(t as u32, (offsets[t + 1] - offsets[t]) as usize));
-    }
-    let segment = |s: usize| -> Segment {
-        let c = owner[s] as usize / CHUNK;
-        segments[c][s - base[c]]
-    };
-    // The segment of `level` in triangle `t`, if any (segments of a triangle are sorted by level).
-    let find = |t: u32, level: u32| -> Option<usize> {
-        let c = t as usize / CHUNK;
-        let (a, b) = (offsets[t as usize] as usize, offsets[t as usize + 1] as usize);
-        let k = segments[c][a - base[c]..b - base[c]].partition_point(|s: &Segment| s.level < level);
-        (a + k < b && segments[c][a + k - base[c]].level == level).then_some(a + k)
-    };
-    let next =
-        |s: usize| mesh.neighbor(owner[s], segment(s).exit_slot as usize).and_then(|u| find(u, segment(s).level));
-    let prev =
-        |s: usize| mesh.neighbor(owner[s], segment(s).entry_slot as usize).and_then(|u| find(u, segment(s).level));
-    let mut visited = vec![false; total];
+    let segments = Segments::new(mesh, levels);
+    let mut visited = vec![false; segments.len()];
     let mut contours = Vec::new();
-    for s0 in 0..total {
-        if visited[s0] {
-            continue;
+    for s0 in 0..segments.len() {
+        if !visited[s0] {
+            contours.push(link(mesh, &segments, levels, s0, &mut visited));
         }
-        // Walk back to the start of an open chain (or all the way round a closed one).
-        let mut start = s0;
-        let mut closed = false;
-        while let Some(p) = prev(start) {
-            if p == s0 {
-                closed = true;
-                break;
-            }
-            start = p;
-        }
-        let level = segment(s0).level;
-        let height = levels[level as usize];
-        let at = |s: usize, slot: u8| edge_crossing(mesh, owner[s], slot, height);
-        let mut points = Vec::new();
-        let mut s = start;
-        loop {
-            visited[s] = true;
-            let seg = segment(s);
-            // Crossings of internal edges are dropped, except where an open line starts.
-            if !mesh.internal(owner[s], usize::from(seg.entry_slot)) || (points.is_empty() && !closed) {
-                points.push(at(s, seg.entry_slot));
-            }
-            match next(s) {
-                Some(q) if q == start && closed => break,
-                Some(q) if !visited[q] => s = q,
-                _ => {
-                    points.push(at(s, seg.exit_slot));
-                    break;
-                }
-            }
-        }
-        points.dedup();
-        points.shrink_to_fit();
-        contours.push(Contour { level, height, points, closed });
     }
     // The segments are not needed for the nesting tree: free them first.
-    drop((segments, owner, offsets, visited));
+    drop((segments, visited));
     ContourSet::new(levels.to_vec(), contours)
+}
+
+/// The polyline through segment `s0`: walked back to the start of an open chain (or all the way
+/// round a closed one), then forward, marking its segments visited.
+fn link(mesh: &impl Mesh, segments: &Segments, levels: &[f64], s0: usize, visited: &mut [bool]) -> Contour {
+    let mut start = s0;
+    let mut closed = false;
+    while let Some(p) = segments.neighbour(mesh, start, true) {
+        if p == s0 {
+            closed = true;
+            break;
+        }
+        start = p;
+    }
+    let level = segments.get(s0).level;
+    let height = levels[level as usize];
+    let at = |s: usize, slot: u8| edge_crossing(mesh, segments.owner[s], slot, height);
+    let mut points = Vec::new();
+    let mut s = start;
+    loop {
+        visited[s] = true;
+        let seg = segments.get(s);
+        // Crossings of internal edges are dropped, except where an open line starts.
+        if !mesh.internal(segments.owner[s], usize::from(seg.entry_slot)) || (points.is_empty() && !closed) {
+            points.push(at(s, seg.entry_slot));
+        }
+        match segments.neighbour(mesh, s, false) {
+            Some(q) if q == start && closed => break,
+            Some(q) if !visited[q] => s = q,
+            _ => {
+                points.push(at(s, seg.exit_slot));
+                break;
+            }
+        }
+    }
+    points.dedup();
+    points.shrink_to_fit();
+    Contour { level, height, points, closed }
 }
 
 /// Contours of per-node `heights` on `tin` at each of `levels` (sorted ascending).
