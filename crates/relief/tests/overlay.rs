@@ -29,8 +29,13 @@ fn contour_regions_are_marked_by_nesting_and_kind() {
     assert_eq!(roles(&marks), [Role::Coastline, Role::Raised, Role::Depression]);
     assert!(marks.iter().all(|m| m.closed && m.points.len() == 4));
     assert_eq!(marks[1].points[0], DVec2::new(20.0, 20.0));
-    // The coastline's height is the sea level a preview draws.
+    // The coastline's height is the sea level a preview draws, wherever it is listed.
     assert_eq!(scene_sea_level(&s), Some(0.0));
+    let inner_first = scene(&serde_json::json!({ "contours": { "regions": [
+        { "polygon": square(20.0, 50.0), "height": 100.0 },
+        { "polygon": square(10.0, 90.0), "height": 5.0 },
+    ] } }));
+    assert_eq!(scene_sea_level(&inner_first), Some(5.0));
 }
 
 #[test]
@@ -54,6 +59,16 @@ fn island_hills_are_drawn_as_the_operations_leave_them() {
     assert!(((hi - lo) - DVec2::new(12.0, 24.0)).abs().max_element() < 0.1, "{lo} {hi}");
     // Half the land floor (default 0.1) separates sea from land.
     assert_eq!(scene_sea_level(&s), Some(0.05));
+    // A new coastline is drawn as one; a hill index past the end (the island refuses it when
+    // generating) changes nothing here.
+    let s = scene(&serde_json::json!({ "island": { "operations": [
+        { "coastline": { "points": [[10, 10], [90, 10], [50, 90]] } },
+        { "add_hill": { "center": [50, 40], "radii": [10, 10], "height": 5 } },
+        { "remove_hill": { "hill": 1 } },
+    ] } }));
+    let marks = scene_marks(&s);
+    assert_eq!(roles(&marks), [Role::Coastline, Role::Hill, Role::Hill]);
+    assert!(marks[0].closed && marks[0].points.len() == 3);
 }
 
 #[test]
@@ -109,6 +124,22 @@ fn marks_off_the_image_or_not_finite_are_clipped_without_panicking() {
     ];
     draw_marks(&mut image, &far, &extent);
     assert!(image.pixels.iter().all(|&v| v == 128));
+    // Clipping keeps exactly the part inside: a line from far south-west to the centre colours
+    // the diagonal up to the centre and no further; a vertical line west of the image draws
+    // nothing, one through it a whole column.
+    let mut clipped = grey(101);
+    let marks = [
+        Mark { role: Role::Curve, points: vec![DVec2::splat(-1e9), DVec2::splat(50.0)], closed: false },
+        Mark { role: Role::Stroke, points: vec![DVec2::new(-20.0, -1e9), DVec2::new(-20.0, 1e9)], closed: false },
+        Mark { role: Role::Hill, points: vec![DVec2::new(75.0, 1e9), DVec2::new(75.0, -1e9)], closed: false },
+    ];
+    draw_marks(&mut clipped, &marks, &extent);
+    assert_eq!(pixel(&clipped, 0, 100), [230, 20, 20], "the south-west corner");
+    assert_eq!(pixel(&clipped, 50, 50), [230, 20, 20], "the centre");
+    assert_eq!(pixel(&clipped, 30, 70), [230, 20, 20], "on the way");
+    assert_eq!(pixel(&clipped, 70, 30), [128; 3], "past the centre");
+    assert!((0..101).all(|y| pixel(&clipped, 75, y) == [255, 230, 0]), "the whole column");
+    assert!((0..101).all(|y| pixel(&clipped, 0, y) != [255, 0, 200]), "nothing of the line off the west edge");
     // A line from far away that crosses the image is drawn where it crosses.
     let across =
         [Mark { role: Role::Stroke, points: vec![DVec2::new(-1e12, 50.0), DVec2::new(1e12, 50.0)], closed: false }];
