@@ -324,7 +324,8 @@ fn placed_by_world_file(hf: Heightfield, path: &Path) -> Result<Heightfield, IoE
 
 /// Decodes a file held in memory; `name` appears in errors and, for `.hgt`, gives the tile corner.
 ///
-/// `options.format` is ignored in favour of `format`. Sidecars are not consulted: a raw file
+/// `options.format` is ignored in favour of `format`, and `options.z_range` too (whether codes
+/// have a recorded range is known from the file and its sidecars). Sidecars are not consulted: a raw file
 /// needs [`ReadOptions::raw_dims`] (or a square size) and reads as in [`Format::R16`]'s
 /// no-metadata convention; an ASCII grid reads in metres unless [`ReadOptions::units`] says
 /// otherwise. Suitable for fuzzing: no input makes it panic or allocate beyond its limits.
