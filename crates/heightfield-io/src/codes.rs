@@ -80,11 +80,16 @@ impl Quantisation {
 pub fn quantisation(path: impl AsRef<Path>) -> Result<Option<Quantisation>, IoError> {
     let path = path.as_ref();
     let bytes = crate::read_input(path, Limits::default())?;
-    match Format::detect(path, &bytes) {
+    quantisation_of(path, &bytes)
+}
+
+/// [`quantisation`] of the file at `path` whose contents, `bytes`, are already read.
+pub(crate) fn quantisation_of(path: &Path, bytes: &[u8]) -> Result<Option<Quantisation>, IoError> {
+    match Format::detect(path, bytes) {
         #[cfg(feature = "png")]
         Some(Format::Png16 | Format::Png8) => {
             let image =
-                crate::png_gray::read_gray(&bytes, Limits::default()).map_err(|kind| IoError::new(path, kind))?;
+                crate::png_gray::read_gray(bytes, Limits::default()).map_err(|kind| IoError::new(path, kind))?;
             Ok(Some(match &image.meta {
                 Some(meta) => Quantisation::from_metadata(meta, image.bits),
                 None => Quantisation::plain(image.bits, image.transparent),

@@ -281,18 +281,18 @@ pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Height
     };
     let hf = override_grid(hf, options).map_err(at)?;
     match options.z_range {
-        Some(range) => stretch_codes(hf, range, path),
+        Some(range) => stretch_codes(hf, range, path, &bytes),
         None => Ok(hf),
     }
 }
 
 /// A plain image's `[0, 1]` code values mapped onto `[min, max]` ([`ReadOptions::z_range`]).
-fn stretch_codes(hf: Heightfield, (min, max): (f64, f64), path: &Path) -> Result<Heightfield, IoError> {
+fn stretch_codes(hf: Heightfield, (min, max): (f64, f64), path: &Path, bytes: &[u8]) -> Result<Heightfield, IoError> {
     let at = |kind| IoError::new(path, kind);
     if !(min.is_finite() && max.is_finite() && min < max) {
         return Err(at(IoErrorKind::InvalidMetadata(format!("z range {min}..{max}: give finite min < max"))));
     }
-    match quantisation(path)? {
+    match codes::quantisation_of(path, bytes)? {
         Some(q) if !q.from_metadata => {}
         Some(q) => {
             return Err(at(IoErrorKind::InvalidMetadata(format!(

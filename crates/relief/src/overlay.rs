@@ -20,6 +20,7 @@ use std::f64::consts::TAU;
 
 use glam::DVec2;
 
+use crate::eden_growth::Region;
 use crate::gaussian_terrain::{Region as Selection, Tool};
 use crate::heightfield::Extent;
 use crate::io::RgbImage;
@@ -94,10 +95,7 @@ pub fn scene_marks(scene: &Scene) -> Vec<Mark> {
             .iter()
             .enumerate()
             .flat_map(|(k, r)| {
-                let inside =
-                    |o: &crate::eden_growth::Region| r.polygon.exterior().iter().all(|&p| o.polygon.contains(p));
-                let depth = g.regions.iter().enumerate().filter(|&(j, o)| j != k && inside(o)).count();
-                let role = match (r.depression, depth) {
+                let role = match (r.depression, depth(&g.regions, k)) {
                     (true, _) => Role::Depression,
                     (false, 0) => Role::Coastline,
                     (false, _) => Role::Raised,
@@ -125,17 +123,19 @@ pub fn scene_marks(scene: &Scene) -> Vec<Mark> {
 pub fn scene_sea_level(scene: &Scene) -> Option<f64> {
     match &scene.generator {
         Generator::Contours(g) => {
-            let outermost = |r: &&crate::eden_growth::Region| {
-                !g.regions
-                    .iter()
-                    .any(|o| !std::ptr::eq(o, *r) && r.polygon.exterior().iter().all(|&p| o.polygon.contains(p)))
-            };
-            g.regions.iter().filter(outermost).find_map(|r| r.height)
+            (0..g.regions.len()).filter(|&k| depth(&g.regions, k) == 0).find_map(|k| g.regions[k].height)
         }
         Generator::Island(g) => Some(0.5 * g.settings.land_floor),
         Generator::Diffusion(g) => g.sea_level,
         Generator::Gaussian(_) | Generator::Orometry(_) => None,
     }
+}
+
+/// How many other regions hold region `k` (0: the coastline). The scene need not be valid yet, so
+/// this does not go through `RegionTree`.
+fn depth(regions: &[Region], k: usize) -> usize {
+    let inside = |o: &Region| regions[k].polygon.exterior().iter().all(|&p| o.polygon.contains(p));
+    regions.iter().enumerate().filter(|&(j, o)| j != k && inside(o)).count()
 }
 
 /// The bounds fold used for the curves' drawing step.
@@ -187,8 +187,13 @@ fn island_marks(operations: &[Operation]) -> Vec<Mark> {
 
 /// A hill's footprint: the ellipse of its semi-axes, turned by its rotation.
 fn ellipse(h: &Hill) -> Vec<DVec2> {
-    let (centre, [a, b]) = (DVec2::from(h.center), h.radii);
-    let axis = DVec2::from_angle(h.rotation.to_radians());
+    ring(DVec2::from(h.center), h.radii, h.rotation.to_radians())
+}
+
+/// 64 points round the ellipse of semi-axes `[a, b]` about `centre`, the `a` axis turned by
+/// `rotation` radians.
+fn ring(centre: DVec2, [a, b]: [f64; 2], rotation: f64) -> Vec<DVec2> {
+    let axis = DVec2::from_angle(rotation);
     (0..64)
         .map(|k| {
             let t = TAU * f64::from(k) / 64.0;
@@ -201,9 +206,7 @@ fn ellipse(h: &Hill) -> Vec<DVec2> {
 fn tool_marks(tool: &Tool) -> Vec<Mark> {
     let selection = |region: &Selection| match region {
         Selection::Circle { center, radius } => {
-            let c = DVec2::from(*center);
-            let ring = (0..64).map(|k| c + *radius * DVec2::from_angle(TAU * f64::from(k) / 64.0)).collect();
-            Mark::line(Role::Selection, ring, true)
+            Mark::line(Role::Selection, ring(DVec2::from(*center), [*radius; 2], 0.0), true)
         }
         Selection::Lasso { points } => {
             Mark::line(Role::Selection, points.iter().map(|&p| DVec2::from(p)).collect(), true)

@@ -97,7 +97,7 @@ pub(crate) fn info(args: &InfoArgs, ui: &mut Ui) -> Result<()> {
 
 fn info_text(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> String {
     let grid = dem.grid();
-    let (e, c) = (grid.extent(), grid.cell_size());
+    let (e, o, c) = (grid.extent(), outer_extent(grid), grid.cell_size());
     let unit = match grid.units() {
         Units::Metres => "m",
         Units::Degrees => "°",
@@ -117,14 +117,20 @@ fn info_text(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> Str
         e.max.x,
         e.min.y,
         e.max.y,
-        e.min.x - 0.5 * c.x,
-        e.max.x + 0.5 * c.x,
-        e.min.y - 0.5 * c.y,
-        e.max.y + 0.5 * c.y,
+        o.min.x,
+        o.max.x,
+        o.min.y,
+        o.max.y,
         c.x,
         c.y,
         dem.no_data_count()
     ) + &codes.map(codes_text).unwrap_or_default()
+}
+
+/// The extent of the cells' outer edges: the samples' extent grown by half a cell each way.
+fn outer_extent(grid: &relief::heightfield::GridSpec) -> relief::heightfield::Extent {
+    let (e, half) = (grid.extent(), 0.5 * grid.cell_size());
+    relief::heightfield::Extent::new(e.min - half, e.max + half)
 }
 
 /// How a quantised file's codes read, for `info`.
@@ -146,14 +152,14 @@ fn codes_text(q: Quantisation) -> String {
 
 fn info_json(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> String {
     let grid = dem.grid();
-    let (e, c) = (grid.extent(), grid.cell_size());
+    let (e, o, c) = (grid.extent(), outer_extent(grid), grid.cell_size());
     let stats = dem.statistics();
     let value = serde_json::json!({
         "path": path,
         "nx": dem.nx(),
         "ny": dem.ny(),
         "extent": { "min": [e.min.x, e.min.y], "max": [e.max.x, e.max.y] },
-        "outer_extent": { "min": [e.min.x - 0.5 * c.x, e.min.y - 0.5 * c.y], "max": [e.max.x + 0.5 * c.x, e.max.y + 0.5 * c.y] },
+        "outer_extent": { "min": [o.min.x, o.min.y], "max": [o.max.x, o.max.y] },
         "cell_size": [c.x, c.y],
         "units": match grid.units() { Units::Metres => "metres", Units::Degrees => "degrees" },
         "min": stats.map(|s| s.min),

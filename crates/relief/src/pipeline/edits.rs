@@ -41,9 +41,7 @@ impl Edits {
         }
         Ok(out)
     }
-}
 
-impl Edits {
     /// How many edits there are: the units of work [`apply_edits`] ticks.
     pub(super) fn len(&self) -> usize {
         self.steps.len()
@@ -63,34 +61,34 @@ pub(super) fn apply_edits(
     tolerance: f64,
     tick: &mut Tick<'_>,
 ) -> Result<ContourSet, ReliefError> {
-    const REFINEMENTS: u32 = 6;
     for step in &edits.steps {
         set = match step {
             Step::Smooth(s) => set.smoothed(s).map_err(|e| E::step("edits", e))?,
-            Step::Warp(k) => {
-                let Some(warp) = edits.warps.get(*k) else {
-                    tick.tick();
-                    continue;
-                };
-                let mut tol = tolerance;
-                let mut round = 0;
-                loop {
-                    let warped = warp_set(&set, warp, tol)?;
-                    match warped.check_invariants() {
-                        Ok(()) => break warped,
-                        Err(e) if round == REFINEMENTS => {
-                            return Err(E::step("edits", format!("warp {k}: {e} at tolerance {tol}")));
-                        }
-                        Err(_) => {}
-                    }
-                    tol *= 0.25;
-                    round += 1;
-                }
-            }
+            Step::Warp(k) => match edits.warps.get(*k) {
+                Some(warp) => warp_checked(&set, warp, *k, tolerance)?,
+                None => set,
+            },
         };
         tick.tick();
     }
     Ok(set)
+}
+
+/// `set` warped by warp `k`, checked and warped again at a quarter of the tolerance until clean
+/// (at most six times).
+fn warp_checked(set: &ContourSet, warp: &dyn Warp, k: usize, tolerance: f64) -> Result<ContourSet, ReliefError> {
+    const REFINEMENTS: u32 = 6;
+    let (mut tol, mut round) = (tolerance, 0);
+    loop {
+        let warped = warp_set(set, warp, tol)?;
+        match warped.check_invariants() {
+            Ok(()) => return Ok(warped),
+            Err(e) if round == REFINEMENTS => {
+                return Err(E::step("edits", format!("warp {k}: {e} at tolerance {tol}")));
+            }
+            Err(_) => (tol, round) = (tol * 0.25, round + 1),
+        }
+    }
 }
 
 /// Every contour of `set` warped to within `tolerance`.

@@ -52,22 +52,23 @@ impl<'a> Timer<'a> {
 
     /// Runs `f` as the step `step`.
     pub(crate) fn step<T>(&mut self, step: &'static str, f: impl FnOnce() -> T) -> T {
-        self.progress.start(step);
-        let start = Instant::now();
-        let out = f();
-        let elapsed = start.elapsed();
-        self.progress.finish(step, elapsed);
-        self.timings.push(Timing { step, ms: elapsed.as_secs_f64() * 1e3 });
-        out
+        self.timed(step, |_| f())
     }
 
     /// Runs `f` as the step `step` of `total` units of work; `f` reports each unit done through
     /// the [`Tick`] it is given.
     pub(crate) fn counted<T>(&mut self, step: &'static str, total: u64, f: impl FnOnce(&mut Tick<'_>) -> T) -> T {
+        self.timed(step, |progress| {
+            progress.advance(step, 0, total);
+            f(&mut Tick { progress, step, done: 0, total })
+        })
+    }
+
+    /// Starts `step`, runs `f` with the caller's progress, finishes it and keeps its time.
+    fn timed<T>(&mut self, step: &'static str, f: impl FnOnce(&mut dyn Progress) -> T) -> T {
         self.progress.start(step);
         let start = Instant::now();
-        self.progress.advance(step, 0, total);
-        let out = f(&mut Tick { progress: &mut *self.progress, step, done: 0, total });
+        let out = f(&mut *self.progress);
         let elapsed = start.elapsed();
         self.progress.finish(step, elapsed);
         self.timings.push(Timing { step, ms: elapsed.as_secs_f64() * 1e3 });
