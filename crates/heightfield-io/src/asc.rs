@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use glam::DVec2;
-use relief_heightfield::{GridSpec, Heightfield, Units};
+use relief_heightfield::{GridSpec, Heightfield};
 
 use crate::error::clip;
 use crate::format::is_asc_header_key as is_header_key;
@@ -210,26 +210,6 @@ pub(crate) fn encode(hf: &Heightfield) -> Vec<u8> {
     s.into_bytes()
 }
 
-/// Units a `.prj` describes: degrees for a geographic CRS (WKT `GEOGCS`/`GEOGCRS` without a
-/// projection, or the old ESRI `Projection GEOGRAPHIC`), metres otherwise.
-pub(crate) fn prj_units(prj: &str) -> Units {
-    let up = prj.to_ascii_uppercase();
-    let projected = up.contains("PROJCS") || up.contains("PROJCRS") || up.contains("LOCAL_CS");
-    let geographic = up.contains("GEOGCS") || up.contains("GEOGCRS") || up.contains("GEOGRAPHIC");
-    if geographic && !projected { Units::Degrees } else { Units::Metres }
-}
-
-/// The `.prj` written beside an `.asc`: WGS84 for degrees, a local metric CRS for metres.
-pub(crate) fn prj_text(units: Units) -> &'static str {
-    match units {
-        Units::Degrees => {
-            "GEOGCS[\"GCS_WGS_1984\",DATUM[\"D_WGS_1984\",SPHEROID[\"WGS_1984\",6378137.0,298.257223563]],\
-             PRIMEM[\"Greenwich\",0.0],UNIT[\"Degree\",0.0174532925199433]]\n"
-        }
-        Units::Metres => "LOCAL_CS[\"relief planar metres\",LOCAL_DATUM[\"none\",0],UNIT[\"metre\",1]]\n",
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -278,13 +258,5 @@ mod tests {
         let text = String::from_utf8(encode(&hf)).unwrap();
         assert!(text.contains("NODATA_value -10001\n"), "{text}");
         assert_eq!(parse(&text).unwrap(), hf);
-    }
-
-    #[test]
-    fn prj_says_degrees_only_for_geographic_crs() {
-        assert_eq!(prj_units(prj_text(Units::Degrees)), Units::Degrees);
-        assert_eq!(prj_units(prj_text(Units::Metres)), Units::Metres);
-        assert_eq!(prj_units("PROJCS[\"UTM 17N\",GEOGCS[\"WGS 84\"]]"), Units::Metres);
-        assert_eq!(prj_units("Projection    GEOGRAPHIC\nDatum WGS84\n"), Units::Degrees);
     }
 }

@@ -5,7 +5,7 @@
 use std::io::{Cursor, Seek, Write};
 
 use glam::DVec2;
-use relief_heightfield::{GridSpec, Heightfield, Units};
+use relief_heightfield::{Crs, GridSpec, Heightfield, Units};
 use tiff::decoder::{Decoder, DecodingResult};
 use tiff::encoder::colortype::Gray32Float;
 use tiff::encoder::compression::DeflateLevel;
@@ -24,7 +24,16 @@ const GEOGRAPHIC_TYPE: u16 = 2048;
 const MODEL_PROJECTED: u16 = 1;
 const MODEL_GEOGRAPHIC: u16 = 2;
 const RASTER_PIXEL_IS_POINT: u16 = 2;
+const GT_CITATION: u16 = 1026;
+const GEOG_ANGULAR_UNITS: u16 = 2054;
+const PROJECTED_CS_TYPE: u16 = 3072;
+const PROJ_LINEAR_UNITS: u16 = 3076;
 const GCS_WGS_84: u16 = 4326;
+/// "User-defined" in every `GeoKey` that holds an EPSG code.
+const USER_DEFINED: u16 = 32767;
+const ANGULAR_DEGREE: u16 = 9102;
+/// `GeoAsciiParamsTag`, where ASCII `GeoKey` values live.
+const GEO_ASCII_PARAMS: u16 = 34737;
 /// GDAL's private tag holding band metadata as XML (scale, offset, statistics).
 const GDAL_METADATA: u16 = 42112;
 
@@ -142,11 +151,81 @@ impl GeoTags {
         // Our origin is the south-west sample, raster (half, ny − 1 + half); subtracting the
         // tiepoint's raster position first keeps a tiepoint placed on that sample exact.
         let origin = DVec2::new(tx + (half - ti) * sx, ty - ((ny - 1) as f64 + half - tj) * sy);
-        let units = if self.key(GT_MODEL_TYPE) == Some(MODEL_GEOGRAPHIC) { Units::Degrees } else { Units::Metres };
         GridSpec::new(nx, ny, origin, DVec2::new(sx, sy))
-            .and_then(|g| g.with_units(units))
+            .and_then(|g| g.with_units(self.units()))
             .map_err(|e| bad(e.to_string()))
     }
+
+    /// The EPSG-coded CRS the geo keys name (`GeographicTypeGeoKey` for a geographic model,
+    /// `ProjectedCSTypeGeoKey` otherwise), `None` when user-defined or absent.
+    fn crs(&self) -> Option<Crs> {
+        let code = if self.key(GT_MODEL_TYPE) == Some(MODEL_GEOGRAPHIC) {
+            self.key(GEOGRAPHIC_TYPE)
+        } else {
+            self.key(PROJECTED_CS_TYPE)
+        }?;
+        crate::crs::from_epsg(u32::from(code)).ok()
+    }
+
+    /// Degrees for a geographic model; for a projected one the linear units key, else the units of
+    /// the CRS, else metres.
+    fn units(&self) -> Units {
+        if self.key(GT_MODEL_TYPE) == Some(MODEL_GEOGRAPHIC) {
+            return Units::Degrees;
+        }
+        match self.key(PROJ_LINEAR_UNITS) {
+            Some(code) if linear_units(code).is_some() => linear_units(code).unwrap_or_default(),
+            _ => self.crs().and_then(|c| c.units()).unwrap_or(Units::Metres),
+        }
+    }
+}
+
+/// The EPSG unit-of-measure code of a planar unit (metre 9001, foot 9002, US survey foot 9003).
+fn linear_unit_code(units: Units) -> Option<u16> {
+    match units {
+        Units::Metres => Some(9001),
+        Units::Feet => Some(9002),
+        Units::UsSurveyFeet => Some(9003),
+        Units::Degrees => None,
+    }
+}
+
+fn linear_units(code: u16) -> Option<Units> {
+    [Units::Metres, Units::Feet, Units::UsSurveyFeet].into_iter().find(|&u| linear_unit_code(u) == Some(code))
+}
+
+/// The `GeoKeyDirectory` (and the `GeoAsciiParams` it points into, if any) for a grid in `units`
+/// labelled `crs`: its EPSG code when it has one; a user-defined CRS named in `GTCitationGeoKey`
+/// otherwise; WGS 84 for an unlabelled geographic grid.
+fn geo_keys(units: Units, crs: Option<&Crs>) -> (Vec<u16>, Option<String>) {
+    let code = crs.and_then(Crs::epsg).and_then(|c| u16::try_from(c).ok()).filter(|&c| c != USER_DEFINED);
+    let geographic = units == Units::Degrees;
+    let model = if geographic { MODEL_GEOGRAPHIC } else { MODEL_PROJECTED };
+    let mut entries: Vec<[u16; 4]> = vec![[GT_MODEL_TYPE, 0, 1, model], [GT_RASTER_TYPE, 0, 1, RASTER_PIXEL_IS_POINT]];
+    let citation = crs.filter(|_| code.is_none()).map(|c| format!("{}|", c.name()));
+    if let Some(text) = &citation {
+        let len = u16::try_from(text.len()).unwrap_or(u16::MAX);
+        entries.push([GT_CITATION, GEO_ASCII_PARAMS, len, 0]);
+    }
+    if geographic {
+        let gcs = match (code, crs) {
+            (Some(c), _) => c,
+            (None, None) => GCS_WGS_84,
+            (None, Some(_)) => USER_DEFINED,
+        };
+        entries.push([GEOGRAPHIC_TYPE, 0, 1, gcs]);
+        entries.push([GEOG_ANGULAR_UNITS, 0, 1, ANGULAR_DEGREE]);
+    } else {
+        if let Some(c) = code.or(crs.map(|_| USER_DEFINED)) {
+            entries.push([PROJECTED_CS_TYPE, 0, 1, c]);
+        }
+        if let Some(u) = linear_unit_code(units) {
+            entries.push([PROJ_LINEAR_UNITS, 0, 1, u]);
+        }
+    }
+    let n = u16::try_from(entries.len()).unwrap_or(0);
+    let keys = [1, 1, 0, n].into_iter().chain(entries.into_iter().flatten()).collect();
+    (keys, citation)
 }
 
 /// Converts decoded codes to f32 elevations (`code × scale + offset`, in f64), mapping the no-data
@@ -227,7 +306,7 @@ pub(crate) fn decode_placed(bytes: &[u8], limits: Limits) -> Result<(Heightfield
         return Err(IoErrorKind::HeaderMismatch(format!("TIFF is {w}x{h} but decoded to {} samples", samples.len())));
     }
     flip_rows(&mut samples, w as usize);
-    Ok((Heightfield::from_samples(grid, samples)?, placed))
+    Ok((Heightfield::from_samples(grid, samples)?.with_crs(geo.crs()), placed))
 }
 
 fn write_image<W: Write + Seek, K: TiffKind>(
@@ -243,30 +322,11 @@ fn write_image<W: Write + Seek, K: TiffKind>(
     dir.write_tag(Tag::ModelPixelScaleTag, &[s.x, s.y, 0.0][..])?;
     // The tiepoint sits on the south-west sample so that reading it back gives our origin exactly.
     dir.write_tag(Tag::ModelTiepointTag, &[0.0, (hf.ny() - 1) as f64, 0.0, o.x, o.y, 0.0][..])?;
-    let keys: Vec<u16> = match g.units() {
-        Units::Degrees => vec![
-            1,
-            1,
-            0,
-            3,
-            GT_MODEL_TYPE,
-            0,
-            1,
-            MODEL_GEOGRAPHIC,
-            GT_RASTER_TYPE,
-            0,
-            1,
-            RASTER_PIXEL_IS_POINT,
-            GEOGRAPHIC_TYPE,
-            0,
-            1,
-            GCS_WGS_84,
-        ],
-        Units::Metres => {
-            vec![1, 1, 0, 2, GT_MODEL_TYPE, 0, 1, MODEL_PROJECTED, GT_RASTER_TYPE, 0, 1, RASTER_PIXEL_IS_POINT]
-        }
-    };
+    let (keys, ascii) = geo_keys(g.units(), hf.crs());
     dir.write_tag(Tag::GeoKeyDirectoryTag, &keys[..])?;
+    if let Some(text) = ascii {
+        dir.write_tag(Tag::Unknown(GEO_ASCII_PARAMS), text.as_str())?;
+    }
     if hf.has_no_data() {
         dir.write_tag(Tag::GdalNodata, "nan")?;
     }

@@ -27,6 +27,17 @@
 //! sidecar, EXR/TIFF without our attributes or geo tags) read with origin 0, cell size 1, metres;
 //! [`ReadOptions::units`] and [`ReadOptions::origin`] override what a file says.
 //!
+//! Coordinate reference systems are kept, not reprojected: a field read from a `GeoTIFF` (its
+//! EPSG-coded `GeoKey`s), an ASCII grid's `.prj` (WKT 1, WKT 2 or ESRI WKT) or a file relief wrote
+//! carries its [`Crs`] ([`Heightfield::crs`]) and the grid takes its units from it (metres, feet,
+//! US survey feet, degrees). Every writer labels its output the same way: `GeoTIFF` keys (a
+//! user-defined CRS keeps its name and units), the `.prj` beside an ASCII grid, the metadata of
+//! PNG, raw and EXR files. EPSG codes get their WKT from the `crs-definitions` tables (generated from
+//! the EPSG registry: thousands of definitions nobody should type by hand). An ASCII grid without
+//! `.prj` whose extent fits ±180° × ±90° with cells under an arc-minute reads in degrees, with a
+//! [`ReadNote`] ([`read_with_notes`]); [`ReadOptions::crs`] / [`ReadOptions::units`] override
+//! ([`parse_crs`] reads `EPSG:n`, WKT or a `.prj` path).
+//!
 //! Conventions: files are north-up (first row = north), while a [`GridSpec`] stores row `j = 0` in
 //! the south, so readers and writers flip rows. Grids are node-registered: `GeoTIFF`s are written
 //! `PixelIsPoint`, ASCII grids with `xllcenter`/`yllcenter`, and `PixelIsArea` / `xllcorner`
@@ -72,6 +83,7 @@
 mod asc;
 mod atomic;
 mod codes;
+mod crs;
 mod error;
 #[cfg(feature = "geotiff")]
 mod geotiff;
@@ -94,9 +106,10 @@ use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 use glam::DVec2;
-use relief_heightfield::{GridSpec, Heightfield, Units};
+use relief_heightfield::{Crs, GridSpec, Heightfield, Units};
 
 pub use codes::{Quantisation, quantisation};
+pub use crs::parse_crs;
 pub use error::{CapError, IoError, IoErrorKind};
 pub use format::Format;
 pub use limits::Limits;
@@ -105,7 +118,7 @@ pub use preview::{NO_DATA_RGB, RgbImage, ShadeOptions, shaded_relief};
 use raw::RawKind;
 
 /// How to read a file. `ReadOptions::default()` detects the format and applies [`Limits::default`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 #[non_exhaustive]
 pub struct ReadOptions {
     /// Caps on what the header may make the reader allocate.
@@ -115,8 +128,12 @@ pub struct ReadOptions {
     /// `(nx, ny)` of a raw file without a sidecar. Without either, a raw file must hold a square
     /// number of samples (as Unity and Unreal heightmaps do).
     pub raw_dims: Option<(usize, usize)>,
-    /// Units to give the grid, overriding the file (`.prj`, geo keys, metadata).
+    /// Units to give the grid, overriding the file (`.prj`, geo keys, metadata) and the CRS.
     pub units: Option<Units>,
+    /// Coordinate reference system to label the grid with, overriding the file's; its units
+    /// (from its WKT, looked up for a bare EPSG code) become the grid's unless
+    /// [`ReadOptions::units`] is given too. Nothing is reprojected.
+    pub crs: Option<Crs>,
     /// Position of sample `(0, 0)` (the south-west sample), overriding the file; needed for a `.hgt`
     /// tile whose file name is not a tile name such as `N36W085`.
     pub origin: Option<DVec2>,
@@ -155,6 +172,13 @@ impl ReadOptions {
     #[must_use]
     pub fn with_units(mut self, units: Units) -> Self {
         self.units = Some(units);
+        self
+    }
+
+    /// The same options labelling the grid with `crs` (see [`ReadOptions::crs`]).
+    #[must_use]
+    pub fn with_crs(mut self, crs: Crs) -> Self {
+        self.crs = Some(crs);
         self
     }
 
@@ -246,11 +270,45 @@ pub fn read(path: impl AsRef<Path>) -> Result<Heightfield, IoError> {
 /// # Errors
 /// As [`read`].
 pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Heightfield, IoError> {
+    read_with_notes(path, options).map(|(hf, _)| hf)
+}
+
+/// Something a reader assumed because the file did not say it; a command should show it to the
+/// user, who can override it ([`ReadOptions::units`], [`ReadOptions::crs`]).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum ReadNote {
+    /// An ASCII grid without a `.prj` was read in degrees: its extent fits within ±180° × ±90°
+    /// and its cells are finer than an arc-minute, which no metric DEM of useful size has.
+    GuessedDegrees {
+        /// The cell size, in the file's units.
+        cell_size: f64,
+    },
+}
+
+impl std::fmt::Display for ReadNote {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ReadNote::GuessedDegrees { cell_size } => write!(
+                f,
+                "no .prj: read as geographic degrees (cell size {cell_size} fits only degrees); \
+                 give --units metres or --crs EPSG:n if that is wrong"
+            ),
+        }
+    }
+}
+
+/// As [`read_with`], also returning what the reader had to assume ([`ReadNote`]).
+///
+/// # Errors
+/// As [`read`].
+pub fn read_with_notes(path: impl AsRef<Path>, options: &ReadOptions) -> Result<(Heightfield, Vec<ReadNote>), IoError> {
     let path = path.as_ref();
     let at = |kind| IoError::new(path, kind);
     let bytes = read_input(path, options.limits)?;
     let format =
         options.format.or_else(|| Format::detect(path, &bytes)).ok_or_else(|| at(IoErrorKind::UnknownFormat))?;
+    let mut notes = Vec::new();
     let hf = match format {
         Format::R16 | Format::R32 => {
             let sidecar_path = raw_sidecar_path(path);
@@ -263,13 +321,13 @@ pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Height
         }
         Format::Asc => {
             let hf = asc::decode(&bytes, options.limits).map_err(at)?;
-            let prj_path = path.with_extension("prj");
-            match read_small_text(&prj_path, 1 << 16)? {
-                Some(prj) if options.units.is_none() => {
-                    override_grid(hf, &ReadOptions::default().with_units(asc::prj_units(&prj)))
-                        .map_err(|k| IoError::new(&prj_path, k))?
-                }
-                _ => hf,
+            let prj = path.with_extension("prj");
+            let guess = options.units.is_none() && options.crs.is_none() && crs::looks_geographic(hf.grid());
+            if read_small_text(&prj, 1 << 16)?.is_none() && guess {
+                notes.push(ReadNote::GuessedDegrees { cell_size: hf.grid().cell_size().x });
+                override_grid(hf, &ReadOptions::default().with_units(Units::Degrees)).map_err(at)?
+            } else {
+                labelled_by_prj(hf, path, options)?
             }
         }
         #[cfg(feature = "geotiff")]
@@ -280,10 +338,24 @@ pub fn read_with(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Height
         _ => decode_bytes(&bytes, format, path, options).map_err(at)?,
     };
     let hf = override_grid(hf, options).map_err(at)?;
-    match options.z_range {
-        Some(range) => stretch_codes(hf, range, path, &bytes),
-        None => Ok(hf),
+    let hf = match options.z_range {
+        Some(range) => stretch_codes(hf, range, path, &bytes)?,
+        None => hf,
+    };
+    Ok((hf, notes))
+}
+
+/// `hf` labelled with the CRS and units of the `.prj` beside `path`, if there is one and the
+/// options do not override them.
+fn labelled_by_prj(hf: Heightfield, path: &Path, options: &ReadOptions) -> Result<Heightfield, IoError> {
+    let prj_path = path.with_extension("prj");
+    let Some(prj) = read_small_text(&prj_path, 1 << 16)? else { return Ok(hf) };
+    if options.units.is_some() || options.crs.is_some() {
+        return Ok(hf);
     }
+    let (crs, units) = crs::read_prj(&prj);
+    let hf = override_grid(hf, &ReadOptions::default().with_units(units)).map_err(|k| IoError::new(&prj_path, k))?;
+    Ok(hf.with_crs(crs))
 }
 
 /// A plain image's `[0, 1]` code values mapped onto `[min, max]` ([`ReadOptions::z_range`]).
@@ -390,11 +462,13 @@ pub fn write_with(path: impl AsRef<Path>, hf: &Heightfield, options: &WriteOptio
         Format::R16 | Format::R32 => {
             let (bytes, meta) = raw::encode(hf, raw_kind(format), options.range).map_err(at)?;
             atomic::write(path, &bytes)?;
+            // The sidecar holds the CRS too; no `.prj`, which would collide with an `.asc` of the
+            // same stem, and GIS tools read no headerless raw without a header of their own.
             atomic::write(&raw_sidecar_path(path), meta.to_json().as_bytes())
         }
         Format::Asc => {
             atomic::write(path, &asc::encode(hf))?;
-            atomic::write(&path.with_extension("prj"), asc::prj_text(hf.grid().units()).as_bytes())
+            atomic::write(&path.with_extension("prj"), crs::prj_text(hf.crs(), hf.grid().units()).as_bytes())
         }
         Format::Hgt => atomic::write(path, &hgt::encode(hf, Some(path)).map_err(at)?),
         _ => atomic::write(path, &encode_bytes(hf, format, options).map_err(at)?),
@@ -596,17 +670,21 @@ fn read_small_text(path: &Path, max: u64) -> Result<Option<String>, IoError> {
     Ok(Some(text))
 }
 
-/// Applies the origin and units overrides of [`ReadOptions`].
+/// Applies the origin, cell size, CRS and units overrides of [`ReadOptions`]; a CRS given
+/// without units brings its own.
 fn override_grid(hf: Heightfield, options: &ReadOptions) -> Result<Heightfield, IoErrorKind> {
-    let (origin, units, cell) = (options.origin, options.units, options.cell_size);
-    if origin.is_none() && units.is_none() && cell.is_none() {
+    let (origin, cell) = (options.origin, options.cell_size);
+    let crs = options.crs.clone().map(crs::complete);
+    let units = options.units.or_else(|| crs.as_ref().and_then(Crs::units));
+    if origin.is_none() && units.is_none() && cell.is_none() && crs.is_none() {
         return Ok(hf);
     }
     let g = *hf.grid();
     let grid = GridSpec::new(g.nx(), g.ny(), origin.unwrap_or(g.origin()), cell.unwrap_or(g.cell_size()))
         .and_then(|n| n.with_units(units.unwrap_or(g.units())))
         .map_err(|e| IoErrorKind::InvalidMetadata(e.to_string()))?;
-    Ok(Heightfield::from_samples(grid, hf.into_samples())?)
+    let kept = crs.or_else(|| hf.crs().cloned());
+    Ok(Heightfield::from_samples(grid, hf.into_samples())?.with_crs(kept))
 }
 
 /// The crate README's example, compiled and run as a doc test.

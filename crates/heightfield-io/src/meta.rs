@@ -2,7 +2,7 @@
 //! that maps elevations to integer codes and back.
 
 use glam::DVec2;
-use relief_heightfield::{GridSpec, Heightfield, Units};
+use relief_heightfield::{Crs, GridSpec, Heightfield, Units};
 use serde::{Deserialize, Serialize};
 
 use crate::IoErrorKind;
@@ -29,6 +29,9 @@ pub(crate) struct Metadata {
     pub max: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub no_data_code: Option<u32>,
+    /// The coordinate reference system, when the field has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crs: Option<Crs>,
 }
 
 impl Metadata {
@@ -52,6 +55,7 @@ impl Metadata {
             min: mm.map(|m| f64::from(m.0)),
             max: mm.map(|m| f64::from(m.1)),
             no_data_code: (quantised && hf.has_no_data()).then_some(0),
+            crs: hf.crs().cloned(),
         }
     }
 

@@ -1,6 +1,7 @@
 //! `OpenEXR`: one f32 channel `Y`, north row first, NaN for no-data; the grid geometry in one
 //! custom text attribute `relief.grid`: `"<origin x> <origin y> <cell x> <cell y> <units>"`, the
-//! numbers written in Rust's shortest round-trip form so they read back exactly.
+//! numbers written in Rust's shortest round-trip form so they read back exactly, then, when the
+//! field has a CRS, a second line holding it as JSON.
 //!
 //! One attribute, not five: `exr` keeps custom attributes in a `HashMap`, whose iteration order —
 //! and so the header's bytes — would change from run to run with several. Files from earlier
@@ -14,7 +15,7 @@ use exr::prelude::{
     MetaData, ReadChannels, ReadLayers, SampleType, SmallVec, Text, WritableImage, read,
 };
 use glam::DVec2;
-use relief_heightfield::{GridSpec, Heightfield, Units};
+use relief_heightfield::{Crs, GridSpec, Heightfield, Units};
 
 use crate::error::decode_io;
 use crate::meta::{flip_rows, north_up, plain_grid};
@@ -113,11 +114,12 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
         )));
     }
     flip_rows(&mut samples, nx);
-    let grid = geometry(&layer.attributes, nx, ny)?;
-    Ok(Heightfield::from_samples(grid, samples)?)
+    let (grid, crs) = geometry(&layer.attributes, nx, ny)?;
+    Ok(Heightfield::from_samples(grid, samples)?.with_crs(crs))
 }
 
-fn geometry(attrs: &LayerAttributes, nx: usize, ny: usize) -> Result<GridSpec, IoErrorKind> {
+/// The grid and CRS the layer's attributes describe.
+fn geometry(attrs: &LayerAttributes, nx: usize, ny: usize) -> Result<(GridSpec, Option<Crs>), IoErrorKind> {
     match attrs.other.get(&Text::from(GRID)) {
         None => {}
         Some(AttributeValue::Text(t)) => return parse_grid(&t.to_string(), nx, ny),
@@ -143,9 +145,10 @@ fn geometry(attrs: &LayerAttributes, nx: usize, ny: usize) -> Result<GridSpec, I
         }
     };
     match values {
-        [None, None, None, None] => plain_grid(nx, ny),
+        [None, None, None, None] => Ok((plain_grid(nx, ny)?, None)),
         [Some(ox), Some(oy), Some(cx), Some(cy)] => GridSpec::new(nx, ny, DVec2::new(ox, oy), DVec2::new(cx, cy))
             .and_then(|g| g.with_units(units))
+            .map(|g| (g, None))
             .map_err(|e| IoErrorKind::InvalidMetadata(e.to_string())),
         _ => Err(IoErrorKind::InvalidMetadata(format!(
             "the relief geometry attributes must all be present: {ORIGIN_X}, {ORIGIN_Y}, {CELL_X}, {CELL_Y}"
@@ -153,38 +156,45 @@ fn geometry(attrs: &LayerAttributes, nx: usize, ny: usize) -> Result<GridSpec, I
     }
 }
 
-/// Encodes uncompressed, or with ZIP over 16-line blocks when `compress` is set.
-/// Reads `"<origin x> <origin y> <cell x> <cell y> <units>"`.
-fn parse_grid(text: &str, nx: usize, ny: usize) -> Result<GridSpec, IoErrorKind> {
+/// Reads `"<origin x> <origin y> <cell x> <cell y> <units>"`, optionally followed by a line with
+/// the CRS as JSON (`{"epsg": …, "wkt": …}`).
+fn parse_grid(text: &str, nx: usize, ny: usize) -> Result<(GridSpec, Option<Crs>), IoErrorKind> {
     let bad = || {
         IoErrorKind::InvalidMetadata(format!(
-            "attribute {GRID} is {text:?}; expected \"<origin x> <origin y> <cell x> <cell y> metres|degrees\""
+            "attribute {GRID} is {text:?}; expected \"<origin x> <origin y> <cell x> <cell y> <units>\""
         ))
     };
-    let parts: Vec<&str> = text.split_whitespace().collect();
+    let (line, crs) = text.split_once('\n').unwrap_or((text, ""));
+    let parts: Vec<&str> = line.split_whitespace().collect();
     let [ox, oy, cx, cy, units] = parts[..] else { return Err(bad()) };
     let number = |s: &str| s.parse::<f64>().map_err(|_| bad());
-    let units = match units {
-        "metres" => Units::Metres,
-        "degrees" => Units::Degrees,
-        _ => return Err(bad()),
+    let units: Units = units.parse().map_err(|_| bad())?;
+    let crs = match crs.trim() {
+        "" => None,
+        json => Some(
+            serde_json::from_str::<Crs>(json)
+                .map_err(|e| IoErrorKind::InvalidMetadata(format!("attribute {GRID}: CRS {e}")))?,
+        ),
     };
-    GridSpec::new(nx, ny, DVec2::new(number(ox)?, number(oy)?), DVec2::new(number(cx)?, number(cy)?))
+    let grid = GridSpec::new(nx, ny, DVec2::new(number(ox)?, number(oy)?), DVec2::new(number(cx)?, number(cy)?))
         .and_then(|g| g.with_units(units))
-        .map_err(|e| IoErrorKind::InvalidMetadata(e.to_string()))
+        .map_err(|e| IoErrorKind::InvalidMetadata(e.to_string()))?;
+    Ok((grid, crs))
 }
 
+/// Encodes uncompressed, or with ZIP over 16-line blocks when `compress` is set.
 pub(crate) fn encode(hf: &Heightfield, compress: bool) -> Result<Vec<u8>, IoErrorKind> {
     let g = hf.grid();
     let data = north_up(hf, |_, _, v| v);
     let channel = AnyChannel::new("Y", FlatSamples::F32(data));
     let mut attrs = LayerAttributes::default();
-    let units = match g.units() {
-        Units::Metres => "metres",
-        Units::Degrees => "degrees",
-    };
     let (o, c) = (g.origin(), g.cell_size());
-    let grid = format!("{} {} {} {} {units}", o.x, o.y, c.x, c.y);
+    let mut grid = format!("{} {} {} {} {}", o.x, o.y, c.x, c.y, g.units().name());
+    if let Some(crs) = hf.crs() {
+        // One attribute keeps the header's bytes reproducible (see the module docs).
+        grid.push('\n');
+        grid.push_str(&serde_json::to_string(crs).unwrap_or_default());
+    }
     attrs.other.insert(Text::from(GRID), AttributeValue::Text(Text::from(grid.as_str())));
     let encoding = if compress { Encoding::SMALL_LOSSLESS } else { Encoding::UNCOMPRESSED };
     let layer = Layer::new((hf.nx(), hf.ny()), attrs, encoding, AnyChannels::sort(SmallVec::from_vec(vec![channel])));

@@ -139,7 +139,8 @@ pub(crate) fn decode(bytes: &[u8], limits: Limits) -> Result<Heightfield, IoErro
         (plain_grid(nx, ny)?, samples)
     };
     flip_rows(&mut samples, nx);
-    Ok(Heightfield::from_samples(grid, samples)?)
+    let crs = image.meta.and_then(|m| m.crs);
+    Ok(Heightfield::from_samples(grid, samples)?.with_crs(crs))
 }
 
 /// A `bits`-bit PNG of `hf`, quantised over `range` (the field's min and max by default).

@@ -110,7 +110,8 @@ pub(crate) fn decode(
         RawKind::R32 => bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect(),
     };
     flip_rows(&mut samples, nx);
-    Ok(Heightfield::from_samples(grid, samples)?)
+    let crs = shape.sidecar.and_then(|m| m.crs.clone());
+    Ok(Heightfield::from_samples(grid, samples)?.with_crs(crs))
 }
 
 /// The file's bytes and the sidecar record; r16 is quantised over `range` (the field's min and

@@ -8,7 +8,8 @@ use glam::DVec2;
 use proptest::prelude::*;
 use relief_heightfield::{GridSpec, Heightfield, Units};
 use relief_heightfield_io::{
-    Format, IoErrorKind, ReadOptions, WriteOptions, read, read_bytes, read_with, write, write_bytes, write_with,
+    Format, IoErrorKind, ReadNote, ReadOptions, WriteOptions, read, read_bytes, read_with, read_with_notes, write,
+    write_bytes, write_with,
 };
 
 /// Metric or geographic grids of 1–12 samples per side, anywhere, with unequal cell sizes.
@@ -228,7 +229,11 @@ fn jacksboro_units_follow_the_prj_unless_overridden() {
     let dir = tempfile::tempdir().unwrap();
     let bare = dir.path().join("bare.asc");
     std::fs::copy(fixture("jacksboro.asc"), &bare).unwrap();
-    assert_eq!(read(&bare).unwrap().grid().units(), Units::Metres, "no .prj: metres");
+    let (guessed, notes) = read_with_notes(&bare, &ReadOptions::default()).unwrap();
+    assert_eq!(guessed.grid().units(), Units::Degrees, "no .prj, sub-arc-minute cells inside ±180/±90: degrees");
+    assert_eq!(notes, [ReadNote::GuessedDegrees { cell_size: 0.000_833_333_3 }], "and the guess is said");
+    let (_, notes) = read_with_notes(fixture("jacksboro.asc"), &ReadOptions::default()).unwrap();
+    assert!(notes.is_empty(), "a .prj leaves nothing to guess");
     let forced = read_with(fixture("jacksboro.asc"), &ReadOptions::default().with_units(Units::Metres)).unwrap();
     assert_eq!(forced.grid().units(), Units::Metres);
 }

@@ -102,4 +102,16 @@ pub enum HeightfieldError {
         /// Samples in the grid.
         total: usize,
     },
+    /// A units name that is none of metres, degrees, feet, US survey feet.
+    #[error("unknown units {name:?}: use metres, degrees, feet or us_survey_feet")]
+    UnknownUnits {
+        /// The name given.
+        name: String,
+    },
+    /// A coordinate reference system that cannot be used.
+    #[error("invalid coordinate reference system: {reason}")]
+    InvalidCrs {
+        /// What is wrong with it.
+        reason: String,
+    },
 }

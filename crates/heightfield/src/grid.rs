@@ -19,6 +19,62 @@ pub enum Units {
     /// Distances, slopes and gradients convert to metres with the ellipsoid's radii of curvature at
     /// each row's latitude ([`metres_per_degree`]).
     Degrees,
+    /// Planar coordinates in international feet (0.3048 m), as in many US state-plane systems.
+    /// Distances, slopes and gradients convert to metres.
+    Feet,
+    /// Planar coordinates in US survey feet (1200/3937 m), the unit of most US state-plane CRSs
+    /// in their `ftUS` forms.
+    #[serde(rename = "us_survey_feet")]
+    UsSurveyFeet,
+}
+
+impl Units {
+    /// Metres per unit of a planar unit, `None` for [`Units::Degrees`] (whose metres depend on the
+    /// latitude: [`metres_per_degree`]).
+    pub fn metres(self) -> Option<f64> {
+        match self {
+            Units::Metres => Some(1.0),
+            Units::Feet => Some(0.3048),
+            Units::UsSurveyFeet => Some(1200.0 / 3937.0),
+            Units::Degrees => None,
+        }
+    }
+
+    /// The short symbol printed after coordinates: `m`, `°`, `ft`, `ftUS`.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Units::Metres => "m",
+            Units::Degrees => "°",
+            Units::Feet => "ft",
+            Units::UsSurveyFeet => "ftUS",
+        }
+    }
+
+    /// The name used in JSON and on the command line: `metres`, `degrees`, `feet`, `us_survey_feet`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Units::Metres => "metres",
+            Units::Degrees => "degrees",
+            Units::Feet => "feet",
+            Units::UsSurveyFeet => "us_survey_feet",
+        }
+    }
+}
+
+impl std::str::FromStr for Units {
+    type Err = HeightfieldError;
+
+    /// Parses [`Units::name`], plus `m`, `metre(s)`, `meter(s)`, `deg`, `degree`, `ft`, `foot`,
+    /// `ftUS` and `us-ft`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "m" | "metre" | "metres" | "meter" | "meters" => Ok(Units::Metres),
+            "deg" | "degree" | "degrees" | "°" => Ok(Units::Degrees),
+            "ft" | "foot" | "feet" => Ok(Units::Feet),
+            "ftus" | "us-ft" | "us_survey_feet" | "us-survey-feet" | "us_survey_foot" => Ok(Units::UsSurveyFeet),
+            _ => Err(HeightfieldError::UnknownUnits { name: s.to_owned() }),
+        }
+    }
 }
 
 /// An axis-aligned rectangle in world coordinates. In JSON, `{ "min": [x, y], "max": [x, y] }`;
@@ -336,12 +392,13 @@ impl GridSpec {
         inside.then_some((g.x as usize, g.y as usize))
     }
 
-    /// Metres per world unit along x and y on row `j`: `(1, 1)` for planar grids, the WGS84
-    /// [`metres_per_degree`] at the row's latitude for geographic grids.
+    /// Metres per world unit along x and y on row `j`: the unit's length for planar grids
+    /// (`(1, 1)` in metres, 0.3048 in feet), the WGS84 [`metres_per_degree`] at the row's latitude
+    /// for geographic grids.
     pub fn metres_per_unit(&self, j: usize) -> DVec2 {
-        match self.units {
-            Units::Metres => DVec2::ONE,
-            Units::Degrees => metres_per_degree(self.origin.y + j as f64 * self.cell_size.y),
+        match self.units.metres() {
+            Some(m) => DVec2::splat(m),
+            None => metres_per_degree(self.origin.y + j as f64 * self.cell_size.y),
         }
     }
 

@@ -1,13 +1,17 @@
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
-use crate::{Extent, GridSpec, HeightfieldError};
+use crate::{Crs, Extent, GridSpec, HeightfieldError};
 
 /// A grid of f32 elevations over a [`GridSpec`], with optional no-data cells.
 ///
 /// No-data cells hold NaN (always the canonical `f32::NAN`); every other sample is finite. The mask
 /// is therefore implicit: [`Heightfield::is_no_data`], [`Heightfield::no_data_mask`]. Equality is
 /// bitwise on samples, so a field equals itself even when it holds no-data.
+///
+/// A field may carry the coordinate reference system it was read in ([`Heightfield::crs`]); fields
+/// derived from it ([`Heightfield::map`], [`Heightfield::resample`], …) keep it. Equality compares
+/// the grid and samples only: compare `crs()` where the label matters.
 ///
 /// Elevations are in metres (or whatever unit the caller uses consistently); gradients are in
 /// elevation units per metre of ground distance, also on geographic grids.
@@ -17,6 +21,7 @@ use crate::{Extent, GridSpec, HeightfieldError};
 pub struct Heightfield {
     grid: GridSpec,
     samples: Vec<f32>,
+    crs: Option<Crs>,
 }
 
 impl PartialEq for Heightfield {
@@ -56,6 +61,9 @@ struct HeightfieldRepr {
     /// Runs `[start, length]` of no-data samples, in flat-index order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     no_data: Vec<[usize; 2]>,
+    /// The coordinate reference system of the grid's coordinates, when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    crs: Option<Crs>,
 }
 
 impl TryFrom<HeightfieldRepr> for Heightfield {
@@ -70,7 +78,7 @@ impl TryFrom<HeightfieldRepr> for Heightfield {
             };
             run.fill(f32::NAN);
         }
-        Heightfield::from_samples(r.grid, samples)
+        Ok(Heightfield::from_samples(r.grid, samples)?.with_crs(r.crs))
     }
 }
 
@@ -91,7 +99,7 @@ impl From<Heightfield> for HeightfieldRepr {
                 k += 1;
             }
         }
-        Self { grid: h.grid, samples, no_data }
+        Self { grid: h.grid, samples, no_data, crs: h.crs }
     }
 }
 
@@ -119,7 +127,7 @@ impl Heightfield {
 
     /// A field of zeros.
     pub fn zeros(grid: GridSpec) -> Self {
-        Self { grid, samples: vec![0.0; grid.len()] }
+        Self { grid, samples: vec![0.0; grid.len()], crs: None }
     }
 
     /// Wraps row-major samples (row 0 = south). NaN marks no-data.
@@ -136,7 +144,7 @@ impl Heightfield {
             });
         }
         check_samples(&grid, &mut samples)?;
-        Ok(Self { grid, samples })
+        Ok(Self { grid, samples, crs: None })
     }
 
     /// Evaluates `f` at every sample's world position.
@@ -157,6 +165,19 @@ impl Heightfield {
             samples.extend((0..grid.nx()).map(|i| f(i, j)));
         }
         Self::from_samples(grid, samples)
+    }
+
+    /// The coordinate reference system the field was read in, when known.
+    pub fn crs(&self) -> Option<&Crs> {
+        self.crs.as_ref()
+    }
+
+    /// The same field labelled with another coordinate reference system (`None`: unknown). Nothing
+    /// is reprojected.
+    #[must_use]
+    pub fn with_crs(mut self, crs: Option<Crs>) -> Self {
+        self.crs = crs;
+        self
     }
 
     /// The grid geometry.
@@ -381,7 +402,7 @@ impl Heightfield {
                 self.slope(i, j).map_or(f32::NAN, |s| s as f32)
             })
             .collect();
-        Self { grid: self.grid, samples }
+        Self { grid: self.grid, samples, crs: self.crs.clone() }
     }
 
     /// The same extent resampled to `nx × ny` samples by bilinear interpolation.
@@ -402,7 +423,7 @@ impl Heightfield {
         for j in 0..grid.ny() {
             samples.extend((0..grid.nx()).map(|i| self.sample_bilinear(grid.position(i, j)).unwrap_or(f32::NAN)));
         }
-        Self { grid: *grid, samples }
+        Self { grid: *grid, samples, crs: self.crs.clone() }
     }
 
     /// Lowest and highest valid elevation, `None` if every sample is no-data.
@@ -434,7 +455,7 @@ impl Heightfield {
     /// [`HeightfieldError::NonFiniteSample`] when `f` returns ±∞.
     pub fn map(&self, f: impl Fn(f32) -> f32) -> Result<Heightfield, HeightfieldError> {
         let samples = self.samples.iter().map(|&v| if v.is_nan() { v } else { f(v) }).collect();
-        Self::from_samples(self.grid, samples)
+        Ok(Self::from_samples(self.grid, samples)?.with_crs(self.crs.clone()))
     }
 
     /// Combines two fields on the same grid sample by sample; a sample that is no-data in either
@@ -458,6 +479,6 @@ impl Heightfield {
             .zip(&other.samples)
             .map(|(&a, &b)| if a.is_nan() || b.is_nan() { f32::NAN } else { f(a, b) })
             .collect();
-        Self::from_samples(self.grid, samples)
+        Ok(Self::from_samples(self.grid, samples)?.with_crs(self.crs.clone()))
     }
 }

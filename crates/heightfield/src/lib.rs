@@ -1,5 +1,5 @@
 //! The grid type every relief crate shares: a [`Heightfield`] of f32 elevations over a [`GridSpec`]
-//! (extent, cell size, metres or geographic degrees), with no-data cells, bilinear sampling,
+//! (extent, cell size, metres, feet or geographic degrees) labelled with its [`Crs`], with no-data cells, bilinear sampling,
 //! gradients, slopes, normals, resampling and statistics.
 //!
 //! This crate implements no paper section itself; it is the common currency of all of them (the
@@ -39,6 +39,7 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod crs;
 mod distance;
 mod error;
 mod fill;
@@ -46,6 +47,7 @@ mod grid;
 mod heightfield;
 pub mod noise;
 
+pub use crs::Crs;
 pub use distance::{DistanceScratch, distance_transform, distance_transform_seeded, distance_transform_seeded_with};
 pub use error::HeightfieldError;
 pub use fill::{FillRules, fill_depressions, fill_depressions_with};

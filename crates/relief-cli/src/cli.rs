@@ -53,6 +53,14 @@ pub(crate) struct Cli {
     /// `W` or `WxH` of a .r16/.r32 file without a sidecar (default: square).
     #[arg(long, global = true, value_parser = parse_size, value_name = "WxH")]
     raw_size: Option<(usize, usize)>,
+    /// Units of the heightfields' coordinates, overriding the file and its CRS: metres, degrees,
+    /// feet or `us_survey_feet`.
+    #[arg(long, global = true, value_parser = parse_units, value_name = "UNITS")]
+    units: Option<relief::heightfield::Units>,
+    /// Coordinate reference system of the heightfields read, overriding the file's: `EPSG:n`, a
+    /// WKT text or a .prj file. A label only (nothing is reprojected); its units become the grid's.
+    #[arg(long, global = true, value_parser = parse_crs, value_name = "CRS")]
+    crs: Option<relief::heightfield::Crs>,
 }
 
 impl Cli {
@@ -68,7 +76,7 @@ impl Cli {
 
 impl Cli {
     /// How every heightfield a command reads is read: the budget's cell cap and the flags that
-    /// say what a file does not (vertical range, cell size, origin, raw size).
+    /// say what a file does not (vertical range, cell size, origin, raw size, units, CRS).
     pub(crate) fn read_options(&self) -> relief::io::ReadOptions {
         let budget = self.budget();
         let mut read = relief::io::ReadOptions::default()
@@ -84,6 +92,12 @@ impl Cli {
         }
         if let Some((w, h)) = self.raw_size {
             read = read.with_raw_dims(w, h);
+        }
+        if let Some(units) = self.units {
+            read = read.with_units(units);
+        }
+        if let Some(crs) = &self.crs {
+            read = read.with_crs(crs.clone());
         }
         read
     }
@@ -506,6 +520,14 @@ fn parse_cell_size(s: &str) -> Result<[f64; 2], String> {
         Some((x, y)) => Ok([parse(x)?, parse(y)?]),
         None => parse(s).map(|v| [v, v]),
     }
+}
+
+fn parse_units(s: &str) -> Result<relief::heightfield::Units, String> {
+    s.parse().map_err(|e: relief::heightfield::HeightfieldError| e.to_string())
+}
+
+fn parse_crs(s: &str) -> Result<relief::heightfield::Crs, String> {
+    relief::io::parse_crs(s).map_err(|e| e.kind().to_string())
 }
 
 /// `X,Y`, finite.

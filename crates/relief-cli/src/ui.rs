@@ -63,12 +63,12 @@ impl Ui {
 
     /// The options every read uses: the budget's cell cap.
     pub(crate) fn read_options(&self) -> relief::io::ReadOptions {
-        self.read
+        self.read.clone()
     }
 
     /// Reads a heightfield under the cell budget, as a timed step.
     pub(crate) fn read(&mut self, path: &Path) -> Result<Heightfield, relief::io::IoError> {
-        let read = self.read;
+        let read = self.read.clone();
         self.read_with(path, &read)
     }
 
@@ -78,7 +78,11 @@ impl Ui {
         path: &Path,
         options: &relief::io::ReadOptions,
     ) -> Result<Heightfield, relief::io::IoError> {
-        self.step("read", || relief::io::read_with(path, options))
+        let (dem, notes) = self.step("read", || relief::io::read_with_notes(path, options))?;
+        for note in notes {
+            self.warn(format_args!("{}: {note}", path.display()));
+        }
+        Ok(dem)
     }
 
     /// Prints a line of the report on stdout, unless `-q`.

@@ -7,18 +7,20 @@ use glam::DVec2;
 use serde_json::json;
 
 use crate::contours::ContourSet;
-use crate::heightfield::{Extent, Heightfield};
+use crate::heightfield::{Crs, Extent, Heightfield};
 use crate::io::{RgbImage, ShadeOptions, shaded_relief};
 use crate::orometry::{DivideTree, Orometry};
 
 /// The contours as a GeoJSON `FeatureCollection` of `LineString`s (closed ones repeat their first
 /// point), each with properties `id`, `elevation`, `level`, `closed` and `parent` (the id of the
 /// innermost contour around it, or null) — the shape `gdal_contour` produces, plus the nesting.
+/// With an EPSG-coded `crs`, the collection names it in a `crs` member as GDAL writes it
+/// ([`geojson_crs_name`]), so GIS tools place metre coordinates where they belong.
 /// [`write_contours_geojson`] streams the same text to a writer.
-pub fn contours_geojson(set: &ContourSet) -> String {
+pub fn contours_geojson(set: &ContourSet, crs: Option<&Crs>) -> String {
     let mut bytes = Vec::new();
     // Writing to memory cannot fail, and the writer produces UTF-8.
-    let _ = write_contours_geojson(set, &mut bytes);
+    let _ = write_contours_geojson(set, crs, &mut bytes);
     String::from_utf8(bytes).unwrap_or_default()
 }
 
@@ -27,9 +29,13 @@ pub fn contours_geojson(set: &ContourSet) -> String {
 ///
 /// # Errors
 /// The writer's.
-pub fn write_contours_geojson(set: &ContourSet, w: &mut dyn std::io::Write) -> std::io::Result<()> {
+pub fn write_contours_geojson(set: &ContourSet, crs: Option<&Crs>, w: &mut dyn std::io::Write) -> std::io::Result<()> {
     let number = |w: &mut dyn std::io::Write, x: f64| serde_json::to_writer(&mut *w, &x).map_err(std::io::Error::other);
-    w.write_all(br#"{"features":["#)?;
+    w.write_all(b"{")?;
+    if let Some(name) = crs.and_then(geojson_crs_name) {
+        write!(w, r#""crs":{{"properties":{{"name":"{name}"}},"type":"name"}},"#)?;
+    }
+    w.write_all(br#""features":["#)?;
     for (k, c) in set.contours().iter().enumerate() {
         if k > 0 {
             w.write_all(b",")?;
@@ -53,6 +59,16 @@ pub fn write_contours_geojson(set: &ContourSet, w: &mut dyn std::io::Write) -> s
         w.write_all(br#"},"type":"Feature"}"#)?;
     }
     w.write_all(br#"],"type":"FeatureCollection"}"#)
+}
+
+/// The name a GeoJSON `crs` member gives `crs`, as GDAL writes it: `urn:ogc:def:crs:EPSG::n`, or
+/// `urn:ogc:def:crs:OGC:1.3:CRS84` for WGS 84 (EPSG:4326 in longitude, latitude order). `None`
+/// without an EPSG code (GeoJSON has no place for WKT).
+pub fn geojson_crs_name(crs: &Crs) -> Option<String> {
+    match crs.epsg()? {
+        4326 => Some("urn:ogc:def:crs:OGC:1.3:CRS84".to_owned()),
+        code => Some(format!("urn:ogc:def:crs:EPSG::{code}")),
+    }
 }
 
 /// A divide tree as a GeoJSON `FeatureCollection`: peaks and saddles as `Point`s (property

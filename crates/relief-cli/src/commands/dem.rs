@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, Result, bail};
 use glam::DVec2;
 use relief::contours::{ContourSet, Levels, extract_dem};
-use relief::heightfield::{Heightfield, Units};
+use relief::heightfield::Heightfield;
 use relief::io::{Format, Quantisation};
 
 use crate::cli::{ContoursArgs, ConvertArgs, HeightfieldFormat, InfoArgs, PreviewArgs};
@@ -39,7 +39,7 @@ pub(crate) fn contours(args: &ContoursArgs, ui: &mut Ui) -> Result<()> {
     let set = ui.step("contours", || dem_contours(&dem, &levels))?;
     ui.step("write", || -> Result<()> {
         if let Some(path) = &geojson {
-            relief::io::write_atomic_with(path, |w| relief::export::write_contours_geojson(&set, w))?;
+            relief::io::write_atomic_with(path, |w| relief::export::write_contours_geojson(&set, dem.crs(), w))?;
         }
         if let Some(path) = &args.svg {
             relief::io::write_atomic(path, relief::export::contours_svg(&set, &dem.extent(), 1024).as_bytes())?;
@@ -98,17 +98,18 @@ pub(crate) fn info(args: &InfoArgs, ui: &mut Ui) -> Result<()> {
 fn info_text(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> String {
     let grid = dem.grid();
     let (e, o, c) = (grid.extent(), outer_extent(grid), grid.cell_size());
-    let unit = match grid.units() {
-        Units::Metres => "m",
-        Units::Degrees => "°",
-    };
+    let (unit, units) = (grid.units().symbol(), grid.units().name());
+    let crs = dem.crs().map_or_else(
+        || "unknown (give --crs EPSG:n to label outputs)".to_owned(),
+        |c| if c.epsg().is_some() { format!("{} ({c})", c.name()) } else { c.name() },
+    );
     let stats = dem.statistics();
     let range = stats.map_or_else(
         || "no valid sample".to_owned(),
         |s| format!("{} .. {} (mean {:.3}, std dev {:.3})", s.min, s.max, s.mean, s.std_dev),
     );
     format!(
-        "{}\n  size       {} x {} ({} samples)\n  extent     x {} .. {}, y {} .. {} ({unit}, sample centres)\n  corners    x {} .. {}, y {} .. {} ({unit}, the cells' outer edges)\n  cell size  {} x {} {unit}\n  elevation  {range}\n  no-data    {}",
+        "{}\n  crs        {crs}, {units}\n  size       {} x {} ({} samples)\n  extent     x {} .. {}, y {} .. {} ({unit}, sample centres)\n  corners    x {} .. {}, y {} .. {} ({unit}, the cells' outer edges)\n  cell size  {} x {} {unit}\n  elevation  {range}\n  no-data    {}",
         path.display(),
         dem.nx(),
         dem.ny(),
@@ -161,7 +162,8 @@ fn info_json(path: &Path, dem: &Heightfield, codes: Option<Quantisation>) -> Str
         "extent": { "min": [e.min.x, e.min.y], "max": [e.max.x, e.max.y] },
         "outer_extent": { "min": [o.min.x, o.min.y], "max": [o.max.x, o.max.y] },
         "cell_size": [c.x, c.y],
-        "units": match grid.units() { Units::Metres => "metres", Units::Degrees => "degrees" },
+        "units": grid.units().name(),
+        "crs": dem.crs().map(|c| serde_json::json!({ "name": c.name(), "epsg": c.epsg(), "wkt": c.wkt() })),
         "min": stats.map(|s| s.min),
         "max": stats.map(|s| s.max),
         "mean": stats.map(|s| s.mean),

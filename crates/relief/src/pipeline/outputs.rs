@@ -157,7 +157,9 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
     }
     if let Some(name) = &outputs.contours_geojson {
         let path = out_dir.join(name);
-        crate::io::write_atomic_with(&path, |w| crate::export::write_contours_geojson(&terrain.contours, w))?;
+        crate::io::write_atomic_with(&path, |w| {
+            crate::export::write_contours_geojson(&terrain.contours, terrain.heightfield.crs(), w)
+        })?;
         written.push(path);
     }
     if let Some(name) = &outputs.contours_svg {

@@ -1,0 +1,94 @@
+//! `Crs`: WKT 1, WKT 2 and ESRI definitions as GDAL writes them (fixtures/gdal/crs), their EPSG
+//! codes, names and units; `Units` names; the CRS kept by derived fields and JSON.
+
+use glam::DVec2;
+use relief_heightfield::{Crs, GridSpec, Heightfield, HeightfieldError, Units};
+
+fn fixture(name: &str) -> String {
+    let path = format!("{}/../../fixtures/gdal/crs/{name}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+#[test]
+fn gdal_wkt_gives_code_name_and_units() {
+    let cases = [
+        ("epsg-32617.wkt1", Some(32617), "WGS 84 / UTM zone 17N", Units::Metres),
+        ("epsg-32617.wkt2", Some(32617), "WGS 84 / UTM zone 17N", Units::Metres),
+        ("epsg-2264.wkt1", Some(2264), "NAD83 / North Carolina (ftUS)", Units::UsSurveyFeet),
+        ("epsg-2264.wkt2", Some(2264), "NAD83 / North Carolina (ftUS)", Units::UsSurveyFeet),
+        ("epsg-2264.esri", None, "NAD_1983_StatePlane_North_Carolina_FIPS_3200_Feet", Units::UsSurveyFeet),
+        ("epsg-4269.wkt1", Some(4269), "NAD83", Units::Degrees),
+        ("epsg-4269.wkt2", Some(4269), "NAD83", Units::Degrees),
+    ];
+    for (file, epsg, name, units) in cases {
+        let crs = Crs::from_wkt(&fixture(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert_eq!(crs.epsg(), epsg, "{file}");
+        assert_eq!(crs.name(), name, "{file}");
+        assert_eq!(crs.units(), Some(units), "{file}");
+        assert!(!crs.is_local(), "{file}");
+    }
+}
+
+#[test]
+fn nested_authorities_are_not_the_crs_code() {
+    // Only the root's AUTHORITY names the CRS: the datum's 6326 and the unit's 9001 must not.
+    let wkt = r#"PROJCS["custom",GEOGCS["WGS 84",DATUM["WGS_1984",AUTHORITY["EPSG","6326"]]],UNIT["metre",1,AUTHORITY["EPSG","9001"]]]"#;
+    let crs = Crs::from_wkt(wkt).unwrap();
+    assert_eq!(crs.epsg(), None);
+    assert_eq!(crs.to_string(), "custom");
+    assert_eq!(crs.units(), Some(Units::Metres));
+}
+
+#[test]
+fn feet_local_and_unknown_units() {
+    let ft = Crs::from_wkt(r#"PROJCS["x",UNIT["foot",0.3048]]"#).unwrap();
+    assert_eq!(ft.units(), Some(Units::Feet));
+    let yard = Crs::from_wkt(r#"PROJCS["x",UNIT["yard",0.9144]]"#).unwrap();
+    assert_eq!(yard.units(), None, "a unit relief does not know is not taken for metres");
+    let local = Crs::from_wkt(r#"LOCAL_CS["site",LOCAL_DATUM["none",0],UNIT["metre",1]]"#).unwrap();
+    assert!(local.is_local());
+    assert_eq!(local.units(), Some(Units::Metres));
+    assert_eq!(Crs::from_epsg(4326).unwrap().units(), None, "a bare code has no WKT to read");
+}
+
+#[test]
+fn malformed_crs_is_refused() {
+    for bad in ["", "UTM 17", "PROJCS[\"x\"", "PROJCS[\"x\"]]", "[\"x\"]", "PROJCS[\"x\",UNIT[\"m\",1x]]"] {
+        assert!(matches!(Crs::from_wkt(bad), Err(HeightfieldError::InvalidCrs { .. })), "{bad:?}");
+    }
+    let deep = format!("{}{}", "A[".repeat(10_000), "]".repeat(10_000));
+    assert!(Crs::from_wkt(&deep).is_err(), "deep nesting is refused, not a stack overflow");
+    for code in [0, 32767, 1_000_000] {
+        assert!(Crs::from_epsg(code).is_err(), "{code}");
+    }
+    assert!(serde_json::from_str::<Crs>("{}").is_err());
+}
+
+#[test]
+fn units_names_parse_and_scale_distances() {
+    for u in [Units::Metres, Units::Degrees, Units::Feet, Units::UsSurveyFeet] {
+        assert_eq!(u.name().parse::<Units>().unwrap(), u);
+        assert_eq!(serde_json::to_string(&u).unwrap(), format!("\"{}\"", u.name()));
+    }
+    assert!("furlongs".parse::<Units>().is_err());
+    let grid = GridSpec::new(3, 3, DVec2::ZERO, DVec2::splat(10.0)).unwrap().with_units(Units::UsSurveyFeet).unwrap();
+    assert!((grid.cell_size_m(0).x - 3.048_006_096).abs() < 1e-9);
+    // A 1 ft rise over 10 ftUS of run, measured in metres of run: 1 / 3.048006.
+    let ramp = Heightfield::from_fn(grid, |p| (0.1 * p.x) as f32).unwrap();
+    assert!((ramp.gradient(1, 1).unwrap().x - 1.0 / 3.048_006_096).abs() < 1e-6);
+}
+
+#[test]
+fn derived_fields_and_json_keep_the_crs() {
+    let crs = Crs::from_wkt(&fixture("epsg-32617.wkt1")).unwrap();
+    let grid = GridSpec::new(4, 3, DVec2::new(500_000.0, 4_000_000.0), DVec2::splat(30.0)).unwrap();
+    let hf = Heightfield::from_fn(grid, |p| p.y as f32).unwrap().with_crs(Some(crs.clone()));
+    assert_eq!(hf.map(|v| v + 1.0).unwrap().crs(), Some(&crs));
+    assert_eq!(hf.zip_with(&hf, |a, b| a - b).unwrap().crs(), Some(&crs));
+    assert_eq!(hf.resample(7, 5).unwrap().crs(), Some(&crs));
+    assert_eq!(hf.slope_map().crs(), Some(&crs));
+    let back: Heightfield = serde_json::from_str(&serde_json::to_string(&hf).unwrap()).unwrap();
+    assert_eq!(back.crs(), Some(&crs));
+    assert_eq!(back, hf);
+    assert_eq!(Heightfield::zeros(grid).crs(), None);
+}
