@@ -117,3 +117,70 @@ fn measure(out: &Path, make: impl Fn(&Path) -> Command) -> Result<Run> {
 fn file_size(path: &Path) -> u64 {
     fs::metadata(path).map_or(0, |m| m.len())
 }
+
+/// `relief convert DEM.asc OUT.tif` beside `gdal_translate` writing the same GeoTIFF: one row per
+/// output kind, each tool's best time and the file size. Like [`contour_runs`], the last run's
+/// lines are kept for machines without GDAL.
+pub(crate) fn geotiff_runs(root: &Path, quick: bool) -> Result<String> {
+    let cache = root.join("target/gdal-geotiff.md");
+    let mut md = String::from(
+        "## GeoTIFF writing, beside gdal_translate\n\n`relief convert DEM.asc OUT.tif [flags]` and `gdal_translate -q \
+         [flags] DEM.asc OUT.tif` writing the same kind of file from the same ASCII grid (so both times include \
+         parsing it): the shared Jacksboro DEM (whole metres) and its 1209 × 1032 bilinear resampling (fractional \
+         elevations). Best wall time of 3 runs and file size. Run: `cargo xtask gdal-contours` (or any `cargo \
+         xtask bench`) with `gdal-bin` installed.\n\n",
+    );
+    let available = |tool: &str| Command::new(tool).arg("--version").output().is_ok();
+    if quick || !available("gdal_translate") || !Path::new("/usr/bin/time").exists() {
+        md.push_str(&fs::read_to_string(&cache).unwrap_or_else(|_| "(not run yet: install gdal-bin)\n".into()));
+        md.push('\n');
+        return Ok(md);
+    }
+    let relief = root.join("target/release/relief");
+    let work = root.join("target/gdal-contour");
+    let (small, large) = (root.join("fixtures/dem/jacksboro.asc"), work.join("jacksboro-1209.asc"));
+    // (output, relief flags, gdal_translate flags)
+    let kinds: [(&str, &[&str], &[&str]); 3] = [
+        ("f32 uncompressed", &["--no-compress"], &["-ot", "Float32"]),
+        (
+            "f32 DEFLATE + predictor 3 (relief's default)",
+            &[],
+            &["-ot", "Float32", "-co", "COMPRESS=DEFLATE", "-co", "PREDICTOR=3"],
+        ),
+        (
+            "i16 DEFLATE + predictor 2",
+            &["--tiff-type", "i16"],
+            &["-ot", "Int16", "-co", "COMPRESS=DEFLATE", "-co", "PREDICTOR=2"],
+        ),
+    ];
+    let mut lines = String::from(
+        "| DEM | output | relief | relief size | gdal_translate | gdal size |\n|---|---|---:|---:|---:|---:|\n",
+    );
+    for (name, dem) in [("Jacksboro 403 × 344", &small), ("Jacksboro 1209 × 1032", &large)] {
+        for (kind, ours, theirs) in kinds {
+            let r = measure(&work.join("relief.tif"), |out| {
+                let mut cmd = Command::new(&relief);
+                cmd.arg("convert").arg(dem).arg(out).args(ours).args(["--force", "-q"]);
+                cmd
+            })?;
+            let g = measure(&work.join("gdal.tif"), |out| {
+                let mut cmd = Command::new("gdal_translate");
+                cmd.arg("-q").args(theirs).arg(dem).arg(out);
+                cmd
+            })?;
+            let kb = |b: u64| b.div_ceil(1024);
+            let _ = writeln!(
+                lines,
+                "| {name} | {kind} | {:.3} s | {} kB | {:.3} s | {} kB |",
+                r.seconds,
+                kb(r.bytes),
+                g.seconds,
+                kb(g.bytes)
+            );
+        }
+    }
+    fs::write(&cache, &lines).with_context(|| format!("writing {}", cache.display()))?;
+    md.push_str(&lines);
+    md.push('\n');
+    Ok(md)
+}

@@ -8,8 +8,9 @@
 //!   a filtered `cargo bench`, say) without running anything but the paired TIN measurement.
 //! - `fuzz [SECONDS] [TARGET]...`: runs the cargo-fuzz targets under `fuzz/` (nightly), each for
 //!   SECONDS (default 600); see `fuzz.rs`.
-//! - `gdal-contours`: measures `relief contours` beside `gdal_contour` (needs `gdal-bin`) and
-//!   prints the section `bench` puts in the report (see `gdal.rs`).
+//! - `gdal-contours`: measures `relief contours` beside `gdal_contour` and `relief convert` to
+//!   GeoTIFF beside `gdal_translate` (needs `gdal-bin`) and prints the sections `bench` puts in
+//!   the report (see `gdal.rs`).
 //! - `gallery`: renders the demo and every fixture scene and writes `docs/gallery.md`.
 //!
 //! Dependency-light on purpose (`anyhow`, `serde_json`): it builds in seconds and never needs the
@@ -40,6 +41,7 @@ fn main() -> Result<()> {
         Some("gallery") => gallery::run(&root),
         Some("gdal-contours") => {
             print!("{}", gdal::contour_runs(&root, false)?);
+            print!("{}", gdal::geotiff_runs(&root, false)?);
             Ok(())
         }
         Some("fuzz") => {

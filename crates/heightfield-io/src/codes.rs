@@ -87,6 +87,12 @@ pub fn quantisation(path: impl AsRef<Path>) -> Result<Option<Quantisation>, IoEr
 pub(crate) fn quantisation_of(path: &Path, bytes: &[u8]) -> Result<Option<Quantisation>, IoError> {
     match Format::detect(path, bytes) {
         #[cfg(feature = "png")]
+        Some(Format::Png16 | Format::Png8) if crate::png_gray::colour_bits(bytes).is_some() => {
+            Ok(crate::png_gray::colour_bits(bytes).map(|bits| Quantisation::plain(bits, None)))
+        }
+        // JPEG, BMP and WebP: 8-bit codes, never with relief metadata.
+        Some(Format::Image) => Ok(Some(Quantisation::plain(8, None))),
+        #[cfg(feature = "png")]
         Some(Format::Png16 | Format::Png8) => {
             let image =
                 crate::png_gray::read_gray(bytes, Limits::default()).map_err(|kind| IoError::new(path, kind))?;

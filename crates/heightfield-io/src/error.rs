@@ -71,7 +71,7 @@ pub enum IoErrorKind {
     Io(#[source] std::io::Error),
     /// Neither the magic bytes nor the extension name a known format.
     #[error(
-        "unknown heightfield format: expected a .png, .exr, .r16, .raw, .r32, .asc, .hgt, .tif or .tiff file \
+        "unknown heightfield format: expected a .png, .exr, .r16, .raw, .r32, .asc, .hgt, .tif, .tiff, .jpg, .bmp or .webp file \
          (or set the format explicitly)"
     )]
     UnknownFormat,

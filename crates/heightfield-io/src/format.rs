@@ -26,10 +26,14 @@ pub enum Format {
     Hgt,
     /// Single-band `GeoTIFF` (`.tif`, `.tiff`).
     GeoTiff,
+    /// A JPEG, BMP or WebP image (read only, through the `image` crate): one gray value per pixel
+    /// in `[0, 1]` (8-bit `code / 255`) on a plain grid, like a PNG without metadata.
+    Image,
 }
 
 impl Format {
-    /// Every format, in documentation order.
+    /// Every format that is written as well as read, in documentation order ([`Format::Image`]
+    /// is read only).
     pub const ALL: [Format; 8] =
         [Format::Png8, Format::Png16, Format::Exr, Format::R16, Format::R32, Format::Asc, Format::Hgt, Format::GeoTiff];
 
@@ -45,6 +49,7 @@ impl Format {
             "asc" => Format::Asc,
             "hgt" => Format::Hgt,
             "tif" | "tiff" => Format::GeoTiff,
+            "jpg" | "jpeg" | "bmp" | "webp" => Format::Image,
             _ => return None,
         })
     }
@@ -69,6 +74,9 @@ impl Format {
         if [b"II*\0", b"MM\0*", b"II+\0", b"MM\0+"].iter().any(|m| b.starts_with(*m)) {
             return Some(Format::GeoTiff);
         }
+        if is_image(b) {
+            return Some(Format::Image);
+        }
         let text = b.strip_prefix(b"\xef\xbb\xbf").unwrap_or(b);
         let start = text.iter().position(|c| !c.is_ascii_whitespace())?;
         let word: Vec<u8> = text[start..]
@@ -89,15 +97,22 @@ impl Format {
             Format::Asc => "asc",
             Format::Hgt => "hgt",
             Format::GeoTiff => "tif",
+            Format::Image => "jpg",
         }
     }
 
     /// The cargo feature that provides this format, if it needs one.
+    /// Whether relief writes this format (every one but [`Format::Image`]).
+    pub fn is_writable(self) -> bool {
+        self != Format::Image
+    }
+
     pub(crate) fn feature(self) -> Option<&'static str> {
         match self {
             Format::Png8 | Format::Png16 => Some("png"),
             Format::Exr => Some("exr"),
             Format::GeoTiff => Some("geotiff"),
+            Format::Image => Some("images"),
             Format::R16 | Format::R32 | Format::Asc | Format::Hgt => None,
         }
     }
@@ -114,12 +129,22 @@ impl fmt::Display for Format {
             Format::Asc => "ESRI ASCII grid",
             Format::Hgt => "SRTM HGT",
             Format::GeoTiff => "GeoTIFF",
+            Format::Image => "image (JPEG, BMP, WebP)",
         })
     }
 }
 
 /// The keys of an ESRI ASCII grid header, lower case. Detection knows them (a text file starting
 /// with one is an ASCII grid), and so does the reader.
+/// JPEG (`FF D8 FF`), WebP (`RIFF….WEBP`) or a BMP whose info header has one of the sizes the
+/// format defines (two bytes `BM` alone could start a raw heightmap).
+fn is_image(b: &[u8]) -> bool {
+    let bmp_header = b.get(14..18).map(|s| u32::from_le_bytes([s[0], s[1], s[2], s[3]]));
+    b.starts_with(&[0xff, 0xd8, 0xff])
+        || (b.starts_with(b"RIFF") && b.get(8..12) == Some(b"WEBP"))
+        || (b.starts_with(b"BM") && matches!(bmp_header, Some(12 | 40 | 52 | 56 | 64 | 108 | 124)))
+}
+
 const ASC_KEYS: [&[u8]; 10] = [
     b"ncols",
     b"nrows",

@@ -19,7 +19,8 @@
 //! | [`Format::R32`] | `.r32` | little-endian f32 | NaN no-data; `<file>.json` sidecar | bit-exact |
 //! | [`Format::Asc`] | `.asc` | decimal text | header + shortest round-trip decimals; `.prj` for units | bit-exact |
 //! | [`Format::Hgt`] | `.hgt` | big-endian i16, 1201² or 3601² | −32768 voids; tile corner from the file name | exact for whole metres |
-//! | [`Format::GeoTiff`] | `.tif`, `.tiff` | f32 (reads u8–i64, f16–f64) | `ModelPixelScale`, `ModelTiepoint`, `GeoKeys`, `GDAL_NODATA` | bit-exact |
+//! | [`Format::GeoTiff`] | `.tif`, `.tiff` | f32 or i16, DEFLATE + predictor (reads u8–i64, f16–f64; DEFLATE, LZW, PackBits, ZSTD, LZMA; a band of a multi-band file) | `ModelPixelScale`, `ModelTiepoint`, `GeoKeys`, `GDAL_NODATA` | bit-exact (f32) |
+//! | [`Format::Image`] | `.jpg`, `.bmp`, `.webp` | read only, 8-bit | nothing: a plain image, like a PNG without metadata | — |
 //!
 //! Quantised formats reserve code 0 for no-data when the field has any; a field without the
 //! metadata (a PNG from an image editor, a Unity `.raw`) reads as `code / max_code` in `[0, 1]`
@@ -43,10 +44,14 @@
 //! `PixelIsPoint`, ASCII grids with `xllcenter`/`yllcenter`, and `PixelIsArea` / `xllcorner`
 //! inputs are moved half a cell in. No-data is NaN in memory.
 //!
-//! PNG goes through the `png` crate directly rather than `image`: `image` 0.25 cannot read
-//! single-channel f32 TIFFs (so `tiff` is needed anyway) and its colour-management dependencies
-//! cost about 70 s of clean build for nothing a heightmap needs. Each codec sits behind a cargo
-//! feature (`png`, `exr`, `geotiff`, all default); raw, ASCII grid and HGT need no dependency.
+//! Grayscale PNG and single-band TIFF go through the `png` and `tiff` crates directly (16-bit
+//! codes, text chunks, geo tags, f32 samples that `image` 0.25 cannot read); everything else an
+//! image can be — JPEG, BMP, WebP, palette/RGB/RGBA PNG and TIFF, 1-bit gray — goes through
+//! `image` ([`Channel`], [`ReadOptions::channel`]): a heightmap must then be gray (equal
+//! channels) or name its channel, a mask or probability map reads as luma. LZMA `GeoTIFF` strips
+//! are inflated with `lzma-rs` (the `tiff` crate has no LZMA). Each codec sits behind a cargo
+//! feature (`png`, `exr`, `geotiff`, `images`, all default); raw, ASCII grid and HGT need no
+//! dependency.
 //!
 //! ```
 //! use glam::DVec2;
@@ -92,10 +97,14 @@ mod limits;
 mod meta;
 #[cfg(feature = "exr")]
 mod openexr;
+#[cfg(feature = "images")]
+mod pixels;
 #[cfg(feature = "png")]
 mod png_gray;
 mod preview;
 mod raw;
+#[cfg(feature = "geotiff")]
+mod tiff_lzma;
 #[cfg(feature = "geotiff")]
 mod world;
 
@@ -113,6 +122,8 @@ pub use crs::parse_crs;
 pub use error::{CapError, IoError, IoErrorKind};
 pub use format::Format;
 pub use limits::Limits;
+#[cfg(feature = "images")]
+pub use pixels::Channel;
 pub use preview::{NO_DATA_RGB, RgbImage, ShadeOptions, shaded_relief};
 
 use raw::RawKind;
@@ -144,6 +155,13 @@ pub struct ReadOptions {
     /// codes stand for: codes map linearly onto `[min, max]` instead of `[0, 1]`. Refused for files
     /// that store elevations (float formats, or codes with their range recorded).
     pub z_range: Option<(f64, f64)>,
+    /// The channel of a colour image that holds the values (a heightmap must otherwise be gray:
+    /// equal channels; a mask or probability map otherwise reads as luma).
+    #[cfg(feature = "images")]
+    pub channel: Option<Channel>,
+    /// The band (1-based) of a multi-band `GeoTIFF` to read; without it such a file is read only
+    /// when it is a gray-equal RGB(A) image.
+    pub band: Option<u16>,
 }
 
 impl ReadOptions {
@@ -196,6 +214,21 @@ impl ReadOptions {
         self
     }
 
+    /// The same options reading `channel` of colour images.
+    #[cfg(feature = "images")]
+    #[must_use]
+    pub fn with_channel(mut self, channel: Channel) -> Self {
+        self.channel = Some(channel);
+        self
+    }
+
+    /// The same options reading band `band` (1-based) of a multi-band `GeoTIFF`.
+    #[must_use]
+    pub fn with_band(mut self, band: u16) -> Self {
+        self.band = Some(band);
+        self
+    }
+
     /// The same options mapping a plain image's codes onto `[min, max]`.
     #[must_use]
     pub fn with_z_range(mut self, min: f64, max: f64) -> Self {
@@ -204,21 +237,34 @@ impl ReadOptions {
     }
 }
 
-/// How to write a file. `WriteOptions::default()` takes the format from the extension and writes
-/// the float formats uncompressed.
+/// How to write a file. `WriteOptions::default()` takes the format from the extension, deflates
+/// `GeoTIFF`s (f32 with the floating-point predictor, as GDAL's `COMPRESS=DEFLATE PREDICTOR=3`)
+/// and writes `OpenEXR` uncompressed.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[non_exhaustive]
 pub struct WriteOptions {
     /// Write this format whatever the extension (e.g. [`Format::Png8`], which `.png` alone does
     /// not select).
     pub format: Option<Format>,
-    /// Compress the float formats: ZIP (16-line blocks) for `OpenEXR`, Deflate for `GeoTIFF`.
+    /// Compress the float formats: ZIP (16-line blocks) for `OpenEXR`; for `GeoTIFF` DEFLATE after
+    /// the floating-point predictor (f32) or the horizontal one (Int16), which GDAL and every
+    /// GIS reads.
     ///
-    /// Off by default: the low mantissa bits of generated terrain are noise, so on a 4096² field
-    /// ZIP saves about 10% for 35× the write time; whole-metre DEMs shrink several times, which is
-    /// when to turn it on. PNG is always deflated (with the fast `fdeflate` level); raw, ASCII and
-    /// `.hgt` have no compression.
-    pub compress: bool,
+    /// `None` (the default) means on for `GeoTIFF` (a real DEM shrinks to about a quarter of its
+    /// plain f32 size, less than GDAL's default uncompressed output) and off for `OpenEXR` (the low
+    /// mantissa bits of generated terrain are noise, so on a 4096² field ZIP saves about 10% for
+    /// 35× the write time). PNG is always deflated (with the fast `fdeflate` level); raw, ASCII
+    /// and `.hgt` have no compression.
+    pub compress: Option<bool>,
+    /// The `GeoTIFF` sample type (default f32). [`TiffSample::I16`] rounds to whole units, as
+    /// SRTM tiles store them, with −32768 for no-data; a sample that does not fit is an
+    /// [`IoErrorKind::OutOfRange`] error.
+    pub tiff_sample: TiffSample,
+    /// Write `GeoTIFF`s `PixelIsArea` (the raster's corner at the outer edge of the first cell,
+    /// GDAL's default) instead of `PixelIsPoint` (on the first sample). Both place every sample
+    /// at the same coordinates for GDAL and for this crate; `PixelIsArea` suits tools that ignore
+    /// the raster type.
+    pub pixel_is_area: bool,
     /// The elevations the quantised formats (PNG, r16) map their first and last codes to, in
     /// metres: a fixed vertical range for engines that import a heightmap with one height scale.
     /// `None` (the default) quantises over the field's own min and max. A sample outside the range
@@ -246,9 +292,34 @@ impl WriteOptions {
     /// The same options with compression of the float formats on or off.
     #[must_use]
     pub fn with_compress(mut self, compress: bool) -> Self {
-        self.compress = compress;
+        self.compress = Some(compress);
         self
     }
+
+    /// The same options writing `GeoTIFF` samples as `sample`.
+    #[must_use]
+    pub fn with_tiff_sample(mut self, sample: TiffSample) -> Self {
+        self.tiff_sample = sample;
+        self
+    }
+
+    /// The same options writing `GeoTIFF`s `PixelIsArea` (`true`) or `PixelIsPoint`.
+    #[must_use]
+    pub fn with_pixel_is_area(mut self, area: bool) -> Self {
+        self.pixel_is_area = area;
+        self
+    }
+}
+
+/// The sample type of a written `GeoTIFF`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum TiffSample {
+    /// 32-bit float, exact for every field.
+    #[default]
+    F32,
+    /// 16-bit signed integer: whole units, −32768 for no-data (half the size of f32).
+    I16,
 }
 
 /// Reads a heightfield, detecting the format from magic bytes, then the extension.
@@ -332,7 +403,7 @@ pub fn read_with_notes(path: impl AsRef<Path>, options: &ReadOptions) -> Result<
         }
         #[cfg(feature = "geotiff")]
         Format::GeoTiff => {
-            let (hf, placed) = geotiff::decode_placed(&bytes, options.limits).map_err(at)?;
+            let (hf, placed) = geotiff::decode_placed(&bytes, &tiff_read(options, false)).map_err(at)?;
             if placed { hf } else { placed_by_world_file(hf, path)? }
         }
         _ => decode_bytes(&bytes, format, path, options).map_err(at)?,
@@ -419,12 +490,18 @@ pub fn read_bytes(
 fn decode_bytes(bytes: &[u8], format: Format, name: &Path, options: &ReadOptions) -> Result<Heightfield, IoErrorKind> {
     let limits = options.limits;
     match format {
+        #[cfg(all(feature = "png", feature = "images"))]
+        Format::Png8 | Format::Png16 if png_gray::colour_bits(bytes).is_some() => {
+            pixels::decode(bytes, limits)?.to_heightfield(pixels::Gray::Strict(options.channel))
+        }
         #[cfg(feature = "png")]
         Format::Png8 | Format::Png16 => png_gray::decode(bytes, limits),
         #[cfg(feature = "exr")]
         Format::Exr => openexr::decode(bytes, limits),
         #[cfg(feature = "geotiff")]
-        Format::GeoTiff => geotiff::decode(bytes, limits),
+        Format::GeoTiff => geotiff::decode(bytes, &tiff_read(options, false)),
+        #[cfg(feature = "images")]
+        Format::Image => pixels::decode(bytes, limits)?.to_heightfield(pixels::Gray::Strict(options.channel)),
         Format::R16 | Format::R32 => {
             let shape = raw::Shape { sidecar: None, dims: options.raw_dims, sidecar_path: raw_sidecar_path(name) };
             raw::decode(bytes, raw_kind(format), &shape, limits)
@@ -475,7 +552,7 @@ pub fn write_with(path: impl AsRef<Path>, hf: &Heightfield, options: &WriteOptio
     }
 }
 
-/// Encodes a heightfield in memory, with [`WriteOptions::default`] (no compression).
+/// Encodes a heightfield in memory, with [`WriteOptions::default`].
 ///
 /// Only the main file: raw formats lose their `.json` sidecar (so an r16 read back is normalised
 /// to `[0, 1]` on a plain grid) and ASCII grids their `.prj`; `.hgt` skips the check that the grid
@@ -489,20 +566,30 @@ pub fn write_bytes(hf: &Heightfield, format: Format) -> Result<Vec<u8>, IoError>
 
 fn encode_bytes(hf: &Heightfield, format: Format, options: &WriteOptions) -> Result<Vec<u8>, IoErrorKind> {
     // Only some codecs read them; with those features off they are unused.
-    let (compress, range) = (options.compress, options.range);
-    let _ = (compress, range);
+    let range = options.range;
+    let _ = range;
     match format {
         #[cfg(feature = "png")]
         Format::Png8 => png_gray::encode(hf, 8, range),
         #[cfg(feature = "png")]
         Format::Png16 => png_gray::encode(hf, 16, range),
         #[cfg(feature = "exr")]
-        Format::Exr => openexr::encode(hf, compress),
+        Format::Exr => openexr::encode(hf, options.compress.unwrap_or(false)),
         #[cfg(feature = "geotiff")]
-        Format::GeoTiff => geotiff::encode(hf, compress),
+        Format::GeoTiff => geotiff::encode(
+            hf,
+            geotiff::TiffWrite {
+                sample: options.tiff_sample,
+                compress: options.compress.unwrap_or(true),
+                pixel_is_area: options.pixel_is_area,
+            },
+        ),
         Format::R16 | Format::R32 => Ok(raw::encode(hf, raw_kind(format), range)?.0),
         Format::Asc => Ok(asc::encode(hf)),
         Format::Hgt => hgt::encode(hf, None),
+        Format::Image => Err(IoErrorKind::Unsupported(
+            "JPEG, BMP and WebP are read only (lossy or 8-bit): write .png, .tif or .exr".to_owned(),
+        )),
         #[allow(unreachable_patterns, reason = "reached only when a codec feature is off")]
         _ => Err(disabled(format)),
     }
@@ -578,14 +665,41 @@ pub fn write_atomic_with(
 /// As [`read`].
 pub fn read_gray_image(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Heightfield, IoError> {
     let path = path.as_ref();
+    #[allow(unused_variables, reason = "unused when no image codec is compiled in")]
+    let at = |kind| IoError::new(path, kind);
     let bytes = read_input(path, options.limits)?;
     match options.format.or_else(|| Format::detect(path, &bytes)) {
-        #[cfg(feature = "png")]
-        Some(Format::Png8 | Format::Png16) => {
-            png_gray::decode_luma(&bytes, options.limits).map_err(|kind| IoError::new(path, kind))
+        #[cfg(feature = "images")]
+        Some(Format::Png8 | Format::Png16 | Format::Image) if options.channel.is_some() => {
+            pixels::decode(&bytes, options.limits)
+                .and_then(|p| p.to_heightfield(pixels::Gray::Lenient(options.channel)))
+                .map_err(at)
         }
+        #[cfg(feature = "png")]
+        Some(Format::Png8 | Format::Png16) => png_gray::decode_luma(&bytes, options.limits).map_err(at),
+        #[cfg(feature = "images")]
+        Some(Format::Image) => pixels::decode(&bytes, options.limits)
+            .and_then(|p| p.to_heightfield(pixels::Gray::Lenient(None)))
+            .map_err(at),
+        #[cfg(feature = "geotiff")]
+        Some(Format::GeoTiff) => geotiff::decode(&bytes, &tiff_read(options, true)).map_err(at),
         _ => read_with(path, options),
     }
+}
+
+/// How a `GeoTIFF` is read: limits, band, and what a colour image becomes (`lenient`: luma, for
+/// masks; else gray-equal channels, for heightmaps).
+#[cfg(feature = "geotiff")]
+fn tiff_read(options: &ReadOptions, lenient: bool) -> geotiff::TiffRead {
+    #[cfg(feature = "images")]
+    let gray =
+        Some(if lenient { pixels::Gray::Lenient(options.channel) } else { pixels::Gray::Strict(options.channel) });
+    #[cfg(not(feature = "images"))]
+    let gray = {
+        let _ = lenient;
+        None
+    };
+    geotiff::TiffRead { limits: options.limits, band: options.band, gray }
 }
 
 fn disabled(format: Format) -> IoErrorKind {

@@ -82,6 +82,16 @@ impl GrayImage {
     }
 }
 
+/// For a PNG that is not plain 8/16-bit gray (colour, palette, alpha, or gray under 8 bits),
+/// its codes' bit depth as read (16, else 8); `None` for plain gray, or when the header cannot be
+/// read (the gray reader then reports why).
+pub(crate) fn colour_bits(bytes: &[u8]) -> Option<u8> {
+    let mut decoder = png::Decoder::new_with_limits(Cursor::new(bytes), png::Limits { bytes: 1 << 20 });
+    let h = decoder.read_header_info().ok()?;
+    let bits = h.bit_depth as u8;
+    (h.color_type != png::ColorType::Grayscale || bits < 8).then_some(if bits == 16 { 16 } else { 8 })
+}
+
 /// Reads an 8- or 16-bit grayscale PNG's codes and text chunks; any other kind is refused.
 pub(crate) fn read_gray(bytes: &[u8], limits: Limits) -> Result<GrayImage, IoErrorKind> {
     let found = bytes.len();

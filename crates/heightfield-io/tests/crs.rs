@@ -7,19 +7,23 @@ mod common;
 
 use glam::DVec2;
 use relief_heightfield::{Crs, GridSpec, Heightfield, Units};
-use relief_heightfield_io::{ReadOptions, parse_crs, read, read_with, read_with_notes, write};
+#[cfg(feature = "geotiff")]
+use relief_heightfield_io::read_with;
+use relief_heightfield_io::{ReadOptions, parse_crs, read, read_with_notes, write};
 
 fn gdal(name: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/gdal").join(name)
 }
 
 /// (fixture, EPSG code, units, cell size in the file's units).
+#[cfg(feature = "geotiff")]
 const CASES: [(&str, u32, Units, f64); 3] = [
     ("utm17.tif", 32617, Units::Metres, 90.0),
     ("tn-ftus.tif", 2274, Units::UsSurveyFeet, 300.0),
     ("nad83.tif", 4269, Units::Degrees, 0.000_833_333_3),
 ];
 
+#[cfg(feature = "geotiff")]
 #[test]
 fn gdal_geotiffs_give_their_epsg_code_and_units() {
     for (file, code, units, cell) in CASES {
@@ -35,6 +39,7 @@ fn gdal_geotiffs_give_their_epsg_code_and_units() {
     assert!((ft.grid().cell_size_m(0).x - 91.440_183).abs() < 1e-5);
 }
 
+#[cfg(feature = "geotiff")]
 #[test]
 fn every_format_with_metadata_keeps_the_crs() {
     let dir = tempfile::tempdir().unwrap();
@@ -131,6 +136,7 @@ fn ascii_grids_without_prj_guess_degrees_only_when_nothing_else_fits() {
     assert_eq!((hf.grid().units(), notes.len()), (Units::Metres, 0), "2′ cells: no guess");
 }
 
+#[cfg(feature = "geotiff")]
 #[test]
 fn overrides_label_and_take_units_from_the_crs() {
     let jacksboro = gdal("../dem/jacksboro.asc");

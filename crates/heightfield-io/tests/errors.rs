@@ -256,14 +256,20 @@ mod png_input {
     }
 
     #[test]
-    fn rgb_and_low_depth_png_are_unsupported() {
+    fn colour_png_heightmaps_must_be_gray_and_low_depth_reads_through_image() {
         let dir = tempfile::tempdir().unwrap();
         let rgb = gray_png(4, 4, png::BitDepth::Eight, png::ColorType::Rgb, None);
         let err = read_error(dir.path(), "rgb.png", &rgb, &ReadOptions::default());
-        assert!(matches!(err.kind(), IoErrorKind::Unsupported(m) if m.contains("Rgb")), "{err}");
+        let hint = if cfg!(feature = "images") { "--channel" } else { "Rgb" };
+        assert!(matches!(err.kind(), IoErrorKind::Unsupported(m) if m.contains(hint)), "{err}");
         let one_bit = gray_png(8, 2, png::BitDepth::One, png::ColorType::Grayscale, None);
-        let err = read_error(dir.path(), "bits.png", &one_bit, &ReadOptions::default());
-        assert!(matches!(err.kind(), IoErrorKind::Unsupported(_)), "{err}");
+        let read = read_bytes(&one_bit, Format::Png16, "bits.png", &ReadOptions::default());
+        if cfg!(feature = "images") {
+            let hf = read.unwrap();
+            assert!(hf.samples().iter().all(|&v| v == 0.0 || v == 1.0), "1-bit gray: 0 or 1");
+        } else {
+            assert!(matches!(read.unwrap_err().kind(), IoErrorKind::Unsupported(_)));
+        }
     }
 
     #[test]
@@ -335,9 +341,11 @@ mod tiff_input {
     #[test]
     fn truncated_tiff_is_truncated() {
         let dir = tempfile::tempdir().unwrap();
-        let plain = write_bytes(&small_field(30, 20), Format::GeoTiff).unwrap();
+        let plain = dir.path().join("u.tif");
+        write_with(&plain, &small_field(30, 20), &WriteOptions::default().with_compress(false)).unwrap();
+        let plain = std::fs::read(plain).unwrap();
         let deflated = dir.path().join("z.tif");
-        write_with(&deflated, &small_field(30, 20), &WriteOptions::default().with_compress(true)).unwrap();
+        write_with(&deflated, &small_field(30, 20), &WriteOptions::default()).unwrap();
         for bytes in [plain, std::fs::read(deflated).unwrap()] {
             for cut in [5, 100, bytes.len() / 2, bytes.len() - 1] {
                 let err = read_error(dir.path(), "cut.tif", &bytes[..cut], &ReadOptions::default());
@@ -349,7 +357,9 @@ mod tiff_input {
     #[test]
     fn tiff_header_that_lies_about_dimensions() {
         let dir = tempfile::tempdir().unwrap();
-        let mut bytes = write_bytes(&small_field(30, 20), Format::GeoTiff).unwrap();
+        let plain = dir.path().join("plain.tif");
+        write_with(&plain, &small_field(30, 20), &WriteOptions::default().with_compress(false)).unwrap();
+        let mut bytes = std::fs::read(plain).unwrap();
         patch_width(&mut bytes, 30_000);
         // 600 000 f32 samples cannot hide in a 2.5 kB uncompressed file: refused before allocation.
         let err = read_error(dir.path(), "lie.tif", &bytes, &ReadOptions::default());
@@ -363,12 +373,22 @@ mod tiff_input {
     }
 
     #[test]
-    fn multiband_tiff_is_unsupported() {
-        let mut out = std::io::Cursor::new(Vec::new());
-        let mut enc = tiff::encoder::TiffEncoder::new(&mut out).unwrap();
-        enc.write_image::<tiff::encoder::colortype::RGB8>(2, 2, &[7u8; 12]).unwrap();
-        let err = read_bytes(out.get_ref(), Format::GeoTiff, "rgb.tif", &ReadOptions::default()).unwrap_err();
-        assert!(matches!(err.kind(), IoErrorKind::Unsupported(m) if m.contains("single-band")), "{err}");
+    fn rgb_tiff_reads_when_gray_and_asks_for_a_band_or_channel_otherwise() {
+        let rgb = |pixels: &[u8]| {
+            let mut out = std::io::Cursor::new(Vec::new());
+            let mut enc = tiff::encoder::TiffEncoder::new(&mut out).unwrap();
+            enc.write_image::<tiff::encoder::colortype::RGB8>(2, 2, pixels).unwrap();
+            read_bytes(out.get_ref(), Format::GeoTiff, "rgb.tif", &ReadOptions::default())
+        };
+        let gray = rgb(&[7u8; 12]);
+        let colour = rgb(&[1, 2, 3, 1, 2, 3, 1, 2, 3, 1, 2, 3]).unwrap_err();
+        if cfg!(feature = "images") {
+            assert_eq!(gray.unwrap().min_max(), Some((7.0 / 255.0, 7.0 / 255.0)));
+            assert!(colour.to_string().contains("--channel"), "{colour}");
+        } else {
+            assert!(gray.unwrap_err().to_string().contains("--band"));
+        }
+        assert!(matches!(colour.kind(), IoErrorKind::Unsupported(_)), "{colour}");
     }
 
     #[test]

@@ -12,12 +12,35 @@ fn seed_file(format: Format) -> Option<Vec<u8>> {
     write_bytes(&common::small_field(13, 9), format).ok()
 }
 
-/// Every format whose codec is compiled in, with its valid seed file.
+/// Every format whose codec is compiled in, with its valid seed file; GDAL-written `GeoTIFF`s too
+/// (LZMA strips and tiles, ZSTD, big-endian, user CRS keys), so the decoders of their own
+/// paths are mutated as well.
 fn seeds() -> Vec<(Format, Vec<u8>)> {
-    [Format::Png8, Format::Png16, Format::Exr, Format::R16, Format::R32, Format::Asc, Format::GeoTiff]
-        .into_iter()
-        .filter_map(|f| seed_file(f).map(|b| (f, b)))
-        .collect()
+    let mut seeds: Vec<(Format, Vec<u8>)> =
+        [Format::Png8, Format::Png16, Format::Exr, Format::R16, Format::R32, Format::Asc, Format::GeoTiff]
+            .into_iter()
+            .filter_map(|f| seed_file(f).map(|b| (f, b)))
+            .collect();
+    if cfg!(feature = "geotiff") {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/gdal");
+        for name in ["lzma-i16-tiled.tif", "lzma-f64-be.tif", "lzma-f32.tif", "zstd-f32.tif", "tn-ftus.tif"] {
+            seeds.push((Format::GeoTiff, std::fs::read(dir.join(name)).unwrap()));
+        }
+    }
+    if cfg!(feature = "images") {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/images");
+        for (name, format) in [
+            ("gray.jpg", Format::Image),
+            ("gray.bmp", Format::Image),
+            ("gray.webp", Format::Image),
+            ("rgb-equal.png", Format::Png16),
+            ("palette-gray.png", Format::Png16),
+            ("three-band.tif", Format::GeoTiff),
+        ] {
+            seeds.push((format, std::fs::read(dir.join(name)).unwrap()));
+        }
+    }
+    seeds
 }
 
 fn mutate(mut bytes: Vec<u8>, edits: &[(usize, u8)], keep: usize) -> Vec<u8> {

@@ -61,6 +61,13 @@ pub(crate) struct Cli {
     /// WKT text or a .prj file. A label only (nothing is reprojected); its units become the grid's.
     #[arg(long, global = true, value_parser = parse_crs, value_name = "CRS")]
     crs: Option<relief::heightfield::Crs>,
+    /// The band (1-based) of a multi-band GeoTIFF to read.
+    #[arg(long, global = true, value_name = "N")]
+    band: Option<u16>,
+    /// The channel of a colour image that holds the values: red, green, blue, alpha or luma (a
+    /// heightmap must otherwise be gray; masks otherwise read as luma).
+    #[arg(long, global = true, value_parser = parse_channel, value_name = "CHANNEL")]
+    channel: Option<relief::io::Channel>,
 }
 
 impl Cli {
@@ -76,7 +83,8 @@ impl Cli {
 
 impl Cli {
     /// How every heightfield a command reads is read: the budget's cell cap and the flags that
-    /// say what a file does not (vertical range, cell size, origin, raw size, units, CRS).
+    /// say what a file does not (vertical range, cell size, origin, raw size, units, CRS, band,
+    /// channel).
     pub(crate) fn read_options(&self) -> relief::io::ReadOptions {
         let budget = self.budget();
         let mut read = relief::io::ReadOptions::default()
@@ -98,6 +106,12 @@ impl Cli {
         }
         if let Some(crs) = &self.crs {
             read = read.with_crs(crs.clone());
+        }
+        if let Some(band) = self.band {
+            read = read.with_band(band);
+        }
+        if let Some(channel) = self.channel {
+            read = read.with_channel(channel);
         }
         read
     }
@@ -361,6 +375,30 @@ pub(crate) struct ConvertArgs {
     /// fixed vertical scale; default: the field's own min and max).
     #[arg(long, value_parser = parse_range, allow_hyphen_values = true, value_name = "MIN,MAX")]
     pub(crate) range: Option<[f32; 2]>,
+    /// Write .tif and .exr uncompressed (default: a .tif is deflated with GDAL's floating-point
+    /// predictor, an .exr is not compressed).
+    #[arg(long, conflicts_with = "compress")]
+    pub(crate) no_compress: bool,
+    /// Compress an .exr too (ZIP; slower to write, about 10 % smaller for generated terrain).
+    #[arg(long)]
+    pub(crate) compress: bool,
+    /// Sample type of a .tif: f32 (default, exact) or i16 (whole units, -32768 for no-data, as
+    /// SRTM stores them; half the size).
+    #[arg(long, value_enum, default_value = "f32", value_name = "TYPE")]
+    pub(crate) tiff_type: TiffType,
+    /// Write a .tif with its raster type "pixel is area" (GDAL's default) instead of "pixel is
+    /// point"; GDAL and relief place the samples at the same coordinates either way.
+    #[arg(long)]
+    pub(crate) pixel_is_area: bool,
+}
+
+/// A GeoTIFF sample type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum TiffType {
+    /// 32-bit float.
+    F32,
+    /// 16-bit signed integer.
+    I16,
 }
 
 // `relief info`.
@@ -524,6 +562,10 @@ fn parse_cell_size(s: &str) -> Result<[f64; 2], String> {
 
 fn parse_units(s: &str) -> Result<relief::heightfield::Units, String> {
     s.parse().map_err(|e: relief::heightfield::HeightfieldError| e.to_string())
+}
+
+fn parse_channel(s: &str) -> Result<relief::io::Channel, String> {
+    s.parse()
 }
 
 fn parse_crs(s: &str) -> Result<relief::heightfield::Crs, String> {

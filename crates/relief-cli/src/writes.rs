@@ -52,7 +52,7 @@ impl Written {
     /// Whether `path`'s extension names this format.
     fn fits(self, path: &Path) -> bool {
         if self == Self::Heightfield {
-            return Format::from_extension(path).is_some();
+            return Format::from_extension(path).is_some_and(Format::is_writable);
         }
         let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         extension.is_some_and(|e| self.extensions().contains(&e.as_str()))

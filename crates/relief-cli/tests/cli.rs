@@ -380,3 +380,32 @@ fn vectorize_then_rasterize_a_real_dem() {
     let err = fails(&["--force", "--max-cells", "5000", "vectorize", dem, "--resolution", "96", "-o", json], 1);
     assert!(err.contains("--resolution") && err.contains("9216"), "{err}");
 }
+
+#[test]
+fn gis_flags_label_crs_pick_bands_and_channels_and_convert_keeps_the_crs() {
+    let info = ok(&["info", "fixtures/gdal/tn-ftus.tif"]);
+    assert!(
+        info.contains("NAD83 / Tennessee (ftUS) (EPSG:2274), us_survey_feet") && info.contains("300 x 300 ftUS"),
+        "{info}"
+    );
+    // An ASCII grid without .prj in degrees: read as degrees, and the guess is said.
+    let dir = tempfile::tempdir().unwrap();
+    let bare = dir.path().join("bare.asc");
+    std::fs::copy(root().join("fixtures/dem/jacksboro.asc"), &bare).unwrap();
+    let out = relief().args(["info", bare.to_str().unwrap()]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("read as geographic degrees"), "{stderr}");
+    let labelled = ok(&["info", "--json", "--crs", "EPSG:4269", bare.to_str().unwrap()]);
+    let json: serde_json::Value = serde_json::from_str(&labelled).unwrap();
+    assert_eq!((json["crs"]["epsg"].as_u64(), json["units"].as_str()), (Some(4269), Some("degrees")));
+    // convert keeps the CRS (GDAL would report EPSG:2274 for both) and compresses by default.
+    let tif = dir.path().join("c.tif");
+    ok(&["convert", "fixtures/gdal/tn-ftus.tif", tif.to_str().unwrap(), "-q"]);
+    assert!(ok(&["info", tif.to_str().unwrap()]).contains("EPSG:2274"));
+    let band = ok(&["info", "--band", "2", "fixtures/images/three-band.tif"]);
+    assert!(band.contains("449 .. 941"), "{band}");
+    assert!(fails(&["info", "fixtures/images/three-band.tif"], 1).contains("--band"));
+    assert!(fails(&["info", "fixtures/images/rgb-colour.png"], 1).contains("--channel"));
+    assert!(ok(&["info", "--channel", "red", "fixtures/images/rgb-colour.png"]).contains("0 .. 0.1254902"));
+    assert!(fails(&["info", "--crs", "UTM 17", "fixtures/gdal/utm17.tif"], 2).contains("EPSG:n"));
+}

@@ -135,8 +135,8 @@ pub enum SceneError {
         /// Largest side.
         max: usize,
     },
-    /// An output file's extension names no heightfield format.
-    #[error("{}: unknown extension (use .exr, .png, .r16, .r32, .asc, .tif or .hgt)", path.display())]
+    /// An output file's extension names no heightfield format relief writes.
+    #[error("{}: not a heightfield format relief writes (use .exr, .png, .r16, .r32, .asc, .tif or .hgt)", path.display())]
     UnknownExtension {
         /// The output path.
         path: PathBuf,

@@ -8,7 +8,7 @@ use relief::contours::{ContourSet, Levels, extract_dem};
 use relief::heightfield::Heightfield;
 use relief::io::{Format, Quantisation};
 
-use crate::cli::{ContoursArgs, ConvertArgs, HeightfieldFormat, InfoArgs, PreviewArgs};
+use crate::cli::{ContoursArgs, ConvertArgs, HeightfieldFormat, InfoArgs, PreviewArgs, TiffType};
 use crate::ui::Ui;
 use crate::writes::Written;
 
@@ -77,7 +77,17 @@ pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
         Some((nx, ny)) => ui.step("resample", || dem.resample(nx, ny))?,
         None => dem,
     };
-    let mut options = relief::io::WriteOptions::default().with_format(format);
+    let sample = match args.tiff_type {
+        TiffType::F32 => relief::io::TiffSample::F32,
+        TiffType::I16 => relief::io::TiffSample::I16,
+    };
+    let mut options = relief::io::WriteOptions::default()
+        .with_format(format)
+        .with_tiff_sample(sample)
+        .with_pixel_is_area(args.pixel_is_area);
+    if args.no_compress || args.compress {
+        options = options.with_compress(args.compress);
+    }
     if let Some([min, max]) = args.range {
         options = options.with_range(min, max);
     }

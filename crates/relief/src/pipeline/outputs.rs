@@ -20,7 +20,7 @@ const SVG_WIDTH: u32 = 1024;
 /// [`ReliefError::Scene`] at the offending output's JSON path.
 pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
     for (i, path) in outputs.heightfield.iter().enumerate() {
-        if Format::from_extension(path).is_none() {
+        if !Format::from_extension(path).is_some_and(Format::is_writable) {
             return Err(E::at(
                 format!("outputs.heightfield[{i}]"),
                 SceneError::UnknownExtension { path: path.clone() },
