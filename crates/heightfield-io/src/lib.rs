@@ -19,7 +19,7 @@
 //! | [`Format::R32`] | `.r32` | little-endian f32 | NaN no-data; `<file>.json` sidecar | bit-exact |
 //! | [`Format::Asc`] | `.asc` | decimal text | header + shortest round-trip decimals; `.prj` for units | bit-exact |
 //! | [`Format::Hgt`] | `.hgt` | big-endian i16, 1201² or 3601² | −32768 voids; tile corner from the file name | exact for whole metres |
-//! | [`Format::GeoTiff`] | `.tif`, `.tiff` | f32 or i16, DEFLATE + predictor (reads u8–i64, f16–f64; DEFLATE, LZW, PackBits, ZSTD, LZMA; a band of a multi-band file) | `ModelPixelScale`, `ModelTiepoint`, `GeoKeys`, `GDAL_NODATA` | bit-exact (f32) |
+//! | [`Format::GeoTiff`] | `.tif`, `.tiff` | f32 or i16, DEFLATE + predictor (reads u8–i64, f16–f64; DEFLATE, LZW, `PackBits`, ZSTD, LZMA; a band of a multi-band file) | `ModelPixelScale`, `ModelTiepoint`, `GeoKeys`, `GDAL_NODATA` | bit-exact (f32) |
 //! | [`Format::Image`] | `.jpg`, `.bmp`, `.webp` | read only, 8-bit | nothing: a plain image, like a PNG without metadata | — |
 //!
 //! Quantised formats reserve code 0 for no-data when the field has any; a field without the

@@ -13,8 +13,11 @@ use relief_heightfield::Heightfield;
 use crate::meta::{flip_rows, plain_grid};
 use crate::{IoErrorKind, Limits};
 
-/// Which value of a colour pixel a gray reading takes ([`crate::ReadOptions::channel`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// Which value of a colour pixel a gray reading takes ([`crate::ReadOptions::channel`]). In JSON:
+/// `"red"`, `"green"`, `"blue"`, `"alpha"` or `"luma"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[non_exhaustive]
 pub enum Channel {
     /// The red channel.

@@ -62,6 +62,7 @@ fn scene(seed: u64, regions: Vec<Region>, edits: Vec<Edit>, mode: Reconstruction
         description: None,
         seed,
         domain: None,
+        inputs: relief::scene::InputOptions::default(),
         generator: Generator::Contours(ContoursGenerator {
             regions,
             label_image: None,

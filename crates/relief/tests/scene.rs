@@ -495,3 +495,29 @@ fn the_suggested_histogram_keeps_the_shape_of_the_one_given() {
     // And the slices their share of the land: 3/4 below 600 m.
     assert!((w[0] + w[1] - 75.0).abs() < 1.0, "{w:?}");
 }
+
+/// The scene's `inputs` block says what its files do not, as the command line's read flags do:
+/// a plain 8-bit image used as the histogram DEM spans 0..1 alone, and the z range it is given.
+#[test]
+fn scene_inputs_say_what_plain_heightmaps_do_not() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(root().join("fixtures/images/gray.bmp"), dir.path().join("h.bmp")).unwrap();
+    let mut v = base();
+    v["generator"]["contours"]["histogram"] = serde_json::json!({ "dem": "h.bmp" });
+    // The outer region's height 0 lies outside a 0.25..0.84 histogram: let the histogram place it.
+    v["generator"]["contours"]["regions"][0].as_object_mut().unwrap().remove("height");
+    let highest = |v: &serde_json::Value| {
+        let scene = Scene::from_json(&v.to_string()).unwrap();
+        let terrain = generate(&scene, dir.path(), &mut ()).unwrap();
+        terrain.heightfield.min_max().unwrap().1
+    };
+    let plain = highest(&v);
+    assert!(plain <= 1.0, "codes read as 0..1: {plain}");
+    v["inputs"] = serde_json::json!({ "z_range": [0, 1000], "crs": { "epsg": 32617 } });
+    let scaled = highest(&v);
+    assert!(scaled > 500.0, "codes read as 0..1000: {scaled}");
+    let scene = Scene::from_json(&v.to_string()).unwrap();
+    assert_eq!(Scene::from_json(&scene.to_json()).unwrap(), scene, "inputs round trip");
+    v["inputs"] = serde_json::json!({ "z_ragne": [0, 1] });
+    assert!(Scene::from_json(&v.to_string()).is_err(), "unknown input options are refused");
+}

@@ -19,6 +19,8 @@ pub const MAX_RESOLUTION: usize = 16_384;
 pub(crate) struct Env<'a> {
     pub(crate) dir: &'a Path,
     pub(crate) budget: Budget,
+    /// The scene's read options for what the files do not say.
+    pub(crate) inputs: &'a crate::scene::InputOptions,
 }
 
 impl Env<'_> {
@@ -28,7 +30,7 @@ impl Env<'_> {
     }
 
     fn options(&self) -> ReadOptions {
-        ReadOptions::default().with_limits(Limits::default().with_max_cells(self.budget.max_cells))
+        self.inputs.apply(ReadOptions::default().with_limits(Limits::default().with_max_cells(self.budget.max_cells)))
     }
 
     /// Reads a heightfield, refusing one over the cell budget before decoding it.

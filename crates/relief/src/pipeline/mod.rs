@@ -118,7 +118,7 @@ pub fn generate_with(
     progress: &mut dyn Progress,
 ) -> Result<Terrain, ReliefError> {
     budget.check(scene)?;
-    let env = &Env { dir: base_dir, budget: *budget };
+    let env = &Env { dir: base_dir, budget: *budget, inputs: &scene.inputs };
     let mut timer = Timer::new(progress);
     let generated = match &scene.generator {
         Generator::Contours(g) => contours::generate(scene, g, env, &mut timer),

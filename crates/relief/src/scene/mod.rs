@@ -12,6 +12,7 @@
 mod files;
 mod generators;
 mod histogram;
+mod inputs;
 
 use std::path::PathBuf;
 
@@ -30,6 +31,7 @@ pub use generators::{
     LabelImage, OrometryGenerator, OrometrySource, Probability,
 };
 pub use histogram::HistogramSource;
+pub use inputs::InputOptions;
 
 /// The scene format version this library reads.
 pub const SCENE_VERSION: u32 = 1;
@@ -52,6 +54,10 @@ pub struct Scene {
     pub domain: Option<Extent>,
     /// How the terrain is generated.
     pub generator: Generator,
+    /// How the input files are read, for what they do not say themselves (heightmap vertical
+    /// range, cell size, CRS, band, …).
+    #[serde(default, skip_serializing_if = "InputOptions::is_empty")]
+    pub inputs: InputOptions,
     /// Edits applied, in order, to the generated contours (contour generator only).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub edits: Vec<Edit>,
