@@ -92,3 +92,31 @@ fn derived_fields_and_json_keep_the_crs() {
     assert_eq!(back, hf);
     assert_eq!(Heightfield::zeros(grid).crs(), None);
 }
+
+#[test]
+fn wkt_syntax_variants_parse() {
+    // Parentheses instead of brackets, spaces around numbers, numbers written .5 or +1.
+    let paren = Crs::from_wkt(r#"PROJCS("x", UNIT("foot", .3048 ), AUTHORITY("EPSG", "2222") )"#).unwrap();
+    assert_eq!((paren.units(), paren.epsg()), (Some(Units::Feet), Some(2222)));
+    let plus = Crs::from_wkt(r#"PROJCS["x",UNIT["metre",+1]]"#).unwrap();
+    assert_eq!(plus.units(), Some(Units::Metres));
+    assert_eq!(plus.wkt(), Some(r#"PROJCS["x",UNIT["metre",+1]]"#), "the text is kept as given");
+    // Sixty-four levels of nesting are WKT; more are refused.
+    let nested = |n: usize| format!("{}{}", "A[".repeat(n), "]".repeat(n));
+    assert!(Crs::from_wkt(&nested(65)).is_ok());
+    assert!(Crs::from_wkt(&nested(66)).is_err());
+    // A character no WKT has.
+    assert!(Crs::from_wkt(r#"PROJCS["x",@]"#).is_err());
+    let err = Crs::from_wkt("UTM zone 17").unwrap_err().to_string();
+    assert!(err.contains("UTM zone 17"), "the error quotes the text: {err}");
+}
+
+#[test]
+fn units_match_their_length_to_a_part_in_ten_million() {
+    let unit = |m: &str| Crs::from_wkt(&format!("PROJCS[\"x\",UNIT[\"u\",{m}]]")).unwrap().units();
+    assert_eq!(unit("0.304800609601219"), Some(Units::UsSurveyFeet));
+    assert_eq!(unit("0.30480002"), Some(Units::Feet), "within 1e-7 of a foot");
+    assert_eq!(unit("0.3048001"), None, "3e-7 from a foot is another unit");
+    assert_eq!(unit("1000"), None, "kilometres are not metres");
+    assert!(Crs::from_epsg(999_999).is_ok());
+}
