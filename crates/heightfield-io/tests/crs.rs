@@ -164,3 +164,29 @@ fn crs_specs_parse_or_say_why_not() {
     let rare = parse_crs("EPSG:900914").unwrap();
     assert_eq!((rare.epsg(), rare.wkt()), (Some(900_914), None));
 }
+
+#[test]
+fn the_degrees_guess_needs_every_condition() {
+    let dir = tempfile::tempdir().unwrap();
+    let units = |name: &str, header: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, format!("ncols 2\nnrows 2\n{header}\n1 2\n3 4\n")).unwrap();
+        read_with_notes(&path, &ReadOptions::default()).unwrap().0.grid().units()
+    };
+    let fine = 0.000_277_777_8;
+    // (name, header, expected): each condition broken alone, and the exact edges of the globe.
+    let cases = [
+        ("west.asc", format!("xllcenter -180.001\nyllcenter 0\ncellsize {fine}"), Units::Metres),
+        ("east.asc", format!("xllcenter 179.9999\nyllcenter 0\ncellsize {fine}"), Units::Metres),
+        ("south.asc", format!("xllcenter 0\nyllcenter -90.001\ncellsize {fine}"), Units::Metres),
+        ("north.asc", format!("xllcenter 0\nyllcenter 89.9999\ncellsize {fine}"), Units::Metres),
+        ("coarse-x.asc", format!("xllcenter 0\nyllcenter 0\ndx 0.02\ndy {fine}"), Units::Metres),
+        ("coarse-y.asc", format!("xllcenter 0\nyllcenter 0\ndx {fine}\ndy 0.02"), Units::Metres),
+        ("sw-edge.asc", format!("xllcenter -180\nyllcenter -90\ncellsize {fine}"), Units::Degrees),
+        ("ne-edge.asc", "xllcenter 179.99\nyllcenter 89.99\ncellsize 0.01".to_owned(), Units::Degrees),
+        ("arc-minute.asc", "xllcenter 0\nyllcenter 0\ndx 0.0166666\ndy 0.0166666".to_owned(), Units::Degrees),
+    ];
+    for (name, header, expected) in cases {
+        assert_eq!(units(name, &header), expected, "{name}");
+    }
+}

@@ -27,7 +27,18 @@ fn window() -> Vec<f32> {
 #[test]
 fn zstd_and_lzma_geotiffs_give_the_dem_values() {
     let expected = window();
-    for file in ["zstd-f32.tif", "lzma-f32.tif", "lzma-i16-tiled.tif", "lzma-u16-be.tif", "lzma-f64-be.tif"] {
+    let files = [
+        "zstd-f32.tif",
+        "lzma-f32.tif",
+        "lzma-i16-tiled.tif",
+        "lzma-u16-be.tif",
+        "lzma-f64-be.tif",
+        // libtiff's predictors under LZMA (GDAL writes LZMA without them).
+        "lzma-i16-p2.tif",
+        "lzma-i16-p2-be.tif",
+        "lzma-f32-p3-tiled.tif",
+    ];
+    for file in files {
         let hf = read(gdal(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
         assert_eq!((hf.nx(), hf.ny()), (60, 40), "{file}");
         let mut got = Vec::new();
@@ -83,6 +94,12 @@ fn int16_output_rounds_keeps_no_data_and_refuses_what_does_not_fit() {
     assert_eq!(back.value(3, 2), 302.0, "rounded to whole units");
     let tall = hf.map(|v| v + 40_000.0).unwrap();
     assert!(matches!(write_with(&path, &tall, &i16).unwrap_err().kind(), IoErrorKind::OutOfRange { .. }));
+    // The range ends: −32767 and 32767 fit, −32768 is the no-data code.
+    let edges = |v: f32| Heightfield::filled(grid, v).unwrap();
+    write_with(&path, &edges(-32_767.0), &i16).unwrap();
+    assert_eq!(read(&path).unwrap().min_max(), Some((-32_767.0, -32_767.0)));
+    write_with(&path, &edges(32_767.0), &i16).unwrap();
+    assert!(write_with(&path, &edges(-32_768.0), &i16).is_err(), "−32768 would read back as no-data");
 }
 
 #[test]

@@ -51,6 +51,22 @@ fn detection_is_by_content_and_images_are_read_only() {
     assert_eq!(Format::detect(std::path::Path::new("x.r16"), &bytes), Some(Format::Image));
     // Two bytes "BM" alone do not make a BMP: a raw heightmap may start with them.
     assert_eq!(Format::detect(std::path::Path::new("x.r16"), b"BM\x00\x00\x00\x00"), Some(Format::R16));
+    let mut bmp_start = b"BM".to_vec();
+    bmp_start.extend_from_slice(&[0; 12]);
+    for (info, image) in [(40u32, true), (124, true), (41, false)] {
+        let mut b = bmp_start.clone();
+        b.extend_from_slice(&info.to_le_bytes());
+        let found = Format::detect(std::path::Path::new("x.r16"), &b);
+        assert_eq!(found == Some(Format::Image), image, "BMP info header of {info} bytes");
+    }
+    let riff = |kind: &[u8]| [b"RIFF\0\0\0\0".as_slice(), kind].concat();
+    assert_eq!(Format::detect(std::path::Path::new("x.r16"), &riff(b"WEBP")), Some(Format::Image));
+    assert_eq!(
+        Format::detect(std::path::Path::new("x.r16"), &riff(b"WAVE")),
+        Some(Format::R16),
+        "a RIFF that is not WebP"
+    );
+    assert_eq!(Format::detect(std::path::Path::new("x.r16"), &[0xff, 0xd8, 0xff, 0xe0]), Some(Format::Image));
     let hf = common::small_field(4, 3);
     assert!(matches!(write_bytes(&hf, Format::Image).unwrap_err().kind(), IoErrorKind::Unsupported(_)));
     let dir = tempfile::tempdir().unwrap();
