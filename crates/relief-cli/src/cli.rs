@@ -87,33 +87,20 @@ impl Cli {
     /// channel).
     pub(crate) fn read_options(&self) -> relief::io::ReadOptions {
         let budget = self.budget();
-        let mut read = relief::io::ReadOptions::default()
+        let read = relief::io::ReadOptions::default()
             .with_limits(relief::io::Limits::default().with_max_cells(budget.max_cells));
-        if let Some([min, max]) = self.z_range {
-            read = read.with_z_range(f64::from(min), f64::from(max));
-        }
-        if let Some([x, y]) = self.cell_size {
-            read = read.with_cell_size(glam::DVec2::new(x, y));
-        }
-        if let Some([x, y]) = self.origin {
-            read = read.with_origin(glam::DVec2::new(x, y));
-        }
-        if let Some((w, h)) = self.raw_size {
-            read = read.with_raw_dims(w, h);
-        }
-        if let Some(units) = self.units {
-            read = read.with_units(units);
-        }
-        if let Some(crs) = &self.crs {
-            read = read.with_crs(crs.clone());
-        }
-        if let Some(band) = self.band {
-            read = read.with_band(band);
-        }
-        if let Some(channel) = self.channel {
-            read = read.with_channel(channel);
-        }
-        read
+        // The same fields as a scene's `inputs` block, applied the same way.
+        let flags = relief::scene::InputOptions {
+            z_range: self.z_range.map(|r| r.map(f64::from)),
+            cell_size: self.cell_size,
+            origin: self.origin,
+            raw_size: self.raw_size.map(|(w, h)| [w, h]),
+            units: self.units,
+            crs: self.crs.clone(),
+            band: self.band,
+            channel: self.channel,
+        };
+        flags.apply(read)
     }
 }
 
