@@ -250,8 +250,9 @@ pub struct WriteOptions {
     /// the floating-point predictor (f32) or the horizontal one (Int16), which GDAL and every
     /// GIS reads.
     ///
-    /// `None` (the default) means on for `GeoTIFF` (a real DEM shrinks to about a quarter of its
-    /// plain f32 size, less than GDAL's default uncompressed output) and off for `OpenEXR` (the low
+    /// `None` (the default) means on for `GeoTIFF` (a whole-metre DEM shrinks to about a quarter of
+    /// its plain f32 size and a resampled one to about 60 %, each a little smaller than GDAL's
+    /// `DEFLATE` + `PREDICTOR=3` output, for about three times the write time) and off for `OpenEXR` (the low
     /// mantissa bits of generated terrain are noise, so on a 4096² field ZIP saves about 10% for
     /// 35× the write time). PNG is always deflated (with the fast `fdeflate` level); raw, ASCII
     /// and `.hgt` have no compression.
