@@ -402,6 +402,14 @@ fn gis_flags_label_crs_pick_bands_and_channels_and_convert_keeps_the_crs() {
     let tif = dir.path().join("c.tif");
     ok(&["convert", "fixtures/gdal/tn-ftus.tif", tif.to_str().unwrap(), "-q"]);
     assert!(ok(&["info", tif.to_str().unwrap()]).contains("EPSG:2274"));
+    let lines = dir.path().join("c.geojson");
+    ok(&["contours", "fixtures/gdal/utm17.tif", "--interval", "50", "--geojson", lines.to_str().unwrap(), "-q"]);
+    let text = std::fs::read_to_string(&lines).unwrap();
+    assert!(
+        text.starts_with(r#"{"crs":{"properties":{"name":"urn:ogc:def:crs:EPSG::32617"},"type":"name"}"#),
+        "{}",
+        &text[..80]
+    );
     let band = ok(&["info", "--band", "2", "fixtures/images/three-band.tif"]);
     assert!(band.contains("449 .. 941"), "{band}");
     assert!(fails(&["info", "fixtures/images/three-band.tif"], 1).contains("--band"));

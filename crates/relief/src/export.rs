@@ -76,7 +76,8 @@ pub fn geojson_crs_name(crs: &Crs) -> Option<String> {
 /// `ridge`). Coordinates are the grid's world coordinates, so a geographic DEM gives
 /// longitude/latitude. With the analysis the tree came from, peaks carry its measures
 /// (prominence, dominance, isolation, ...), and ridges name the peak they are the key saddle of.
-pub fn divide_tree_geojson(tree: &DivideTree, analysis: Option<&Orometry>) -> String {
+/// With an EPSG-coded `crs`, the collection names it as [`contours_geojson`] does.
+pub fn divide_tree_geojson(tree: &DivideTree, analysis: Option<&Orometry>, crs: Option<&Crs>) -> String {
     let mut features = Vec::with_capacity(tree.peaks.len() + 2 * tree.saddles.len());
     for (k, p) in tree.peaks.iter().enumerate() {
         let mut props = json!({ "kind": "peak", "id": k, "elevation": p.elevation });
@@ -115,7 +116,11 @@ pub fn divide_tree_geojson(tree: &DivideTree, analysis: Option<&Orometry>) -> St
             "geometry": { "type": "LineString", "coordinates": [[a.x, a.y], [s.position.x, s.position.y], [b.x, b.y]] },
         }));
     }
-    serde_json::to_string(&json!({ "type": "FeatureCollection", "features": features })).unwrap_or_default()
+    let mut collection = json!({ "type": "FeatureCollection", "features": features });
+    if let Some(name) = crs.and_then(geojson_crs_name) {
+        collection["crs"] = json!({ "type": "name", "properties": { "name": name } });
+    }
+    serde_json::to_string(&collection).unwrap_or_default()
 }
 
 /// The analysed peaks as CSV, highest first: position (`lon,lat` for geographic grids, else

@@ -90,10 +90,22 @@ fn a_real_dem_exports_its_divide_tree_and_peaks() {
     assert!((-85.0..-84.0).contains(&lon) && (36.0..37.0).contains(&lat), "{lon}, {lat}");
     let tree = DivideTree::from_orometry(&oro);
     let value: serde_json::Value =
-        serde_json::from_str(&relief::export::divide_tree_geojson(&tree, Some(&oro))).unwrap();
+        serde_json::from_str(&relief::export::divide_tree_geojson(&tree, Some(&oro), None)).unwrap();
     let features = value["features"].as_array().unwrap();
     let ridges = features.iter().filter(|f| f["properties"]["kind"] == "ridge").count();
     assert_eq!(ridges, oro.saddles.len());
     let top = features.iter().find(|f| f["properties"]["kind"] == "peak").unwrap();
     assert_eq!(top["properties"]["prominence"].as_f64(), Some(oro.peaks[0].prominence));
+    assert!(value.get("crs").is_none(), "no CRS, no crs member");
+    // GDAL's crs member: an EPSG URN, or CRS84 for WGS 84 (longitude first); none for bare WKT.
+    let crs_name = |crs: &relief::heightfield::Crs| {
+        let text = relief::export::divide_tree_geojson(&tree, None, Some(crs));
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        v["crs"]["properties"]["name"].as_str().map(str::to_owned)
+    };
+    let epsg = |c| relief::heightfield::Crs::from_epsg(c).unwrap();
+    assert_eq!(crs_name(&epsg(4269)).as_deref(), Some("urn:ogc:def:crs:EPSG::4269"));
+    assert_eq!(crs_name(&epsg(4326)).as_deref(), Some("urn:ogc:def:crs:OGC:1.3:CRS84"));
+    let wkt_only = relief::heightfield::Crs::from_wkt(r#"PROJCS["local grid",UNIT["metre",1]]"#).unwrap();
+    assert_eq!(crs_name(&wkt_only), None);
 }

@@ -100,7 +100,7 @@ fn orometry(ui: &mut Ui, dem: &Heightfield, args: &AnalyzeArgs) -> Result<(Orome
     }
     if let Some(p) = &args.divide_tree {
         let tree = DivideTree::from_orometry(&oro);
-        let text = relief::export::divide_tree_geojson(&tree, Some(&oro));
+        let text = relief::export::divide_tree_geojson(&tree, Some(&oro), dem.crs());
         ui.step("write", || relief::io::write_atomic(p, text.as_bytes()))?;
     }
     if let Some(p) = &args.descriptor {

@@ -167,7 +167,11 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         written.push(write_text(out_dir, name, &text)?);
     }
     if let (Some(name), Some(o)) = (&outputs.divide_tree, &terrain.summary.orometry) {
-        written.push(write_text(out_dir, name, &crate::export::divide_tree_geojson(&o.tree, None))?);
+        written.push(write_text(
+            out_dir,
+            name,
+            &crate::export::divide_tree_geojson(&o.tree, None, terrain.heightfield.crs()),
+        )?);
     }
     if let Some(name) = &outputs.preview {
         let path = out_dir.join(name);
