@@ -119,3 +119,51 @@ fn multi_band_tiffs_take_a_band() {
         assert!(matches!(err.kind(), IoErrorKind::InvalidMetadata(_)), "band {band}: {err}");
     }
 }
+
+/// A 3 × 2 RGBA PNG: gray but for pixel (2, 0) = RGB (90, 90, 91) (red equals green, not blue)
+/// and (2, 1) = RGB (10, 20, 30), with pixel (1, 0) coloured but fully transparent.
+fn rgba_png() -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, 3, 2);
+    enc.set_color(png::ColorType::Rgba);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut writer = enc.write_header().unwrap();
+    #[rustfmt::skip]
+    let pixels = [
+        50, 50, 50, 255,   5, 6, 7, 0,      90, 90, 91, 255,
+        0, 0, 0, 255,      255, 255, 255, 255, 10, 20, 30, 255,
+    ];
+    writer.write_image_data(&pixels).unwrap();
+    drop(writer);
+    out
+}
+
+#[test]
+fn the_first_colour_pixel_is_named_and_channels_pick_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rgba.png");
+    std::fs::write(&path, rgba_png()).unwrap();
+    let err = read(&path).unwrap_err().to_string();
+    assert!(err.contains("pixel (2, 0)") && err.contains("RGB (90, 90, 91)"), "{err}");
+    let with = |c: Channel| read_with(&path, &ReadOptions::default().with_channel(c)).unwrap();
+    // Row j = 0 is the south (second) image row.
+    let luma = with(Channel::Luma);
+    let expected = (0.299 * 10.0 + 0.587 * 20.0 + 0.114 * 30.0) / 255.0;
+    assert!((luma.value(2, 0) - expected).abs() < 1e-6, "{}", luma.value(2, 0));
+    assert!(luma.is_no_data(1, 1), "a transparent pixel is no-data");
+    assert_eq!(with(Channel::Green).value(2, 0), 20.0 / 255.0);
+    let alpha = with(Channel::Alpha);
+    assert_eq!((alpha.value(1, 1), alpha.value(0, 1)), (0.0, 1.0), "alpha as the value keeps transparent pixels");
+    let mask = read_gray_image(&path, &ReadOptions::default().with_channel(Channel::Red)).unwrap();
+    assert_eq!(mask.value(2, 0), 10.0 / 255.0);
+    for (name, channel) in [
+        ("red", Channel::Red),
+        ("G", Channel::Green),
+        ("b", Channel::Blue),
+        ("alpha", Channel::Alpha),
+        ("luma", Channel::Luma),
+    ] {
+        assert_eq!(name.parse::<Channel>(), Ok(channel), "{name}");
+    }
+    assert!("cyan".parse::<Channel>().is_err());
+}
