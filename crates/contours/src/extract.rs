@@ -1,13 +1,11 @@
 use glam::DVec2;
 use rayon::prelude::*;
-use relief_heightfield::Heightfield;
 use relief_tin::{NO_TRIANGLE, Tin};
 
 use crate::levels::check_levels;
 use crate::{Contour, ContourSet, ContoursError};
 
-/// A triangle mesh with heights at its nodes: the TIN of a generated terrain, or a raster DEM seen
-/// as two triangles per cell. Triangles are counter-clockwise; neighbour `k` lies across the edge
+/// A triangle mesh with heights at its nodes (the TIN of a generated terrain). Triangles are counter-clockwise; neighbour `k` lies across the edge
 /// opposite corner `k`. A NaN height marks no-data.
 pub(crate) trait Mesh: Sync {
     fn num_triangles(&self) -> usize;
@@ -15,13 +13,6 @@ pub(crate) trait Mesh: Sync {
     fn neighbor(&self, t: u32, k: usize) -> Option<u32>;
     fn point(&self, v: u32) -> DVec2;
     fn height(&self, v: u32) -> f64;
-    /// Whether the edge of `t` opposite corner `slot` runs inside a cell of the underlying data
-    /// (a raster cell's diagonal) rather than along data: crossings there are dropped from the
-    /// polylines, so a raster's contours have vertices on cell edges only, as marching squares'.
-    fn internal(&self, t: u32, slot: usize) -> bool {
-        let _ = (t, slot);
-        false
-    }
 }
 
 pub(crate) struct TinMesh<'a> {
@@ -45,59 +36,6 @@ impl Mesh for TinMesh<'_> {
     }
     fn height(&self, v: u32) -> f64 {
         self.heights[v as usize]
-    }
-}
-
-/// A raster split into two triangles per cell: `(v00, v10, v11)` and `(v00, v11, v01)`.
-pub(crate) struct GridMesh<'a> {
-    pub(crate) dem: &'a Heightfield,
-}
-
-impl GridMesh<'_> {
-    fn cells_x(&self) -> usize {
-        self.dem.nx() - 1
-    }
-    fn node(&self, i: usize, j: usize) -> u32 {
-        (j * self.dem.nx() + i) as u32
-    }
-}
-
-impl Mesh for GridMesh<'_> {
-    fn num_triangles(&self) -> usize {
-        2 * (self.dem.nx() - 1) * (self.dem.ny() - 1)
-    }
-    fn corners(&self, t: u32) -> [u32; 3] {
-        let cell = (t / 2) as usize;
-        let (i, j) = (cell % self.cells_x(), cell / self.cells_x());
-        if t.is_multiple_of(2) {
-            [self.node(i, j), self.node(i + 1, j), self.node(i + 1, j + 1)]
-        } else {
-            [self.node(i, j), self.node(i + 1, j + 1), self.node(i, j + 1)]
-        }
-    }
-    fn neighbor(&self, t: u32, k: usize) -> Option<u32> {
-        let (cx, cy) = (self.cells_x(), self.dem.ny() - 1);
-        let cell = (t / 2) as usize;
-        let (i, j) = (cell % cx, cell / cx);
-        let tri = |i: usize, j: usize, s: u32| (2 * (j * cx + i)) as u32 + s;
-        match (t % 2, k) {
-            (0, 0) => (i + 1 < cx).then(|| tri(i + 1, j, 1)),
-            (0, 1) | (1, 2) => Some(t ^ 1),
-            (0, _) => (j > 0).then(|| tri(i, j - 1, 1)),
-            (1, 0) => (j + 1 < cy).then(|| tri(i, j + 1, 0)),
-            (_, _) => (i > 0).then(|| tri(i - 1, j, 0)),
-        }
-    }
-    fn point(&self, v: u32) -> DVec2 {
-        let (i, j) = self.dem.grid().coords(v as usize);
-        self.dem.grid().position(i, j)
-    }
-    fn height(&self, v: u32) -> f64 {
-        f64::from(self.dem.samples()[v as usize])
-    }
-    fn internal(&self, t: u32, slot: usize) -> bool {
-        // The diagonal is opposite corner 1 of the lower triangle and corner 2 of the upper one.
-        slot == if t.is_multiple_of(2) { 1 } else { 2 }
     }
 }
 
@@ -270,10 +208,7 @@ fn link(mesh: &impl Mesh, segments: &Segments, levels: &[f64], s0: usize, visite
     loop {
         visited[s] = true;
         let seg = segments.get(s);
-        // Crossings of internal edges are dropped, except where an open line starts.
-        if !mesh.internal(segments.owner[s], usize::from(seg.entry_slot)) || (points.is_empty() && !closed) {
-            points.push(at(s, seg.entry_slot));
-        }
+        points.push(at(s, seg.entry_slot));
         match segments.neighbour(mesh, s, false) {
             Some(q) if q == start && closed => break,
             Some(q) if !visited[q] => s = q,
@@ -300,17 +235,4 @@ pub fn extract_tin(tin: &Tin, heights: &[f64], levels: &[f64]) -> Result<Contour
         return Err(ContoursError::HeightCountMismatch { expected: tin.num_points(), found: heights.len() });
     }
     extract(&TinMesh { tin, heights }, levels)
-}
-
-/// Contours of a raster DEM at `levels` (like `gdal_contour`): each cell is split into two
-/// triangles along its south-west–north-east diagonal; no-data cells produce no contour, so
-/// contours end (open) at holes and at the raster edge.
-///
-/// # Errors
-/// [`ContoursError::InvalidLevels`]; a DEM with fewer than 2×2 samples yields no contours.
-pub fn extract_dem(dem: &Heightfield, levels: &[f64]) -> Result<ContourSet, ContoursError> {
-    if dem.nx() < 2 || dem.ny() < 2 {
-        return ContourSet::new(levels.to_vec(), Vec::new());
-    }
-    extract(&GridMesh { dem }, levels)
 }

@@ -245,7 +245,7 @@ fn pits_run_clockwise_and_stairs_step_down_inside_them() {
 }
 
 #[test]
-fn dem_contours_end_at_holes_and_edges() {
+fn dem_contours_reach_the_outer_edge_and_end_half_way_to_holes() {
     // A ramp h = x over 20 × 10 with a no-data hole in the middle.
     let grid = GridSpec::new(20, 10, DVec2::ZERO, DVec2::ONE).unwrap();
     let mut dem = Heightfield::from_fn(grid, |p| p.x as f32).unwrap();
@@ -254,16 +254,45 @@ fn dem_contours_end_at_holes_and_edges() {
             dem.set(i, j, f32::NAN).unwrap();
         }
     }
-    let set = extract_dem(&dem, &[5.5, 9.5]).unwrap();
+    let set = extract_dem(&dem, &[5.25, 9.5]).unwrap();
     set.check_invariants().unwrap();
     let at = |h: f64| set.contours().iter().filter(|c| c.height == h).collect::<Vec<_>>();
-    assert_eq!(at(5.5).len(), 1, "a full-height line from edge to edge");
-    assert!(!at(5.5)[0].closed);
-    assert_eq!(at(9.5).len(), 2, "the hole cuts the 9.5 line in two");
-    assert!(at(9.5).iter().all(|c| !c.closed && c.points.iter().all(|p| (p.x - 9.5).abs() < 1e-9)));
-    // Higher ground on the left of the direction of travel: the ramp rises to the east, so lines run south.
-    let c = &at(5.5)[0];
-    assert!(c.points.last().unwrap().y < c.points[0].y);
+    assert_eq!(at(5.25).len(), 1, "a full-height line from edge to edge");
+    let c = &at(5.25)[0];
+    assert!(!c.closed);
+    // Higher ground on the left of the direction of travel: the ramp rises to the east, so lines
+    // run south, from the raster's outer edge to the outer edge, half a cell beyond the samples.
+    assert_eq!((c.points[0], *c.points.last().unwrap()), (DVec2::new(5.25, 9.5), DVec2::new(5.25, -0.5)));
+    // The hole (samples 9 and 10 of rows 4 and 5) cuts the 9.5 line in two, each half ending half
+    // a cell short of the missing samples: at y = 3.5 and 5.5. The level lies half-way between
+    // samples, at the means the split cells take, which count as above it: the ends sit a hair
+    // west of x = 9.5, as GDAL's do.
+    let mut ends: Vec<f64> = at(9.5)
+        .iter()
+        .inspect(|c| assert!(!c.closed && c.points.iter().all(|p| (p.x - 9.5).abs() < 1e-5), "{:?}", c.points))
+        .flat_map(|c| [c.points[0].y, c.points.last().unwrap().y])
+        .collect();
+    ends.sort_by(f64::total_cmp);
+    assert_eq!(ends, [-0.5, 3.5, 5.5, 9.5]);
+}
+
+#[test]
+fn saddles_cut_off_the_south_west_and_north_east_corners_as_gdal_does() {
+    // One square whose diagonal corners are high (and then low), all levels alike: GDAL keeps
+    // the north-west and south-east corners joined whichever way the saddle goes.
+    for (sw_ne, se_nw) in [(1.0, 0.0), (0.0, 1.0)] {
+        let grid = GridSpec::new(2, 2, DVec2::ZERO, DVec2::ONE).unwrap();
+        let dem = Heightfield::from_samples(grid, vec![sw_ne, se_nw, se_nw, sw_ne]).unwrap();
+        let set = extract_dem(&dem, &[0.25, 0.5]).unwrap();
+        set.check_invariants().unwrap();
+        assert_eq!(set.len(), 4, "two corner cuts per level");
+        // Each line stays on one side of the north-west–south-east diagonal x + y = 1.
+        for c in set.contours() {
+            let south_west = c.points.iter().all(|p| p.x + p.y < 1.0);
+            let north_east = c.points.iter().all(|p| p.x + p.y > 1.0);
+            assert!(south_west || north_east, "{sw_ne}: {:?}", c.points);
+        }
+    }
 }
 
 #[test]
@@ -413,18 +442,30 @@ fn rough_dem() -> impl Strategy<Value = Heightfield> {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
-    /// Raster contours are marching squares' lines: vertices on cell edges only (the crossings of
-    /// the cells' diagonals dropped, but where no-data cuts a line), still never crossing, with the nesting tree a brute-force
-    /// search finds.
+    /// Raster contours are marching squares' lines: vertices on the edges between samples, except
+    /// in squares with a missing corner (no-data, or outside the raster), which are split into
+    /// quarters; never crossing, with the nesting tree a brute-force search finds.
     #[test]
     fn dem_contours_have_vertices_on_cell_edges_never_cross_and_nest(dem in rough_dem()) {
         let set = extract_dem(&dem, &[0.5, 1.5, 2.0, 2.5, 3.5, 4.5]).unwrap();
         set.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
         let on_grid_line = |x: f64| (x - x.round()).abs() < 1e-9;
+        let missing = |i: f64, j: f64| dem.get(i as usize, j as usize).is_none_or(f32::is_nan) || i < 0.0 || j < 0.0;
+        // Whether a square holding p has a corner without data.
+        let split = |p: DVec2| {
+            let (i0, j0) = ((p.x - 1e-6).floor(), (p.y - 1e-6).floor());
+            let (i1, j1) = ((p.x + 1e-6).floor(), (p.y + 1e-6).floor());
+            [(i0, j0), (i1, j1), (i0, j1), (i1, j0)]
+                .iter()
+                .any(|&(i, j)| [(i, j), (i + 1.0, j), (i, j + 1.0), (i + 1.0, j + 1.0)].iter().any(|&(a, b)| missing(a, b)))
+        };
+        let (w, h) = (dem.nx() as f64 - 0.5, dem.ny() as f64 - 0.5);
         for c in set.contours() {
-            // An open line may end on a diagonal, where the cell's other half holds no-data.
-            let inner = if c.closed { &c.points[..] } else { &c.points[1..c.points.len() - 1] };
-            prop_assert!(inner.iter().all(|p| on_grid_line(p.x) || on_grid_line(p.y)), "{:?}", c.points);
+            for &p in &c.points {
+                let inside = |x: f64, max: f64| x >= -0.5 - 1e-9 && x <= max + 1e-9;
+                prop_assert!(inside(p.x, w) && inside(p.y, h), "outside the outer edge: {:?}", p);
+                prop_assert!(on_grid_line(p.x) || on_grid_line(p.y) || split(p), "inside a whole square: {:?}", p);
+            }
         }
         let contours = set.contours();
         for (k, c) in contours.iter().enumerate() {
@@ -441,7 +482,8 @@ proptest! {
 #[test]
 fn lines_cut_open_by_no_data_have_no_parent_even_inside_a_closed_ring() {
     // A cone over 21 × 21 with a 3 × 3 no-data block on its summit: the 2 m contour closes around
-    // everything, the 7.5 m one is cut open where it meets the hole's triangles.
+    // everything, the 7.9 m one (radius 2.1) is cut open where it meets the hole, whose edge lies
+    // half-way to the missing samples.
     let grid = GridSpec::new(21, 21, DVec2::ZERO, DVec2::ONE).unwrap();
     let mut dem = Heightfield::from_fn(grid, |p| (10.0 - p.distance(DVec2::splat(10.0))) as f32).unwrap();
     for j in 9..12 {
@@ -449,7 +491,7 @@ fn lines_cut_open_by_no_data_have_no_parent_even_inside_a_closed_ring() {
             dem.set(i, j, f32::NAN).unwrap();
         }
     }
-    let set = extract_dem(&dem, &[2.0, 7.5]).unwrap();
+    let set = extract_dem(&dem, &[2.0, 7.9]).unwrap();
     set.check_invariants().unwrap();
     let open: Vec<usize> = (0..set.len()).filter(|&k| !set.contours()[k].closed).collect();
     assert!(!open.is_empty(), "the hole cuts the upper contour open");
@@ -466,13 +508,43 @@ fn the_smallest_dems_have_their_contours_and_thinner_ones_none() {
         let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap();
         Heightfield::from_fn(grid, |p| (p.x + p.y) as f32).unwrap()
     };
-    // One cell: the 0.5 line cuts its south-west corner.
-    let set = extract_dem(&ramp(2, 2), &[0.5]).unwrap();
+    // One square: the 0.25 line cuts its south-west corner, carried on to the outer edges.
+    let set = extract_dem(&ramp(2, 2), &[0.25]).unwrap();
     assert_eq!(set.len(), 1);
-    assert_eq!(set.contours()[0].points.len(), 2);
+    let points = [DVec2::new(-0.5, 0.25), DVec2::new(0.0, 0.25), DVec2::new(0.25, 0.0), DVec2::new(0.25, -0.5)];
+    assert_eq!(set.contours()[0].points, points);
     assert_eq!(extract_dem(&ramp(2, 5), &[2.5]).unwrap().len(), 1);
     assert_eq!(extract_dem(&ramp(5, 2), &[2.5]).unwrap().len(), 1);
-    // A single row or column has no cell.
-    assert!(extract_dem(&ramp(1, 5), &[2.5]).unwrap().is_empty());
-    assert!(extract_dem(&ramp(5, 1), &[2.5]).unwrap().is_empty());
+    // A single row or column has no square of four samples, but its half squares carry lines
+    // across it, as GDAL draws them; a single sample has none.
+    for (nx, ny) in [(1, 5), (5, 1)] {
+        let set = extract_dem(&ramp(nx, ny), &[2.5]).unwrap();
+        set.check_invariants().unwrap();
+        assert_eq!(set.len(), 1);
+        assert_eq!(set.contours()[0].length(), 1.0, "across the row, from outer edge to outer edge");
+    }
+    assert!(extract_dem(&ramp(1, 1), &[-1.0, 0.0, 1.0]).unwrap().is_empty());
+}
+
+#[test]
+fn tall_dems_give_the_same_closed_rings_for_any_thread_count() {
+    // 700 rows: rows are traced in bands, in parallel batches, then joined. A hill spanning them
+    // all must still give whole closed rings, and the same bytes with 1 thread as with 3.
+    let grid = GridSpec::new(40, 700, DVec2::ZERO, DVec2::new(1.0, 0.1)).unwrap();
+    let dem = Heightfield::from_fn(grid, |p| {
+        let q = (p - DVec2::new(20.0, 35.0)) / DVec2::new(18.0, 33.0);
+        (100.0 * (1.0 - q.length_squared()) + 3.0 * (p.x * 1.3).sin() * (p.y * 0.7).cos()) as f32
+    })
+    .unwrap();
+    let levels = evenly_spaced_levels(5.0, 95.0, 10).unwrap();
+    let run = || extract_dem(&dem, &levels).unwrap();
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(run);
+    let three = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap().install(run);
+    assert_eq!(one, three);
+    one.check_invariants().unwrap();
+    let lowest: Vec<_> = one.contours().iter().filter(|c| c.level == 0).collect();
+    assert_eq!(lowest.len(), 1, "one ring at the lowest level");
+    assert!(lowest[0].closed && lowest[0].is_counter_clockwise());
+    let bounds = lowest[0].bounds();
+    assert!(bounds.min.y < 5.0 && bounds.max.y > 65.0, "the ring spans the bands: {bounds:?}");
 }

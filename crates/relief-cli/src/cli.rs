@@ -115,9 +115,9 @@ pub(crate) enum Command {
     /// Generate a feature-curve scene (a `diffusion` generator): curves with elevation, slope and
     /// noise constraints diffused into a terrain (Hnaidi et al. 2010).
     Diffuse(DiffuseArgs),
-    /// Extract contour lines from a DEM by marching squares, with their nesting (GDAL's contour
-    /// utility draws the same kind of lines, but resolves saddles by the cell's mean and carries
-    /// lines on to the raster's outer edge).
+    /// Extract contour lines from a DEM by marching squares, with their nesting: the lines GDAL's
+    /// contour utility draws (its saddle rule, lines carried to the raster's outer edge and to
+    /// half-way towards no-data), each running with higher ground on its left.
     Contours(ContoursArgs),
     /// Convert a heightfield between formats (chosen by extension).
     Convert(ConvertArgs),

@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 
 use glam::DVec2;
+use rayon::prelude::*;
 use serde_json::json;
 
 use crate::contours::ContourSet;
@@ -13,7 +14,8 @@ use crate::orometry::{DivideTree, Orometry};
 
 /// The contours as a GeoJSON `FeatureCollection` of `LineString`s (closed ones repeat their first
 /// point), each with properties `id`, `elevation`, `level`, `closed` and `parent` (the id of the
-/// innermost contour around it, or null) — the shape `gdal_contour` produces, plus the nesting.
+/// innermost contour around it, or null) — the lines `gdal_contour` produces, plus the nesting
+/// (run the other way: higher ground on the left, so closed lines go counter-clockwise round hills).
 /// With an EPSG-coded `crs`, the collection names it in a `crs` member as GDAL writes it
 /// ([`geojson_crs_name`]), so GIS tools place metre coordinates where they belong.
 /// [`write_contours_geojson`] streams the same text to a writer.
@@ -30,35 +32,61 @@ pub fn contours_geojson(set: &ContourSet, crs: Option<&Crs>) -> String {
 /// # Errors
 /// The writer's.
 pub fn write_contours_geojson(set: &ContourSet, crs: Option<&Crs>, w: &mut dyn std::io::Write) -> std::io::Result<()> {
-    let number = |w: &mut dyn std::io::Write, x: f64| serde_json::to_writer(&mut *w, &x).map_err(std::io::Error::other);
     w.write_all(b"{")?;
     if let Some(name) = crs.and_then(geojson_crs_name) {
         write!(w, r#""crs":{{"properties":{{"name":"{name}"}},"type":"name"}},"#)?;
     }
     w.write_all(br#""features":["#)?;
-    for (k, c) in set.contours().iter().enumerate() {
-        if k > 0 {
-            w.write_all(b",")?;
+    // Features are formatted in parallel, a batch at a time (so the text is never all in memory),
+    // and written in order: the bytes do not depend on the thread count.
+    let ids: Vec<usize> = (0..set.len()).collect();
+    for batch in ids.chunks(GEOJSON_BATCH) {
+        let parts: Vec<Vec<u8>> = batch
+            .par_chunks(64)
+            .map(|chunk| {
+                let mut text = Vec::new();
+                for &k in chunk {
+                    contour_feature(set, k, &mut text);
+                }
+                text
+            })
+            .collect();
+        for part in parts {
+            w.write_all(&part)?;
         }
-        w.write_all(br#"{"geometry":{"coordinates":["#)?;
-        let closing = c.closed.then(|| c.points[0]);
-        for (i, p) in c.points.iter().chain(closing.iter()).enumerate() {
-            w.write_all(if i == 0 { b"[" } else { b",[" })?;
-            number(w, p.x)?;
-            w.write_all(b",")?;
-            number(w, p.y)?;
-            w.write_all(b"]")?;
-        }
-        write!(w, r#"],"type":"LineString"}},"properties":{{"closed":{},"elevation":"#, c.closed)?;
-        number(w, c.height)?;
-        write!(w, r#","id":{k},"level":{},"parent":"#, c.level)?;
-        match set.parent(k) {
-            Some(p) => write!(w, "{p}")?,
-            None => w.write_all(b"null")?,
-        }
-        w.write_all(br#"},"type":"Feature"}"#)?;
     }
     w.write_all(br#"],"type":"FeatureCollection"}"#)
+}
+
+/// Contours per batch of features formatted at once.
+const GEOJSON_BATCH: usize = 4096;
+
+/// Appends contour `k` as a GeoJSON feature (after a comma unless it is the first).
+fn contour_feature(set: &ContourSet, k: usize, text: &mut Vec<u8>) {
+    use std::io::Write as _;
+    // Writing to memory cannot fail, and serde_json formats every finite f64.
+    let number = |text: &mut Vec<u8>, x: f64| serde_json::to_writer(&mut *text, &x).expect("a number");
+    let c = &set.contours()[k];
+    if k > 0 {
+        text.push(b',');
+    }
+    text.extend_from_slice(br#"{"geometry":{"coordinates":["#);
+    let closing = c.closed.then(|| c.points[0]);
+    for (i, p) in c.points.iter().chain(closing.iter()).enumerate() {
+        text.extend_from_slice(if i == 0 { b"[" } else { b",[" });
+        number(text, p.x);
+        text.push(b',');
+        number(text, p.y);
+        text.push(b']');
+    }
+    let _ = write!(text, r#"],"type":"LineString"}},"properties":{{"closed":{},"elevation":"#, c.closed);
+    number(text, c.height);
+    let _ = write!(text, r#","id":{k},"level":{},"parent":"#, c.level);
+    let _ = match set.parent(k) {
+        Some(p) => write!(text, "{p}"),
+        None => text.write_all(b"null"),
+    };
+    text.extend_from_slice(br#"},"type":"Feature"}"#);
 }
 
 /// The name a GeoJSON `crs` member gives `crs`, as GDAL writes it: `urn:ogc:def:crs:EPSG::n`, or
