@@ -139,7 +139,11 @@ impl Linker {
                 line.start = ka;
                 self.open.insert(ka, q);
             }
-            (Some(p), Some(q)) if p == q => self.line(p).closed = true,
+            (Some(p), Some(q)) if p == q => {
+                let line = self.line(p);
+                line.closed = true;
+                line.points.shrink_to_fit();
+            }
             (Some(p), Some(q)) => self.join(p, q),
         }
     }
@@ -400,16 +404,17 @@ pub fn extract_dem(dem: &Heightfield, levels: &[f64]) -> Result<ContourSet, Cont
 /// so the lines do not depend on the thread count.
 const BAND_ROWS: i64 = 16;
 
-/// Bands per batch: enough to keep the threads busy, few enough that the bands' lines waiting
-/// to be joined stay small beside the lines themselves.
-const BATCH_BANDS: usize = 32;
+/// Bands per batch and thread: enough to keep the threads busy, few enough that the bands'
+/// lines waiting to be joined stay small beside the lines themselves. (The batch size changes
+/// nothing but the memory: bands are always joined in order.)
+const BANDS_PER_THREAD: usize = 2;
 
 /// Every square, in bands of rows from the south.
 fn trace(dem: &Heightfield, levels: &[f64]) -> Vec<Contour> {
     let ny = dem.ny() as i64;
     let starts: Vec<i64> = (-1..ny).step_by(BAND_ROWS as usize).collect();
     let mut linker = Linker::new(levels.len());
-    for batch in starts.chunks(BATCH_BANDS) {
+    for batch in starts.chunks(BANDS_PER_THREAD * rayon::current_num_threads()) {
         let bands: Vec<Linker> = batch
             .par_iter()
             .map(|&j| Squares { dem, levels, linker: Linker::new(levels.len()) }.trace(j..(j + BAND_ROWS).min(ny)))

@@ -37,15 +37,24 @@ pub fn write_contours_geojson(set: &ContourSet, crs: Option<&Crs>, w: &mut dyn s
         write!(w, r#""crs":{{"properties":{{"name":"{name}"}},"type":"name"}},"#)?;
     }
     w.write_all(br#""features":["#)?;
-    // Features are formatted in parallel, a batch at a time (so the text is never all in memory),
-    // and written in order: the bytes do not depend on the thread count.
-    let ids: Vec<usize> = (0..set.len()).collect();
-    for batch in ids.chunks(GEOJSON_BATCH) {
+    // Features are formatted in parallel, a batch of chunks at a time (so the text is never all
+    // in memory), and written in order: the bytes do not depend on the thread count.
+    let mut chunks = Vec::new();
+    let mut start = 0;
+    let mut vertices = 0;
+    for (k, c) in set.contours().iter().enumerate() {
+        vertices += c.points.len();
+        if vertices >= GEOJSON_CHUNK_VERTICES || k + 1 == set.len() {
+            chunks.push(start..k + 1);
+            (start, vertices) = (k + 1, 0);
+        }
+    }
+    for batch in chunks.chunks(2 * rayon::current_num_threads()) {
         let parts: Vec<Vec<u8>> = batch
-            .par_chunks(64)
+            .par_iter()
             .map(|chunk| {
                 let mut text = Vec::new();
-                for &k in chunk {
+                for k in chunk.clone() {
                     contour_feature(set, k, &mut text);
                 }
                 text
@@ -58,8 +67,8 @@ pub fn write_contours_geojson(set: &ContourSet, crs: Option<&Crs>, w: &mut dyn s
     w.write_all(br#"],"type":"FeatureCollection"}"#)
 }
 
-/// Contours per batch of features formatted at once.
-const GEOJSON_BATCH: usize = 4096;
+/// About how many vertices one thread formats at a time (some 40 bytes of text each).
+const GEOJSON_CHUNK_VERTICES: usize = 1 << 15;
 
 /// Appends contour `k` as a GeoJSON feature (after a comma unless it is the first).
 fn contour_feature(set: &ContourSet, k: usize, text: &mut Vec<u8>) {
