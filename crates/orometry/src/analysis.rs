@@ -27,6 +27,7 @@ use relief_heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
 
 use crate::OrometryError;
+use crate::divide::{Ridge, contract};
 use crate::isolation::{Isolation, isolation};
 use crate::union_find::find;
 
@@ -79,7 +80,8 @@ pub struct Peak {
     pub prominence: f64,
     /// Index of its key saddle in [`Orometry::saddles`]; `None` for the highest peak of a land mass.
     pub key_saddle: Option<usize>,
-    /// The peak across the key saddle: the highest peak of the higher side when they joined.
+    /// The prominence parent: the highest peak of the higher side when they joined at the key
+    /// saddle (not necessarily a neighbour in the divide tree, see [`Saddle::peaks`]).
     pub parent: Option<usize>,
     /// Dominance `δ = π / h` (heights above the sea level, or 0), in `[0, 1]`.
     pub dominance: f64,
@@ -104,7 +106,10 @@ pub struct Saddle {
     pub position: [f64; 2],
     /// Elevation.
     pub elevation: f64,
-    /// The peak it is the key saddle of, and the peak across it (indices into [`Orometry::peaks`]).
+    /// The two peaks whose ridges meet at it, their neighbours in the divide tree (indices into
+    /// [`Orometry::peaks`]): first the one on the side of the peak it is the key saddle of (that
+    /// peak itself, or a lower one on its ridge), then the one across. Not the prominence parent,
+    /// which need not be ridge-connected ([`Peak::parent`]).
     pub peaks: [usize; 2],
 }
 
@@ -147,9 +152,9 @@ pub fn analyze(dem: &Heightfield, options: &AnalysisOptions) -> Result<Orometry,
         return Err(OrometryError::TooLarge { cells: n, limit: MAX_CELLS });
     }
     options.validate()?;
-    let (raw, prominence) =
+    let (raw, prominence, tree) =
         flood(dem.samples(), grid.nx(), grid.ny(), options.sea_level).ok_or(OrometryError::NoLand { cells: n })?;
-    Ok(assemble(dem, options, &raw, &prominence))
+    Ok(assemble(dem, options, &raw, &prominence, &tree))
 }
 
 /// No cell / no basin.
@@ -172,10 +177,11 @@ const NEAR_SEA: u8 = 2;
 ///    union–find over the basins: the component with the highest peak absorbs the others, whose
 ///    top peaks get the cell as key saddle.
 ///
-/// Returns the raw peaks, highest first, with their prominences; `None` without land. Each
+/// Returns the raw peaks, highest first, with their prominences and the full divide tree over
+/// them; `None` without land. Each
 /// intermediate map is dropped as soon as the next stage no longer needs it, which keeps the
 /// peak memory of a 3601² tile down.
-fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPeak>, Vec<f64>)> {
+fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPeak>, Vec<f64>, BasinTree)> {
     let ord = elevation_keys(z, sea);
     let cells = Cells { z, ord: &ord, nx, ny };
     let (up, flags) = cells.ascent();
@@ -186,9 +192,9 @@ fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPe
     drop(flags);
     let edges = cells.joins(&lab);
     drop(lab);
-    let raw = join_basins(&peaks, &edges, &mut outlets);
+    let (raw, tree) = join_basins(&peaks, &edges, &mut outlets);
     let prominence = outlets.prominences(z, &raw, sea);
-    Some((raw, prominence))
+    Some((raw, prominence, tree))
 }
 
 /// Per cell, its elevation as the high half of `order_key` (smaller is higher); not land: `NONE`,
@@ -199,27 +205,41 @@ fn elevation_keys(z: &[f32], sea: Option<f32>) -> Vec<u32> {
         .collect()
 }
 
+/// The full divide tree of the flood: one ridge per join of two basins' components, between the
+/// basins that meet at the joining cell, and for each raw peak the ridge of its key saddle.
+#[derive(Debug, Clone, PartialEq, Default)]
+struct BasinTree {
+    ridges: Vec<Ridge>,
+    key_ridge: Vec<Option<u32>>,
+}
+
 /// Step 3: Kruskal over the basins (`edges` highest first, all edges of one cell at once); a
 /// component's root is its highest basin, the lowest rank. Every absorbed component's top peak
 /// gets the joining cell as key saddle and the absorbing top as parent, and its outlet facts
-/// pass to the absorbing root.
-fn join_basins(peaks: &[u64], edges: &[(u64, u32, u32)], outlets: &mut BasinOutlets) -> Vec<RawPeak> {
+/// pass to the absorbing root. Each edge that joins two components is a ridge of the divide tree
+/// between the two basins it touches ([`group_ridges`]).
+fn join_basins(peaks: &[u64], edges: &[(u64, u32, u32)], outlets: &mut BasinOutlets) -> (Vec<RawPeak>, BasinTree) {
     let mut raw: Vec<RawPeak> =
         peaks.iter().map(|&kk| RawPeak { cell: cell_of_key(kk), saddle: None, parent: None, edge: false }).collect();
+    let mut tree = BasinTree { ridges: Vec::new(), key_ridge: vec![None; peaks.len()] };
     let mut uf: Vec<u32> = (0..peaks.len() as u32).collect();
     let mut roots: Vec<u32> = Vec::with_capacity(8);
+    let mut ends: Vec<(u32, u32, u32, u32)> = Vec::with_capacity(8);
     for group in edges.chunk_by(|a, b| a.0 == b.0) {
         let kk = group[0].0;
         roots.clear();
+        ends.clear();
         for &(_, a, b) in group {
-            for l in [a, b] {
-                let r = find(&mut uf, l);
+            let (ra, rb) = (find(&mut uf, a), find(&mut uf, b));
+            ends.push((a, b, ra, rb));
+            for r in [ra, rb] {
                 if !roots.contains(&r) {
                     roots.push(r);
                 }
             }
         }
         let Some(&best) = roots.iter().min() else { continue };
+        group_ridges(kk, &ends, &mut tree);
         for &r in &roots {
             if r == best {
                 continue;
@@ -232,7 +252,39 @@ fn join_basins(peaks: &[u64], edges: &[(u64, u32, u32)], outlets: &mut BasinOutl
             outlets.absorb(bi, r);
         }
     }
-    raw
+    (raw, tree)
+}
+
+/// The ridges of one joining cell `kk`: its edges `(basin, basin, root, root)`, in order, each
+/// kept when it joins two components not yet joined at this cell. A join's absorbed side is the
+/// one whose top (lowest root) is lower; that top gets the ridge as its key saddle's, and the
+/// ridge's near end is the basin on that side. Usually one edge and one ridge; a cell where three
+/// or more components meet gives one ridge per absorbed top.
+fn group_ridges(kk: u64, ends: &[(u32, u32, u32, u32)], tree: &mut BasinTree) {
+    // The group's roots, each with the top of the set it is in so far (a handful at most).
+    let mut top: Vec<(u32, u32)> = Vec::with_capacity(2 * ends.len());
+    let set_of = |r: u32, top: &mut Vec<(u32, u32)>| {
+        if let Some(&(_, t)) = top.iter().find(|t| t.0 == r) {
+            return t;
+        }
+        top.push((r, r));
+        r
+    };
+    for &(a, b, ra, rb) in ends {
+        let (ta, tb) = (set_of(ra, &mut top), set_of(rb, &mut top));
+        if ta == tb {
+            continue;
+        }
+        // The lower top (larger rank) is absorbed.
+        let (near, far, absorbed, into) = if ta > tb { (a, b, ta, tb) } else { (b, a, tb, ta) };
+        tree.key_ridge[absorbed as usize] = Some(tree.ridges.len() as u32);
+        tree.ridges.push(Ridge { near, far, key: kk });
+        for t in &mut top {
+            if t.1 == absorbed {
+                t.1 = into;
+            }
+        }
+    }
 }
 
 /// Per basin (and, once Kruskal has merged them, per component root): where water leaves it.
@@ -352,14 +404,16 @@ impl Cells<'_> {
         Some(peaks)
     }
 
-    /// Step 2: where the flood joins basins: for each cell, one edge `(cell key, own basin, other)`
-    /// per other basin among its higher neighbours, sorted highest first.
+    /// Step 2: where the flood joins basins: for each cell, one edge `(cell key, own basin,
+    /// other)` per other basin among its higher neighbours, sorted highest first; a cell's edges
+    /// go in the order of their highest neighbour in the other basin (highest first), so a ridge
+    /// climbs from a saddle by its steepest way up.
     fn joins(&self, lab: &[u32]) -> Vec<(u64, u32, u32)> {
         let (nx, ny) = (self.nx, self.ny);
-        let mut edges: Vec<(u64, u32, u32)> = (0..ny)
+        let mut edges: Vec<(u64, u64, u32, u32)> = (0..ny)
             .into_par_iter()
             .flat_map_iter(|j| {
-                let mut out: Vec<(u64, u32, u32)> = Vec::new();
+                let mut out: Vec<(u64, u64, u32, u32)> = Vec::new();
                 for i in 0..nx {
                     let k = j * nx + i;
                     let own = lab[k];
@@ -369,13 +423,13 @@ impl Cells<'_> {
                     let kk = self.key(k);
                     let start = out.len();
                     for_neighbours(i, j, nx, ny, |w| {
-                        let other = lab[w];
-                        if other != own
-                            && other != NONE
-                            && self.key(w) < kk
-                            && !out[start..].iter().any(|&(_, _, o)| o == other)
-                        {
-                            out.push((kk, own, other));
+                        let (other, kw) = (lab[w], self.key(w));
+                        if other == own || other == NONE || kw > kk {
+                            return;
+                        }
+                        match out[start..].iter_mut().find(|e| e.3 == other) {
+                            Some(e) => e.1 = e.1.min(kw),
+                            None => out.push((kk, kw, own, other)),
                         }
                     });
                 }
@@ -383,7 +437,7 @@ impl Cells<'_> {
             })
             .collect();
         edges.par_sort_unstable();
-        edges
+        edges.into_iter().map(|(kk, _, own, other)| (kk, own, other)).collect()
     }
 }
 
@@ -430,9 +484,16 @@ fn relink(parents: impl Iterator<Item = Option<usize>>, keep: &[bool]) -> (Vec<u
 }
 
 /// Drops the peaks of zero prominence or below the threshold (land-mass tops stay, so the tree
-/// keeps its roots), re-links their children to the nearest kept ancestor, and fills in the
-/// derived measures.
-fn assemble(dem: &Heightfield, options: &AnalysisOptions, raw: &[RawPeak], prominence: &[f64]) -> Orometry {
+/// keeps its roots), re-links their children to the nearest kept ancestor, contracts the divide
+/// tree over the kept peaks (the dropped ones from the lowest up), and fills in the derived
+/// measures.
+fn assemble(
+    dem: &Heightfield,
+    options: &AnalysisOptions,
+    raw: &[RawPeak],
+    prominence: &[f64],
+    tree: &BasinTree,
+) -> Orometry {
     let grid = dem.grid();
     let z = dem.samples();
     let nx = grid.nx();
@@ -443,6 +504,7 @@ fn assemble(dem: &Heightfield, options: &AnalysisOptions, raw: &[RawPeak], promi
         .map(|(p, &pi)| p.saddle.is_none() || (pi > 0.0 && pi >= options.min_prominence))
         .collect();
     let (index, linked, kept) = relink(raw.iter().map(|p| p.parent.map(|q| q as usize)), &keep);
+    let ridge_ends = contract(&tree.ridges, &keep, (0..raw.len()).rev().filter(|&k| !keep[k]));
     let cell_of = |c: u32| {
         let (i, j) = (c as usize % nx, c as usize / nx);
         ([i, j], grid.position(i, j).to_array())
@@ -459,7 +521,12 @@ fn assemble(dem: &Heightfield, options: &AnalysisOptions, raw: &[RawPeak], promi
                     cell,
                     position,
                     elevation: f64::from(z[s as usize]),
-                    peaks: [index[k], index[q]],
+                    // The peaks whose ridges meet there; a kept peak's key saddle survives the
+                    // contraction, so the fallback (the peak and its parent) is only a guard.
+                    peaks: match tree.key_ridge[k].and_then(|e| ridge_ends[e as usize]) {
+                        Some([a, b]) => [index[a as usize], index[b as usize]],
+                        None => [index[k], index[q]],
+                    },
                 });
                 Some(saddles.len() - 1)
             }
@@ -482,6 +549,7 @@ fn assemble(dem: &Heightfield, options: &AnalysisOptions, raw: &[RawPeak], promi
             edge_effect: p.edge,
         });
     }
+    let saddles = in_flood_order(&mut peaks, saddles);
     let max_p = peaks.iter().map(|p| p.prominence).fold(0.0, f64::max);
     let max_h = peaks.iter().map(|p| p.elevation - base).fold(0.0, f64::max);
     let isolations: Vec<Option<Isolation>> = {
@@ -498,14 +566,24 @@ fn assemble(dem: &Heightfield, options: &AnalysisOptions, raw: &[RawPeak], promi
 }
 
 impl Orometry {
-    /// The divide tree pruned to the peaks at least `min_prominence` prominent (§4.1, Fig. 6):
-    /// dropped peaks take their key saddles with them; their children re-link to the nearest
-    /// kept ancestor. Land-mass tops always stay.
+    /// The divide tree pruned to the peaks at least `min_prominence` prominent (§4.1, Fig. 6),
+    /// the way akirmse/mountains prunes: a dropped peak is merged, from the lowest up, into the
+    /// neighbour across its highest saddle, which goes; its other ridges lead on to that
+    /// neighbour. Prominence parents re-link to the nearest kept ancestor. Land-mass tops always
+    /// stay.
     #[must_use]
     pub fn pruned(&self, min_prominence: f64) -> Orometry {
         let keep: Vec<bool> =
             self.peaks.iter().map(|p| p.key_saddle.is_none() || p.prominence >= min_prominence).collect();
         let (index, linked, kept) = relink(self.peaks.iter().map(|p| p.parent), &keep);
+        // Saddles are in the flood's order, highest first: their index is their key.
+        let ridges: Vec<Ridge> = self
+            .saddles
+            .iter()
+            .enumerate()
+            .map(|(k, s)| Ridge { near: s.peaks[0] as u32, far: s.peaks[1] as u32, key: k as u64 })
+            .collect();
+        let ends = contract(&ridges, &keep, (0..self.peaks.len()).rev().filter(|&k| !keep[k]));
         let mut peaks = Vec::with_capacity(kept);
         let mut saddles = Vec::new();
         for (k, p) in self.peaks.iter().enumerate().filter(|(k, _)| keep[*k]) {
@@ -513,17 +591,52 @@ impl Orometry {
             p.parent = linked[k].map(|q| index[q]);
             p.key_saddle = match (p.key_saddle, p.parent) {
                 (Some(s), Some(q)) => {
-                    let mut s = self.saddles[s].clone();
-                    s.peaks = [peaks.len(), q];
-                    saddles.push(s);
+                    let mut saddle = self.saddles[s].clone();
+                    saddle.peaks = match ends[s] {
+                        Some([a, b]) => [index[a as usize], index[b as usize]],
+                        None => [peaks.len(), q],
+                    };
+                    saddles.push(saddle);
                     Some(saddles.len() - 1)
                 }
                 _ => None,
             };
             peaks.push(p);
         }
+        let saddles = in_flood_order(&mut peaks, saddles);
         Orometry { peaks, saddles }
     }
+}
+
+/// `saddles` sorted as the flood meets them (highest first, ties by row-major cell), with the
+/// peaks' `key_saddle` indices following; so a divide tree's own flood, which breaks ties by
+/// saddle index, makes the same joins as the grid's. Where three or more components meet at one
+/// cell, that cell's saddles go lowest owner first: each then joins its owner's side, topped by
+/// the owner, to higher ground, as in the grid.
+fn in_flood_order(peaks: &mut [Peak], saddles: Vec<Saddle>) -> Vec<Saddle> {
+    let mut owner = vec![0; saddles.len()];
+    for (k, p) in peaks.iter().enumerate() {
+        if let Some(s) = p.key_saddle {
+            owner[s] = k;
+        }
+    }
+    let mut order: Vec<usize> = (0..saddles.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (sa, sb) = (&saddles[a], &saddles[b]);
+        sb.elevation
+            .total_cmp(&sa.elevation)
+            .then((sa.cell[1], sa.cell[0]).cmp(&(sb.cell[1], sb.cell[0])))
+            .then(owner[b].cmp(&owner[a]))
+    });
+    let mut new_index = vec![0; saddles.len()];
+    for (new, &old) in order.iter().enumerate() {
+        new_index[old] = new;
+    }
+    for p in peaks.iter_mut() {
+        p.key_saddle = p.key_saddle.map(|s| new_index[s]);
+    }
+    let mut slots: Vec<Option<Saddle>> = saddles.into_iter().map(Some).collect();
+    order.iter().map(|&old| slots[old].take().expect("each saddle once")).collect()
 }
 
 /// Calls `f` with each of the (up to 8) neighbours of cell `(i, j)`.
@@ -716,7 +829,7 @@ mod tests {
         /// order, key saddles, parents, edge flags and prominences.
         #[test]
         fn basin_flood_equals_the_cell_flood((nx, ny, z, sea) in dem()) {
-            let fast = flood(&z, nx, ny, sea);
+            let fast = flood(&z, nx, ny, sea).map(|(raw, prominence, _)| (raw, prominence));
             let slow = flood_by_sort(&z, nx, ny, sea);
             prop_assert_eq!(fast, slow);
         }

@@ -9,6 +9,7 @@
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
+use crate::divide::{Ridge, contract};
 use crate::union_find::find;
 use crate::{Orometry, OrometryError};
 
@@ -174,41 +175,35 @@ impl DivideTree {
         TreeOrometry { prominence, key_saddle }
     }
 
-    /// Keeps only peaks at least `min_prominence` prominent, reconnecting the survivors the way
-    /// [`Orometry::pruned`] does: a dropped peak's ridges are merged into its parent's, keeping
-    /// the lower saddle on each merged path.
+    /// Keeps only peaks at least `min_prominence` prominent (and each component's top),
+    /// reconnecting the survivors the way [`Orometry::pruned`] does: a dropped peak is merged,
+    /// from the lowest up, into the neighbour across its highest saddle, which goes; its other
+    /// ridges lead on to that neighbour.
     #[must_use]
     pub fn pruned(&self, min_prominence: f64, base: f64) -> Self {
         let oro = self.orometry(base);
-        let keep: Vec<bool> = oro.prominence.iter().map(|&p| p >= min_prominence).collect();
-        // Work from the lowest saddle up: removing a peak that is not kept merges its component
-        // into the neighbour across its key saddle.
+        let keep: Vec<bool> =
+            oro.prominence.iter().zip(&oro.key_saddle).map(|(&p, ks)| ks.is_none() || p >= min_prominence).collect();
+        // Saddles ranked highest first (ties by index), the order the flood takes them in.
+        let mut by_height: Vec<usize> = (0..self.saddles.len()).collect();
+        by_height.sort_by(|&a, &b| self.saddles[b].elevation.total_cmp(&self.saddles[a].elevation).then(a.cmp(&b)));
+        let mut key = vec![0u64; self.saddles.len()];
+        for (rank, &s) in by_height.iter().enumerate() {
+            key[s] = rank as u64;
+        }
+        let ridges: Vec<Ridge> =
+            self.saddles.iter().zip(&key).map(|(s, &key)| Ridge { near: s.peaks[0], far: s.peaks[1], key }).collect();
+        let mut lowest_first: Vec<usize> = (0..self.peaks.len()).filter(|&k| !keep[k]).collect();
+        lowest_first.sort_by(|&a, &b| self.peaks[a].elevation.total_cmp(&self.peaks[b].elevation).then(b.cmp(&a)));
+        let ends = contract(&ridges, &keep, lowest_first);
         let mut tree = self.clone();
-        let mut order: Vec<usize> = (0..self.peaks.len()).filter(|&k| !keep[k]).collect();
-        order.sort_by(|&a, &b| oro.prominence[a].total_cmp(&oro.prominence[b]).then(a.cmp(&b)));
-        let mut alive = vec![true; self.peaks.len()];
-        let mut saddle_alive = vec![true; self.saddles.len()];
-        for k in order {
-            let Some(ks) = oro.key_saddle[k] else { continue };
-            // The peak across the key saddle through which k's ridges now continue.
-            let [a, b] = tree.saddles[ks as usize].peaks;
-            let other = if a as usize == k { b } else { a };
-            saddle_alive[ks as usize] = false;
-            alive[k] = false;
-            // Every other ridge of k now leads to `other`; its saddle keeps the lower elevation of
-            // the two saddles it replaces (the col on the merged path is the lower one).
-            let col = tree.saddles[ks as usize];
-            for (s, saddle) in tree.saddles.iter_mut().enumerate() {
-                if !saddle_alive[s] || !saddle.peaks.contains(&(k as u32)) {
-                    continue;
-                }
-                saddle.peaks = saddle.peaks.map(|end| if end as usize == k { other } else { end });
-                if col.elevation < saddle.elevation {
-                    (saddle.position, saddle.elevation) = (col.position, col.elevation);
-                }
+        for (saddle, end) in tree.saddles.iter_mut().zip(&ends) {
+            if let Some(end) = end {
+                saddle.peaks = *end;
             }
         }
-        tree.retain(&alive, &saddle_alive);
+        let alive: Vec<bool> = ends.iter().map(Option::is_some).collect();
+        tree.retain(&keep, &alive);
         tree
     }
 

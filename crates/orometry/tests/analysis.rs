@@ -97,6 +97,36 @@ fn nested_peaks_and_the_divide_tree() {
 }
 
 #[test]
+fn the_divide_tree_joins_peaks_along_their_ridges() {
+    // Three summits in a row, west to east: 300, 200 (middle, low) and 250. The east summit's key
+    // saddle is the col between it and the middle one; its prominence parent is the west summit
+    // (the highest on the other side), but its ridge meets the middle summit's there: the divide
+    // tree joins east to middle, and middle to west, never east straight to west.
+    let dem = Heightfield::from_fn(grid(90, 21), |p| {
+        let west = 300.0 - 6.0 * p.distance(DVec2::new(15.0, 10.0));
+        let middle = 200.0 - 4.0 * p.distance(DVec2::new(45.0, 10.0));
+        let east = 250.0 - 6.0 * p.distance(DVec2::new(75.0, 10.0));
+        west.max(middle).max(east).max(0.0) as f32
+    })
+    .unwrap();
+    let o = run(&dem);
+    let index = |cell: [usize; 2]| o.peaks.iter().position(|p| p.cell == cell).unwrap();
+    let (west, middle, east) = (index([15, 10]), index([45, 10]), index([75, 10]));
+    assert_eq!(o.peaks[east].parent, Some(west), "the prominence parent is the higher summit");
+    let joins = |a: usize, b: usize| o.saddles.iter().any(|s| s.peaks == [a, b] || s.peaks == [b, a]);
+    assert!(joins(east, middle) && joins(middle, west) && !joins(east, west), "{:?}", o.saddles);
+    let ks = &o.saddles[o.peaks[east].key_saddle.unwrap()];
+    assert_eq!(ks.peaks, [east, middle], "the key saddle's ridge runs from the east summit to the middle one");
+    // Pruning the middle summit joins its neighbours through the lower of its saddles.
+    let pruned = o.pruned(o.peaks[middle].prominence + 1.0);
+    assert_eq!(pruned.peaks.len(), 2);
+    assert_eq!(pruned.saddles.len(), 1);
+    assert_eq!(pruned.saddles[0].peaks, [1, 0]);
+    let lower = o.saddles.iter().map(|s| s.elevation).fold(f64::INFINITY, f64::min);
+    assert_eq!(pruned.saddles[0].elevation, lower);
+}
+
+#[test]
 fn the_sea_and_the_map_edge() {
     // An island rising from a sea at 0 with its top on the map's edge.
     let dem = Heightfield::from_fn(grid(40, 30), |p| {
@@ -187,8 +217,87 @@ fn random_dem() -> impl Strategy<Value = (usize, usize, Vec<f32>)> {
     })
 }
 
+/// The divide tree by its definition, for a DEM without ties: every cell climbs to its highest
+/// neighbour, which splits the map into ascent basins; each pair of neighbouring cells in two
+/// basins is a pass between them at the lower cell; Kruskal from the highest pass (and, at one
+/// cell, from its highest neighbour: a ridge climbs by its steepest way) keeps a maximum spanning
+/// tree. Returns `(peak cell, peak cell, saddle cell)` per ridge, peaks sorted.
+fn brute_divide_tree(z: &[f32], nx: usize, ny: usize) -> Vec<([usize; 2], [usize; 2], [usize; 2])> {
+    let neighbours = |k: usize| {
+        let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+        (-1..=1)
+            .flat_map(move |dj| (-1..=1).map(move |di| (i + di, j + dj)))
+            .filter(move |&(a, b)| (a, b) != (i, j) && a >= 0 && b >= 0 && a < nx as i64 && b < ny as i64)
+            .map(move |(a, b)| b as usize * nx + a as usize)
+    };
+    let climb = |mut k: usize| loop {
+        let up = neighbours(k).max_by(|&a, &b| z[a].total_cmp(&z[b])).unwrap();
+        if z[up] <= z[k] {
+            return k;
+        }
+        k = up;
+    };
+    let basin: Vec<usize> = (0..z.len()).map(climb).collect();
+    let mut passes: Vec<(usize, usize, usize, usize)> = Vec::new();
+    for k in 0..z.len() {
+        for w in neighbours(k) {
+            if basin[w] != basin[k] && z[w] > z[k] {
+                passes.push((k, basin[k], basin[w], w));
+            }
+        }
+    }
+    passes.sort_by(|a, b| z[b.0].total_cmp(&z[a.0]).then(z[b.3].total_cmp(&z[a.3])));
+    let mut set: Vec<usize> = (0..z.len()).collect();
+    let root = |set: &mut [usize], mut x: usize| {
+        while set[x] != x {
+            x = set[x];
+        }
+        x
+    };
+    let cell = |k: usize| [k % nx, k / nx];
+    let mut tree = Vec::new();
+    for (s, a, b, _) in passes {
+        let (ra, rb) = (root(&mut set, a), root(&mut set, b));
+        if ra != rb {
+            set[ra] = rb;
+            let (p, q) = if a < b { (a, b) } else { (b, a) };
+            tree.push((cell(p), cell(q), cell(s)));
+        }
+    }
+    tree.sort_unstable();
+    tree
+}
+
+/// A DEM of distinct heights (a shuffled ramp), so every local maximum is a peak of positive
+/// prominence and the divide tree is unique.
+fn distinct_dem() -> impl Strategy<Value = (usize, usize, Vec<f32>)> {
+    (3usize..14, 3usize..12).prop_flat_map(|(nx, ny)| {
+        let values: Vec<f32> = (0..nx * ny).map(|v| v as f32).collect();
+        (Just(nx), Just(ny), Just(values).prop_shuffle())
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Unpruned, the analysis's saddles are the divide tree by its definition: each joins the
+    /// two peaks whose ascent basins meet at it.
+    #[test]
+    fn the_divide_tree_matches_a_brute_force_construction((nx, ny, z) in distinct_dem()) {
+        let dem = Heightfield::from_samples(grid(nx, ny), z.clone()).unwrap();
+        let o = run(&dem);
+        let mut ours: Vec<_> = o
+            .saddles
+            .iter()
+            .map(|s| {
+                let [a, b] = s.peaks.map(|k| o.peaks[k].cell);
+                let (p, q) = if (a[1], a[0]) < (b[1], b[0]) { (a, b) } else { (b, a) };
+                (p, q, s.cell)
+            })
+            .collect();
+        ours.sort_unstable();
+        prop_assert_eq!(ours, brute_divide_tree(&z, nx, ny));
+    }
 
     #[test]
     fn prominence_matches_a_brute_force_flood((nx, ny, z) in random_dem()) {

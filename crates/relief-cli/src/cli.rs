@@ -130,6 +130,9 @@ pub(crate) enum Command {
     /// Hydrology of a heightfield: closed basins, stream order and the terrain descriptors of the
     /// contours paper §6.5, optionally compared with a second heightfield.
     Analyze(AnalyzeArgs),
+    /// Peaks, prominence, key saddles and the divide tree of a DEM (the orometry paper, akirmse's
+    /// conventions), without the basins and descriptors `analyze` also computes.
+    Prominence(ProminenceArgs),
     /// Vectorize a DEM into generalized Gaussian primitives (Perche et al. 2025): a JSON vector
     /// terrain that `relief rasterize` renders at any size.
     Vectorize(VectorizeArgs),
@@ -459,6 +462,31 @@ pub(crate) struct AnalyzeArgs {
     #[arg(long, value_name = "FILE", num_args = 1..)]
     pub(crate) classify: Vec<PathBuf>,
     /// Print JSON instead of text.
+    #[arg(long)]
+    pub(crate) json: bool,
+}
+
+// `relief prominence`.
+#[derive(Debug, Args)]
+pub(crate) struct ProminenceArgs {
+    /// The DEM.
+    pub(crate) dem: PathBuf,
+    /// Keep peaks at least this prominent, metres (the divide tree is pruned to them).
+    #[arg(long, default_value_t = 0.0, value_name = "METRES")]
+    pub(crate) min_prominence: f64,
+    /// Ground at or below this elevation is sea.
+    #[arg(long)]
+    pub(crate) sea_level: Option<f32>,
+    /// Write the peaks (highest first) as CSV here.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) peaks: Option<PathBuf>,
+    /// Write the divide tree (peaks, saddles, ridges between neighbouring peaks) as GeoJSON here.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) divide_tree: Option<PathBuf>,
+    /// How many of the most prominent peaks to print.
+    #[arg(long, default_value_t = 10)]
+    pub(crate) top: usize,
+    /// Print the whole analysis (peaks and saddles) as JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,
 }

@@ -24,7 +24,7 @@ use std::process::ExitCode;
 use anyhow::{Context as _, Result};
 
 use crate::cli::{Cli, Command};
-use crate::commands::{analyze, dem, scenes, shell, vector};
+use crate::commands::{analyze, dem, prominence, scenes, shell, vector};
 use crate::ui::{Ui, Verbosity};
 
 fn main() -> ExitCode {
@@ -68,6 +68,7 @@ fn run(cli: &Cli) -> Result<()> {
         Command::Info(args) => dem::info(args, ui),
         Command::Preview(args) => dem::preview(args, ui),
         Command::Analyze(args) => analyze::analyze(args, ui),
+        Command::Prominence(args) => prominence::prominence(args, ui),
         Command::Vectorize(args) => vector::vectorize(args, ui),
         Command::Rasterize(args) => vector::rasterize(args, ui),
         Command::Completions(args) => {

@@ -256,6 +256,37 @@ fn convert_info_and_preview_work_on_a_real_dem() {
 }
 
 #[test]
+fn prominence_writes_peaks_and_a_divide_tree_of_neighbouring_peaks() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (csv, tree) = (tmp.path().join("peaks.csv"), tmp.path().join("tree.geojson"));
+    let dem = "fixtures/dem/jacksboro.asc";
+    let args = ["prominence", dem, "--min-prominence", "30", "--json", "--peaks", csv.to_str().unwrap()];
+    let report: serde_json::Value =
+        serde_json::from_str(&ok(&[&args[..], &["--divide-tree", tree.to_str().unwrap()]].concat())).unwrap();
+    // akirmse/mountains lists 184 peaks at least 30 m prominent on this DEM (fixtures/akirmse).
+    let peaks = report["peaks"].as_array().unwrap();
+    assert_eq!(peaks.len(), 184);
+    assert_eq!(std::fs::read_to_string(&csv).unwrap().lines().count(), 185, "a header and a line per peak");
+    // One ridge per saddle, drawn peak → saddle → peak between the saddle's two neighbours; one
+    // of them is on the side of the peak whose key saddle it is.
+    let geojson: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&tree).unwrap()).unwrap();
+    let ridges: Vec<_> =
+        geojson["features"].as_array().unwrap().iter().filter(|f| f["properties"]["kind"] == "ridge").collect();
+    assert_eq!(ridges.len(), 183);
+    let saddles = report["saddles"].as_array().unwrap();
+    let mut not_parent = 0;
+    for (k, p) in peaks.iter().enumerate() {
+        let Some(s) = p["key_saddle"].as_u64() else { continue };
+        let ends = &saddles[s as usize]["peaks"];
+        assert!(ends[0].as_u64().is_some() && ends[1] != ends[0], "peak {k}: {ends}");
+        not_parent += usize::from(ends[1] != p["parent"]);
+    }
+    assert!(not_parent > 20, "ridges lead to neighbours, often not the prominence parent: {not_parent}");
+    let text = ok(&["prominence", dem, "--min-prominence", "100", "--top", "3"]);
+    assert!(text.contains("peaks at least 100 m prominent") && text.lines().count() == 4, "{text}");
+}
+
+#[test]
 fn analyze_reports_basins_and_compares_descriptors() {
     let tmp = tempfile::tempdir().unwrap();
     let filled = tmp.path().join("filled.tif");

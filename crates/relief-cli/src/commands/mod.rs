@@ -3,6 +3,7 @@
 
 pub(crate) mod analyze;
 pub(crate) mod dem;
+pub(crate) mod prominence;
 pub(crate) mod scenes;
 pub(crate) mod shell;
 pub(crate) mod vector;
