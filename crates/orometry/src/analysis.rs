@@ -159,10 +159,6 @@ pub fn analyze(dem: &Heightfield, options: &AnalysisOptions) -> Result<Orometry,
 
 /// No cell / no basin.
 const NONE: u32 = u32::MAX;
-/// Cell flags: the cell is an outlet (on the border or beside a cell that is not land) …
-const OUTLET: u8 = 1;
-/// … and one of those neighbours is sea (a sample, not no-data).
-const NEAR_SEA: u8 = 2;
 
 /// The flood from the top, computed basin by basin: the result is exactly that of visiting every
 /// cell from the highest down with a union–find over cells (the definition in the module docs),
@@ -184,12 +180,11 @@ const NEAR_SEA: u8 = 2;
 fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPeak>, Vec<f64>, BasinTree)> {
     let ord = elevation_keys(z, sea);
     let cells = Cells { z, ord: &ord, nx, ny };
-    let (up, flags) = cells.ascent();
+    let up = cells.ascent();
     let peaks = cells.local_maxima(&up)?;
     let lab = basins(&up, &peaks);
     drop(up);
-    let mut outlets = BasinOutlets::new(&cells, &flags, &lab, peaks.len());
-    drop(flags);
+    let mut outlets = BasinOutlets::new(&cells, &lab, peaks.len());
     let edges = cells.joins(&lab);
     drop(lab);
     let (raw, tree) = join_basins(&peaks, &edges, &mut outlets);
@@ -298,18 +293,17 @@ struct BasinOutlets {
 }
 
 impl BasinOutlets {
-    /// The outlets of each of the `m` basins, from the cells' outlet flags and basin labels.
-    fn new(cells: &Cells<'_>, flags: &[u8], lab: &[u32], m: usize) -> Self {
+    /// The outlets of each of the `m` basins, from the outlet cells ([`Cells::outlets`]) and the
+    /// basin labels.
+    fn new(cells: &Cells<'_>, lab: &[u32], m: usize) -> Self {
         let mut first = vec![u64::MAX; m];
         let mut low = vec![f32::INFINITY; m];
         let mut sea_touch = vec![false; m];
-        for (c, &f) in flags.iter().enumerate() {
-            if f != 0 {
-                let b = lab[c] as usize;
-                first[b] = first[b].min(cells.key(c));
-                low[b] = low[b].min(cells.z[c]);
-                sea_touch[b] |= f & NEAR_SEA != 0;
-            }
+        for (c, near_sea) in cells.outlets() {
+            let b = lab[c] as usize;
+            first[b] = first[b].min(cells.key(c));
+            low[b] = low[b].min(cells.z[c]);
+            sea_touch[b] |= near_sea;
         }
         Self { first, low, sea_touch }
     }
@@ -364,32 +358,46 @@ impl Cells<'_> {
     }
 
     /// Step 1: per land cell, its highest higher neighbour (itself at a local maximum; `NONE` where
-    /// not land), and its outlet flags; rows in parallel.
-    fn ascent(&self) -> (Vec<u32>, Vec<u8>) {
-        let (nx, ny, ord, z) = (self.nx, self.ny, self.ord, self.z);
-        let mut up = vec![NONE; z.len()];
-        let mut flags = vec![0u8; z.len()];
-        up.par_chunks_mut(nx).zip(flags.par_chunks_mut(nx)).enumerate().for_each(|(j, (up, flags))| {
+    /// not land); rows in parallel.
+    fn ascent(&self) -> Vec<u32> {
+        let (nx, ny, ord) = (self.nx, self.ny, self.ord);
+        let mut up = vec![NONE; ord.len()];
+        up.par_chunks_mut(nx).enumerate().for_each(|(j, up)| {
             for i in 0..nx {
                 let k = j * nx + i;
                 if ord[k] == NONE {
                     continue;
                 }
                 let mut best = self.key(k);
-                let mut outlet = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
-                for_neighbours(i, j, nx, ny, |w| {
-                    outlet |= ord[w] == NONE;
-                    best = best.min(self.key(w));
-                });
+                for_neighbours(i, j, nx, ny, |w| best = best.min(self.key(w)));
                 up[i] = cell_of_key(best);
-                if outlet {
-                    let mut near_sea = false;
-                    for_neighbours(i, j, nx, ny, |w| near_sea |= ord[w] == NONE && !z[w].is_nan());
-                    flags[i] = if near_sea { OUTLET | NEAR_SEA } else { OUTLET };
-                }
             }
         });
-        (up, flags)
+        up
+    }
+
+    /// The outlet cells, where water leaves the map (land on the border or beside a cell that is
+    /// not land), each with whether one of those neighbours is sea (a sample, not no-data); found
+    /// again here rather than kept as a map, which saves a byte per cell at the flood's peak.
+    fn outlets(&self) -> Vec<(usize, bool)> {
+        let (nx, ny, ord, z) = (self.nx, self.ny, self.ord, self.z);
+        (0..ny)
+            .into_par_iter()
+            .flat_map_iter(|j| {
+                (0..nx).filter_map(move |i| {
+                    let k = j * nx + i;
+                    if ord[k] == NONE {
+                        return None;
+                    }
+                    let (mut outlet, mut near_sea) = (i == 0 || j == 0 || i + 1 == nx || j + 1 == ny, false);
+                    for_neighbours(i, j, nx, ny, |w| {
+                        outlet |= ord[w] == NONE;
+                        near_sea |= ord[w] == NONE && !z[w].is_nan();
+                    });
+                    outlet.then_some((k, near_sea))
+                })
+            })
+            .collect()
     }
 
     /// The local maxima (cells whose ascent pointer is themselves) as order keys, highest
