@@ -362,15 +362,15 @@ impl Cells<'_> {
     fn ascent(&self) -> Vec<u32> {
         let (nx, ny, ord) = (self.nx, self.ny, self.ord);
         let mut up = vec![NONE; ord.len()];
-        up.par_chunks_mut(nx).enumerate().for_each(|(j, up)| {
-            for i in 0..nx {
+        up.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            for (i, up) in row.iter_mut().enumerate() {
                 let k = j * nx + i;
                 if ord[k] == NONE {
                     continue;
                 }
                 let mut best = self.key(k);
                 for_neighbours(i, j, nx, ny, |w| best = best.min(self.key(w)));
-                up[i] = cell_of_key(best);
+                *up = cell_of_key(best);
             }
         });
         up
