@@ -43,6 +43,27 @@ pub struct AnalysisOptions {
     pub sea_level: Option<f32>,
     /// Keep only peaks at least this prominent (default 0: every peak of positive prominence).
     pub min_prominence: f64,
+    /// What a land mass's highest peak is measured down to (default: its lowest outlet).
+    pub base: ProminenceBase,
+    /// Analyse depressions instead of summits (anti-prominence, akirmse's `-a`; for bathymetry and
+    /// basins): the DEM is turned upside down, so "peaks" are the bottoms of pits and lakes,
+    /// prominence is how far each lies below the lowest rim it must climb over to reach deeper
+    /// ground, and elevations are reported as they are (negative depths stay negative). With a
+    /// sea level, only ground at or below it is analysed.
+    pub depressions: bool,
+}
+
+/// What the prominence of a land mass's highest peak (which has no key saddle) is measured to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ProminenceBase {
+    /// The land mass's lowest outlet: the lowest cell where water leaves the map (the border,
+    /// no-data or the sea), or the sea level where it touches the sea. What the map shows.
+    #[default]
+    Outlet,
+    /// The sea level (0 without one), as summit lists and akirmse/mountains count it: the
+    /// highest peak of an island or continent is as prominent as it is high.
+    SeaLevel,
 }
 
 impl AnalysisOptions {
@@ -152,9 +173,33 @@ pub fn analyze(dem: &Heightfield, options: &AnalysisOptions) -> Result<Orometry,
         return Err(OrometryError::TooLarge { cells: n, limit: MAX_CELLS });
     }
     options.validate()?;
-    let (raw, prominence, tree) =
+    if options.depressions {
+        return depressions(dem, options);
+    }
+    let (raw, mut prominence, tree) =
         flood(dem.samples(), grid.nx(), grid.ny(), options.sea_level).ok_or(OrometryError::NoLand { cells: n })?;
+    if options.base == ProminenceBase::SeaLevel {
+        let datum = f64::from(options.sea_level.unwrap_or(0.0));
+        for (p, pi) in raw.iter().zip(&mut prominence).filter(|(p, _)| p.saddle.is_none()) {
+            *pi = (f64::from(dem.samples()[p.cell as usize]) - datum).max(0.0);
+        }
+    }
     Ok(assemble(dem, options, &raw, &prominence, &tree))
+}
+
+/// Anti-prominence: the analysis of the DEM upside down (and of the sea level), with elevations
+/// turned back.
+fn depressions(dem: &Heightfield, options: &AnalysisOptions) -> Result<Orometry, OrometryError> {
+    let flipped = Heightfield::from_samples(*dem.grid(), dem.samples().iter().map(|&v| -v).collect())?;
+    let options = AnalysisOptions { sea_level: options.sea_level.map(|s| -s), depressions: false, ..*options };
+    let mut oro = analyze(&flipped, &options)?;
+    for p in &mut oro.peaks {
+        p.elevation = -p.elevation;
+    }
+    for s in &mut oro.saddles {
+        s.elevation = -s.elevation;
+    }
+    Ok(oro)
 }
 
 /// No cell / no basin.
@@ -182,8 +227,7 @@ fn flood(z: &[f32], nx: usize, ny: usize, sea: Option<f32>) -> Option<(Vec<RawPe
     let cells = Cells { z, ord: &ord, nx, ny };
     let up = cells.ascent();
     let peaks = cells.local_maxima(&up)?;
-    let lab = basins(&up, &peaks);
-    drop(up);
+    let lab = basins(up, &peaks);
     let mut outlets = BasinOutlets::new(&cells, &lab, peaks.len());
     let edges = cells.joins(&lab);
     drop(lab);
@@ -450,8 +494,44 @@ impl Cells<'_> {
 }
 
 /// Labels every land cell with its basin (the rank of the peak its ascent pointers reach) by
-/// walking the pointers, each cell once; `NONE` where not land.
-fn basins(up: &[u32], peaks: &[u64]) -> Vec<u32> {
+/// walking the pointers, each cell once; `NONE` where not land. The labels overwrite the
+/// pointers in place (a labelled cell holds its rank tagged with the high bit until the end), so
+/// the flood never holds both maps: 4 bytes per cell less at its peak. Grids of 2³¹ cells or more
+/// have no spare bit and take a second map.
+fn basins(mut up: Vec<u32>, peaks: &[u64]) -> Vec<u32> {
+    const TAG: u32 = 1 << 31;
+    if up.len() >= TAG as usize {
+        return basins_apart(&up, peaks);
+    }
+    for (r, &kk) in peaks.iter().enumerate() {
+        up[cell_of_key(kk) as usize] = r as u32 | TAG;
+    }
+    let mut path = Vec::new();
+    for c in 0..up.len() {
+        if up[c] & TAG != 0 {
+            continue; // labelled, or not land (`NONE` has the bit too)
+        }
+        let mut x = c;
+        while up[x] & TAG == 0 {
+            path.push(x);
+            x = up[x] as usize;
+        }
+        let label = up[x];
+        for &s in &path {
+            up[s] = label;
+        }
+        path.clear();
+    }
+    up.par_iter_mut().for_each(|v| {
+        if *v != NONE {
+            *v &= !TAG;
+        }
+    });
+    up
+}
+
+/// [`basins`] with the labels in a map of their own.
+fn basins_apart(up: &[u32], peaks: &[u64]) -> Vec<u32> {
     let mut lab = vec![NONE; up.len()];
     for (r, &kk) in peaks.iter().enumerate() {
         lab[cell_of_key(kk) as usize] = r as u32;
@@ -574,6 +654,39 @@ fn assemble(
 }
 
 impl Orometry {
+    /// Each peak's line parent (Kirmse & de Ferranti 2017): following the ridge from its key saddle
+    /// away from the peak, towards its prominence parent, the first peak higher than it. `None`
+    /// for a land mass's top. The saddles are taken in the flood's order (their order here), each
+    /// hanging the lower side's tree, re-rooted at the saddle's near peak, under its far peak, so
+    /// every component stays rooted at its top and the walk from the far peak up to the root
+    /// is the ridge towards the parent.
+    pub fn line_parents(&self) -> Vec<Option<usize>> {
+        let n = self.peaks.len();
+        let mut owner = vec![None; self.saddles.len()];
+        for (k, p) in self.peaks.iter().enumerate() {
+            if let Some(s) = p.key_saddle {
+                owner[s] = Some(k);
+            }
+        }
+        let mut up: Vec<Option<usize>> = vec![None; n];
+        let mut line = vec![None; n];
+        for (saddle, owner) in self.saddles.iter().zip(owner) {
+            let (Some(k), [near, far]) = (owner, saddle.peaks) else { continue };
+            // Peaks are in the strict order, highest first: `x < k` is "higher than k".
+            let mut x = Some(far);
+            while let Some(p) = x {
+                if p < k {
+                    line[k] = Some(p);
+                    break;
+                }
+                x = up[p];
+            }
+            reroot(&mut up, near);
+            up[near] = Some(far);
+        }
+        line
+    }
+
     /// The divide tree pruned to the peaks at least `min_prominence` prominent (§4.1, Fig. 6),
     /// the way akirmse/mountains prunes: a dropped peak is merged, from the lowest up, into the
     /// neighbour across its highest saddle, which goes; its other ridges lead on to that
@@ -613,6 +726,15 @@ impl Orometry {
         }
         let saddles = in_flood_order(&mut peaks, saddles);
         Orometry { peaks, saddles }
+    }
+}
+
+/// Makes `root` the root of its tree of parent pointers, reversing the path from it to the old root.
+fn reroot(up: &mut [Option<usize>], root: usize) {
+    let (mut child, mut x) = (None, Some(root));
+    while let Some(p) = x {
+        x = std::mem::replace(&mut up[p], child);
+        child = Some(p);
     }
 }
 
@@ -840,6 +962,18 @@ mod tests {
             let fast = flood(&z, nx, ny, sea).map(|(raw, prominence, _)| (raw, prominence));
             let slow = flood_by_sort(&z, nx, ny, sea);
             prop_assert_eq!(fast, slow);
+        }
+
+        /// Labelling in place (the pointers overwritten) gives the labels of a separate map.
+        #[test]
+        fn basins_in_place_equal_basins_apart((nx, ny, z, sea) in dem()) {
+            let ord = elevation_keys(&z, sea);
+            let cells = Cells { z: &z, ord: &ord, nx, ny };
+            let up = cells.ascent();
+            if let Some(peaks) = cells.local_maxima(&up) {
+                let apart = basins_apart(&up, &peaks);
+                prop_assert_eq!(basins(up, &peaks), apart);
+            }
         }
     }
 }

@@ -64,6 +64,9 @@ pub enum OrometryError {
     /// A divide tree refers to a peak or saddle that does not exist, or breaks a rule.
     #[error("divide tree: {0}")]
     InvalidTree(String),
+    /// A `.dvt` divide-tree file is malformed, or its format cannot hold a grid.
+    #[error("divide tree file (.dvt): {0}")]
+    Dvt(String),
     /// A pinned peak cannot be honoured.
     #[error("pinned peak {index}: {reason}")]
     InvalidPinnedPeak {

@@ -17,7 +17,11 @@
 //!   akirmse's merge does. On the Jacksboro DEM, 182 of akirmse's 184 peaks ≥ 30 m are ours
 //!   within a metre and 174 of its 183 ridges join the same peaks through the same saddle (± 1
 //!   cell); the rest sit on the map's edge or on flat cols of equal height.
-//! - [`Orometry::pruned`] cuts the divide tree at a prominence threshold (Fig. 6).
+//! - [`Orometry::pruned`] cuts the divide tree at a prominence threshold (Fig. 6);
+//!   [`Orometry::line_parents`] gives each peak's line parent beside its prominence parent.
+//! - [`Dvt`] reads and writes akirmse's `.dvt` divide-tree files, so trees go through its tools
+//!   and back; [`ProminenceBase::SeaLevel`] counts land-mass tops from the sea as it does, and
+//!   [`AnalysisOptions::depressions`] gives anti-prominence (pits, bathymetry).
 //! - [`Descriptor`] (§4.2, Table 1) summarizes a domain's peaks in ten [`FractionHistogram`]s
 //!   (fractions over explicit bin edges); [`Descriptor::distance`] compares two (EMD in bins,
 //!   circular for directions, and max bin error) and [`classify`] finds the nearest labelled
@@ -60,6 +64,7 @@
 mod analysis;
 mod descriptor;
 mod divide;
+mod dvt;
 mod edit;
 mod error;
 mod generate;
@@ -68,10 +73,11 @@ mod terrain;
 mod tree;
 mod union_find;
 
-pub use analysis::{AnalysisOptions, MAX_CELLS, Orometry, Peak, Saddle, analyze};
+pub use analysis::{AnalysisOptions, MAX_CELLS, Orometry, Peak, ProminenceBase, Saddle, analyze};
 pub use descriptor::{
     DOMINANCE_GROUP_EDGES, Descriptor, DescriptorDistance, DomainStats, FEATURES, FractionHistogram, classify,
 };
+pub use dvt::{Dvt, DvtGrid};
 pub use edit::TreeEdit;
 pub use error::OrometryError;
 pub use generate::{ControlMaps, MAX_PEAKS, TreeOptions, generate_tree};

@@ -7,7 +7,7 @@ use std::collections::BinaryHeap;
 use glam::DVec2;
 use proptest::prelude::*;
 use relief_heightfield::{Extent, GridSpec, Heightfield};
-use relief_orometry::{AnalysisOptions, Orometry, OrometryError, analyze};
+use relief_orometry::{AnalysisOptions, Orometry, OrometryError, ProminenceBase, analyze};
 
 fn grid(nx: usize, ny: usize) -> GridSpec {
     GridSpec::from_extent(nx, ny, Extent::new(DVec2::ZERO, DVec2::new((nx - 1) as f64, (ny - 1) as f64))).unwrap()
@@ -375,4 +375,88 @@ proptest! {
         };
         prop_assert_eq!(at(1), at(2));
     }
+}
+
+/// A ridge along the middle row of a 3-row DEM (the rows beside it at 0).
+fn ridge(profile: &[f32]) -> Heightfield {
+    Heightfield::from_fn_indexed(grid(profile.len(), 3), |i, j| if j == 1 { profile[i] } else { 0.0 }).unwrap()
+}
+
+#[test]
+fn the_line_parent_is_the_first_higher_peak_along_the_ridge_the_prominence_parent_its_top() {
+    // P 60 — col 40 — Q 70 — col 50 — R 100: P's key saddle is the col at 40; across it the
+    // ridge climbs to Q (higher than P) and on to R, the top of that side.
+    let dem = ridge(&[0.0, 60.0, 40.0, 70.0, 50.0, 100.0, 0.0]);
+    let oro = run(&dem);
+    let (p, q, r) = (peak_at(&oro, [1, 1]), peak_at(&oro, [3, 1]), peak_at(&oro, [5, 1]));
+    let id = |x: &relief_orometry::Peak| oro.peaks.iter().position(|y| y == x).unwrap();
+    let line = oro.line_parents();
+    assert_eq!(p.parent, Some(id(r)));
+    assert_eq!(line[id(p)], Some(id(q)));
+    assert_eq!((q.parent, line[id(q)]), (Some(id(r)), Some(id(r))));
+    assert_eq!(line[id(r)], None);
+    // Mirrored, the walk goes the other way along the ridge.
+    let dem = ridge(&[0.0, 100.0, 50.0, 70.0, 40.0, 60.0, 0.0]);
+    let oro = run(&dem);
+    let (p, q) = (peak_at(&oro, [5, 1]), peak_at(&oro, [3, 1]));
+    let id = |x: &relief_orometry::Peak| oro.peaks.iter().position(|y| y == x).unwrap();
+    assert_eq!(oro.line_parents()[id(p)], Some(id(q)));
+}
+
+#[test]
+fn line_parents_are_higher_and_on_the_far_side_of_the_key_saddle() {
+    let dem = Heightfield::from_fn(grid(41, 37), |p| {
+        (40.0 + 30.0 * (p.x * 0.37).sin() * (p.y * 0.29).cos() + 0.8 * p.x + 0.3 * (p.x * 1.7 + p.y).sin()) as f32
+    })
+    .unwrap();
+    let oro = run(&dem);
+    let line = oro.line_parents();
+    assert!(oro.peaks.len() > 5);
+    for (k, p) in oro.peaks.iter().enumerate() {
+        match (p.key_saddle, line[k]) {
+            (None, None) => {}
+            (Some(_), Some(l)) => {
+                assert!(l < k && oro.peaks[l].elevation >= p.elevation, "peak {k}: line parent {l} is not higher");
+                // Never higher in rank than the prominence parent's side allows: the parent itself
+                // or a peak no higher than it.
+                let parent = p.parent.unwrap();
+                assert!(oro.peaks[l].elevation <= oro.peaks[parent].elevation, "peak {k}");
+            }
+            other => panic!("peak {k}: key saddle and line parent {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn the_sea_level_base_makes_a_land_masss_top_as_prominent_as_it_is_high() {
+    // A cone on a plateau at 20: the border, its lowest outlet, is at 20.
+    let dem = Heightfield::from_fn(grid(21, 21), |p| (100.0 - 8.0 * p.distance(DVec2::splat(10.0))).max(20.0) as f32)
+        .unwrap();
+    let top = |options: AnalysisOptions| analyze(&dem, &options).unwrap().peaks[0].prominence;
+    assert_eq!(top(AnalysisOptions::default()), 80.0);
+    let sea = AnalysisOptions { base: ProminenceBase::SeaLevel, ..AnalysisOptions::default() };
+    assert_eq!(top(sea), 100.0);
+    assert_eq!(top(AnalysisOptions { sea_level: Some(10.0), ..sea }), 90.0);
+}
+
+#[test]
+fn anti_prominence_finds_the_pits_of_the_dem_upside_down() {
+    let cones = |sign: f32| {
+        Heightfield::from_fn(grid(61, 21), move |p| {
+            let a = 100.0 - 6.0 * p.distance(DVec2::new(15.0, 10.0));
+            let b = 80.0 - 4.0 * p.distance(DVec2::new(45.0, 10.0));
+            sign * a.max(b).max(0.0) as f32
+        })
+        .unwrap()
+    };
+    let summits = run(&cones(1.0));
+    let pits = analyze(&cones(-1.0), &AnalysisOptions { depressions: true, ..AnalysisOptions::default() }).unwrap();
+    assert_eq!(pits.peaks.len(), summits.peaks.len());
+    for (pit, summit) in pits.peaks.iter().zip(&summits.peaks) {
+        assert_eq!((pit.cell, pit.elevation, pit.prominence), (summit.cell, -summit.elevation, summit.prominence));
+    }
+    assert_eq!(pits.saddles[0].elevation, -summits.saddles[0].elevation);
+    // Without the flag, the bottoms of the upside-down cones are no peaks.
+    let o = run(&cones(-1.0));
+    assert!(o.peaks.iter().all(|p| p.cell != [15, 10] && p.cell != [45, 10]));
 }

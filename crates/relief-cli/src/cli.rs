@@ -451,7 +451,8 @@ pub(crate) struct AnalyzeArgs {
     /// Write the peaks (highest first) as CSV here.
     #[arg(long, value_name = "FILE")]
     pub(crate) peaks: Option<PathBuf>,
-    /// Write the divide tree (peaks, key saddles, ridges) as GeoJSON here.
+    /// Write the divide tree here: GeoJSON (peaks, key saddles, ridges) or, for a `.dvt` name,
+    /// akirmse/mountains' text format.
     #[arg(long, value_name = "FILE")]
     pub(crate) divide_tree: Option<PathBuf>,
     /// Write the orometric descriptor (Table 1 histograms) as JSON here.
@@ -469,7 +470,8 @@ pub(crate) struct AnalyzeArgs {
 // `relief prominence`.
 #[derive(Debug, Args)]
 pub(crate) struct ProminenceArgs {
-    /// The DEM.
+    /// The DEM, or a divide tree in akirmse/mountains' `.dvt` format (its peaks' prominences are
+    /// then those on the tree).
     pub(crate) dem: PathBuf,
     /// Keep peaks at least this prominent, metres (the divide tree is pruned to them).
     #[arg(long, default_value_t = 0.0, value_name = "METRES")]
@@ -477,10 +479,21 @@ pub(crate) struct ProminenceArgs {
     /// Ground at or below this elevation is sea.
     #[arg(long)]
     pub(crate) sea_level: Option<f32>,
-    /// Write the peaks (highest first) as CSV here.
+    /// What a land mass's highest peak is measured down to: its lowest outlet (where water leaves
+    /// the map), or the sea level (0 without --sea-level), as summit lists and akirmse count it
+    /// (always, for a .dvt input).
+    #[arg(long, value_enum, default_value_t = Base::Outlet)]
+    pub(crate) base: Base,
+    /// Anti-prominence (akirmse's -a): analyse the pits and basins instead of the summits, e.g. of
+    /// bathymetry; with --sea-level, only ground below it.
+    #[arg(long)]
+    pub(crate) depressions: bool,
+    /// Write the peaks (most prominent first for a .dvt input, else highest first) as CSV here.
     #[arg(long, value_name = "FILE")]
     pub(crate) peaks: Option<PathBuf>,
-    /// Write the divide tree (peaks, saddles, ridges between neighbouring peaks) as GeoJSON here.
+    /// Write the divide tree here: GeoJSON (peaks, saddles, ridges between neighbouring peaks)
+    /// or, for a `.dvt` name, akirmse/mountains' text format (a geographic DEM with whole samples
+    /// per degree, or a UTM one).
     #[arg(long, value_name = "FILE")]
     pub(crate) divide_tree: Option<PathBuf>,
     /// How many of the most prominent peaks to print.
@@ -489,6 +502,15 @@ pub(crate) struct ProminenceArgs {
     /// Print the whole analysis (peaks and saddles) as JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,
+}
+
+/// What a land mass's highest peak is measured down to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Base {
+    /// The lowest outlet.
+    Outlet,
+    /// The sea level.
+    SeaLevel,
 }
 
 // `relief vectorize`.

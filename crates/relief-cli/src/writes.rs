@@ -23,6 +23,8 @@ pub(crate) enum Written {
     Svg,
     /// A CSV table.
     Csv,
+    /// A divide tree: GeoJSON, or akirmse/mountains' `.dvt` text.
+    DivideTree,
 }
 
 impl Written {
@@ -35,6 +37,7 @@ impl Written {
             Self::GeoJson => &["geojson", "json"],
             Self::Svg => &["svg"],
             Self::Csv => &["csv"],
+            Self::DivideTree => &["geojson", "json", "dvt"],
         }
     }
 
@@ -46,6 +49,7 @@ impl Written {
             Self::GeoJson => "GeoJSON",
             Self::Svg => "an SVG drawing",
             Self::Csv => "CSV",
+            Self::DivideTree => "a divide tree (GeoJSON, or akirmse's .dvt)",
         }
     }
 

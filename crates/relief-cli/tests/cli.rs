@@ -287,6 +287,65 @@ fn prominence_writes_peaks_and_a_divide_tree_of_neighbouring_peaks() {
 }
 
 #[test]
+fn prominence_goes_through_akirmses_dvt_format_and_back() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = |name: &str| tmp.path().join(name).to_str().unwrap().to_owned();
+    let dem = "fixtures/dem/jacksboro.asc";
+    ok(&["prominence", dem, "--min-prominence", "30", "--divide-tree", &path("ours.dvt"), "--peaks", &path("p.csv")]);
+    let ours = std::fs::read_to_string(path("ours.dvt")).unwrap();
+    // On akirmse's canvas for this DEM, 184 peaks and 183 ridges.
+    assert!(ours.lines().any(|l| l == "G,36.000000,-85.000000,1200,1200,37.000000,-84.000000"), "{ours}");
+    assert_eq!(ours.lines().filter(|l| l.starts_with("P,")).count(), 184);
+    assert_eq!(ours.lines().filter(|l| l.starts_with("N,") && !l.ends_with(",-1,-1")).count(), 183);
+    // The CSV names both parents and the isolation limit point.
+    let csv = std::fs::read_to_string(path("p.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    for column in ["prominence_parent", "line_parent", "isolation_lon", "isolation_lat"] {
+        assert!(header.contains(&column), "{header:?}");
+    }
+    // Read back, akirmse's tree and ours: prominences on the tree, tops measured from sea level.
+    for tree in [path("ours.dvt"), "fixtures/akirmse/divide_tree.dvt".to_owned()] {
+        let text =
+            ok(&["prominence", &tree, "--min-prominence", "30", "--top", "1", "--peaks", &path("t.csv"), "--force"]);
+        // The highest summit, 1076 m, counted from sea level as akirmse counts it.
+        assert!(text.contains("1076.0 m  prominence   1076.0 m"), "{text}");
+        let csv = std::fs::read_to_string(path("t.csv")).unwrap();
+        assert!(csv.lines().count() >= 180, "{tree}: {}", csv.lines().count());
+    }
+    // Back to GeoJSON, and to .dvt again, unchanged.
+    ok(&["prominence", &path("ours.dvt"), "--divide-tree", &path("again.dvt"), "--json"]);
+    let again = std::fs::read_to_string(path("again.dvt")).unwrap();
+    let body = |t: &str| t.lines().filter(|l| !l.starts_with('#')).map(str::to_owned).collect::<Vec<_>>();
+    assert_eq!(body(&again), body(&ours));
+    ok(&["prominence", &path("ours.dvt"), "--divide-tree", &path("t.geojson")]);
+    // A grid the format cannot hold is refused before any work, naming the way out.
+    let planar = path("planar.asc");
+    std::fs::write(&planar, "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\n1 2 1\n2 5 2\n1 2 1\n").unwrap();
+    let err = fails(&["prominence", &planar, "--divide-tree", &path("x.dvt")], 1);
+    assert!(err.contains("GeoJSON") && !Path::new(&path("x.dvt")).exists(), "{err}");
+}
+
+#[test]
+fn prominence_of_depressions_and_from_sea_level() {
+    let tmp = tempfile::tempdir().unwrap();
+    let bowl = tmp.path().join("bowl.asc").to_str().unwrap().to_owned();
+    // A pit 30 deep in ground at 100, with a 5 m dip beside it.
+    std::fs::write(&bowl, "ncols 5\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 10\n100 100 100 100 100\n100 70 100 95 100\n100 100 100 100 100\n").unwrap();
+    let pits: serde_json::Value = serde_json::from_str(&ok(&["prominence", &bowl, "--depressions", "--json"])).unwrap();
+    let p = &pits["peaks"];
+    assert_eq!((p[0]["elevation"].as_f64(), p[0]["prominence"].as_f64()), (Some(70.0), Some(30.0)), "{pits}");
+    assert_eq!((p[1]["elevation"].as_f64(), p[1]["prominence"].as_f64()), (Some(95.0), Some(5.0)), "{pits}");
+    let dem = "fixtures/dem/jacksboro.asc";
+    let top = |extra: &[&str]| -> f64 {
+        let v: serde_json::Value =
+            serde_json::from_str(&ok(&[&["prominence", dem, "--json"], extra].concat())).unwrap();
+        v["peaks"][0]["prominence"].as_f64().unwrap()
+    };
+    assert_eq!(top(&["--base", "sea-level"]), 1076.0);
+    assert_eq!(top(&[]), 1076.0 - 244.0, "down to the lowest outlet, the DEM's lowest border cell");
+}
+
+#[test]
 fn analyze_reports_basins_and_compares_descriptors() {
     let tmp = tempfile::tempdir().unwrap();
     let filled = tmp.path().join("filled.tif");

@@ -1,5 +1,5 @@
-//! Contour sets as GeoJSON and SVG, contour overlays on previews, and divide trees as GeoJSON and
-//! peak lists as CSV.
+//! Contour sets as GeoJSON and SVG, contour overlays on previews, and divide trees as GeoJSON or
+//! akirmse/mountains' `.dvt` and peak lists as CSV.
 
 use std::fmt::Write as _;
 
@@ -8,9 +8,9 @@ use rayon::prelude::*;
 use serde_json::json;
 
 use crate::contours::ContourSet;
-use crate::heightfield::{Crs, Extent, Heightfield};
+use crate::heightfield::{Crs, Extent, GridSpec, Heightfield};
 use crate::io::{RgbImage, ShadeOptions, shaded_relief};
-use crate::orometry::{DivideTree, Orometry};
+use crate::orometry::{DivideTree, Dvt, DvtGrid, Orometry, OrometryError};
 
 /// The contours as a GeoJSON `FeatureCollection` of `LineString`s (closed ones repeat their first
 /// point), each with properties `id`, `elevation`, `level`, `closed` and `parent` (the id of the
@@ -161,21 +161,25 @@ pub fn divide_tree_geojson(tree: &DivideTree, analysis: Option<&Orometry>, crs: 
 }
 
 /// The analysed peaks as CSV, highest first: position (`lon,lat` for geographic grids, else
-/// `x,y`), elevation, prominence, the key saddle's position and elevation, the parent peak's id,
-/// dominance, relative prominence, relevance, isolation distance (m) and azimuth (°), and the
-/// edge-effect flag. Empty fields mean "none" (the highest peak has no key saddle or isolation).
+/// `x,y`), elevation, prominence, the key saddle's position and elevation, the prominence parent's
+/// and the line parent's ids ([`Orometry::line_parents`]), dominance, relative prominence,
+/// relevance, isolation distance (m), azimuth (°) and limit point (the nearest higher sample),
+/// and the edge-effect flag. Empty fields mean "none" (the highest peak has no key saddle,
+/// parents or isolation).
 pub fn peaks_csv(analysis: &Orometry, geographic: bool) -> String {
     let (x, y) = if geographic { ("lon", "lat") } else { ("x", "y") };
     let mut out = format!(
-        "id,{x},{y},elevation,prominence,saddle_{x},saddle_{y},saddle_elevation,parent,dominance,\
-         relative_prominence,relevance,isolation_m,isolation_azimuth,edge_effect\n"
+        "id,{x},{y},elevation,prominence,saddle_{x},saddle_{y},saddle_elevation,prominence_parent,line_parent,\
+         dominance,relative_prominence,relevance,isolation_m,isolation_azimuth,isolation_{x},isolation_{y},edge_effect\n"
     );
     let opt = |v: Option<f64>| v.map_or_else(String::new, |v| v.to_string());
+    let id = |v: Option<usize>| v.map_or_else(String::new, |v| v.to_string());
+    let line = analysis.line_parents();
     for (k, p) in analysis.peaks.iter().enumerate() {
         let saddle = p.key_saddle.map(|s| &analysis.saddles[s]);
         let _ = writeln!(
             out,
-            "{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             p.position[0],
             p.position[1],
             p.elevation,
@@ -183,16 +187,52 @@ pub fn peaks_csv(analysis: &Orometry, geographic: bool) -> String {
             opt(saddle.map(|s| s.position[0])),
             opt(saddle.map(|s| s.position[1])),
             opt(saddle.map(|s| s.elevation)),
-            p.parent.map_or_else(String::new, |q| q.to_string()),
+            id(p.parent),
+            id(line[k]),
             p.dominance,
             p.relative_prominence,
             p.relevance,
             opt(p.isolation.map(|i| i.distance)),
             opt(p.isolation.map(|i| i.azimuth)),
+            opt(p.isolation.map(|i| i.to[0])),
+            opt(p.isolation.map(|i| i.to[1])),
             p.edge_effect,
         );
     }
     out
+}
+
+/// The peaks of a divide tree (one read from a `.dvt` file, say) as CSV, most prominent first:
+/// id (the tree's index), position, elevation, prominence on the tree down to `base`, and the key
+/// saddle's position and elevation (empty for a component's top).
+pub fn tree_peaks_csv(tree: &DivideTree, base: f64, geographic: bool) -> String {
+    let (x, y) = if geographic { ("lon", "lat") } else { ("x", "y") };
+    let mut out = format!("id,{x},{y},elevation,prominence,saddle_{x},saddle_{y},saddle_elevation\n");
+    let oro = tree.orometry(base);
+    let mut order: Vec<usize> = (0..tree.peaks.len()).collect();
+    order.sort_by(|&a, &b| oro.prominence[b].total_cmp(&oro.prominence[a]).then(a.cmp(&b)));
+    for k in order {
+        let p = &tree.peaks[k];
+        let saddle = oro.key_saddle[k].map_or_else(
+            || ",,".to_owned(),
+            |s| {
+                let s = &tree.saddles[s as usize];
+                format!("{},{},{}", s.position.x, s.position.y, s.elevation)
+            },
+        );
+        let _ = writeln!(out, "{k},{},{},{},{},{saddle}", p.position.x, p.position.y, p.elevation, oro.prominence[k]);
+    }
+    out
+}
+
+/// A divide tree in akirmse/mountains' `.dvt` text format ([`Dvt`]) on the lattice of the DEM's
+/// `grid` (and coordinate system), so its tools read it.
+///
+/// # Errors
+/// [`OrometryError::Dvt`] when the format cannot hold the grid ([`DvtGrid::for_grid`]).
+pub fn divide_tree_dvt(tree: &DivideTree, grid: &GridSpec, crs: Option<&Crs>) -> Result<String, OrometryError> {
+    let grid = DvtGrid::for_grid(grid, crs)?;
+    Ok(Dvt { grid, tree: tree.clone(), unlinked_saddles: 0, runoffs: 0 }.to_string())
 }
 
 /// A colour for a relative elevation `t` in [0, 1]: the hypsometric ramp of the previews, darkened

@@ -52,7 +52,7 @@ fn check_files(args: &AnalyzeArgs, ui: &Ui) -> Result<()> {
     let outputs = [
         (&args.filled, Written::Heightfield),
         (&args.peaks, Written::Csv),
-        (&args.divide_tree, Written::GeoJson),
+        (&args.divide_tree, Written::DivideTree),
         (&args.descriptor, Written::Json),
     ];
     for (path, what) in outputs {
@@ -92,7 +92,11 @@ fn compute(args: &AnalyzeArgs, ui: &mut Ui) -> Result<Analysis> {
 /// Orometry of `dem` and its descriptor, with the peaks, divide tree and descriptor files the
 /// flags ask for written.
 fn orometry(ui: &mut Ui, dem: &Heightfield, args: &AnalyzeArgs) -> Result<(Orometry, Descriptor)> {
-    let options = AnalysisOptions { sea_level: args.sea_level, min_prominence: args.min_prominence };
+    let options = AnalysisOptions {
+        sea_level: args.sea_level,
+        min_prominence: args.min_prominence,
+        ..AnalysisOptions::default()
+    };
     let (oro, descriptor) = ui.step("orometry", || Descriptor::of(dem, &options))?;
     let geographic = dem.grid().units() == Units::Degrees;
     if let Some(p) = &args.peaks {
@@ -100,7 +104,11 @@ fn orometry(ui: &mut Ui, dem: &Heightfield, args: &AnalyzeArgs) -> Result<(Orome
     }
     if let Some(p) = &args.divide_tree {
         let tree = DivideTree::from_orometry(&oro);
-        let text = relief::export::divide_tree_geojson(&tree, Some(&oro), dem.crs());
+        let text = if super::prominence::is_dvt(p) {
+            relief::export::divide_tree_dvt(&tree, dem.grid(), dem.crs()).with_context(|| p.display().to_string())?
+        } else {
+            relief::export::divide_tree_geojson(&tree, Some(&oro), dem.crs())
+        };
         ui.step("write", || relief::io::write_atomic(p, text.as_bytes()))?;
     }
     if let Some(p) = &args.descriptor {

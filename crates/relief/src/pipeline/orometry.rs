@@ -53,7 +53,11 @@ fn target(source: &OrometrySource, env: &Env<'_>) -> Result<Descriptor, ReliefEr
     match source {
         OrometrySource::Dem { path, min_prominence, sea_level } => {
             let dem = env.read(path).map_err(|e| E::at(&at, e))?;
-            let options = AnalysisOptions { sea_level: *sea_level, min_prominence: *min_prominence };
+            let options = AnalysisOptions {
+                sea_level: *sea_level,
+                min_prominence: *min_prominence,
+                ..AnalysisOptions::default()
+            };
             Ok(Descriptor::of(&dem, &options).map_err(|e| E::at(&at, e))?.1)
         }
         OrometrySource::Descriptor { path } => env.read_json(path, &at),
