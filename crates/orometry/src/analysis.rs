@@ -461,35 +461,57 @@ impl Cells<'_> {
     /// go in the order of their highest neighbour in the other basin (highest first), so a ridge
     /// climbs from a saddle by its steepest way up.
     fn joins(&self, lab: &[u32]) -> Vec<(u64, u32, u32)> {
-        let (nx, ny) = (self.nx, self.ny);
-        let mut edges: Vec<(u64, u64, u32, u32)> = (0..ny)
+        // Two passes over the rows, counting then filling each row's slot of one vector: a
+        // collected parallel iterator would hold its pieces and the whole at once.
+        let counts: Vec<usize> = (0..self.ny)
             .into_par_iter()
-            .flat_map_iter(|j| {
-                let mut out: Vec<(u64, u64, u32, u32)> = Vec::new();
-                for i in 0..nx {
-                    let k = j * nx + i;
-                    let own = lab[k];
-                    if own == NONE {
-                        continue;
-                    }
-                    let kk = self.key(k);
-                    let start = out.len();
-                    for_neighbours(i, j, nx, ny, |w| {
-                        let (other, kw) = (lab[w], self.key(w));
-                        if other == own || other == NONE || kw > kk {
-                            return;
-                        }
-                        match out[start..].iter_mut().find(|e| e.3 == other) {
-                            Some(e) => e.1 = e.1.min(kw),
-                            None => out.push((kk, kw, own, other)),
-                        }
-                    });
-                }
-                out
+            .map_init(Vec::new, |row, j| {
+                row.clear();
+                self.row_joins(lab, j, row);
+                row.len()
             })
             .collect();
+        let mut edges = vec![(0u64, 0u64, 0u32, 0u32); counts.iter().sum()];
+        let mut slots = Vec::with_capacity(counts.len());
+        let mut rest = edges.as_mut_slice();
+        for &c in &counts {
+            let (slot, tail) = rest.split_at_mut(c);
+            slots.push(slot);
+            rest = tail;
+        }
+        slots.into_par_iter().enumerate().for_each_init(Vec::new, |row, (j, slot)| {
+            row.clear();
+            self.row_joins(lab, j, row);
+            slot.copy_from_slice(row);
+        });
         edges.par_sort_unstable();
+        // Collected in place (the smaller tuples reuse the allocation).
         edges.into_iter().map(|(kk, _, own, other)| (kk, own, other)).collect()
+    }
+
+    /// Row `j`'s edges `(cell key, key of the highest neighbour in the other basin, own basin,
+    /// other basin)`, appended to `out`.
+    fn row_joins(&self, lab: &[u32], j: usize, out: &mut Vec<(u64, u64, u32, u32)>) {
+        let (nx, ny) = (self.nx, self.ny);
+        for i in 0..nx {
+            let k = j * nx + i;
+            let own = lab[k];
+            if own == NONE {
+                continue;
+            }
+            let kk = self.key(k);
+            let start = out.len();
+            for_neighbours(i, j, nx, ny, |w| {
+                let (other, kw) = (lab[w], self.key(w));
+                if other == own || other == NONE || kw > kk {
+                    return;
+                }
+                match out[start..].iter_mut().find(|e| e.3 == other) {
+                    Some(e) => e.1 = e.1.min(kw),
+                    None => out.push((kk, kw, own, other)),
+                }
+            });
+        }
     }
 }
 

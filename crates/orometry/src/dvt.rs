@@ -157,7 +157,7 @@ fn degrees(grid: &GridSpec) -> Result<DvtGrid, OrometryError> {
         if !(1.0..=f64::from(u32::MAX)).contains(&s) || drift > DRIFT {
             return Err(dvt_error(format!(
                 "a .dvt needs a whole number of samples per degree; the grid's {axis} spacing is {c}° \
-                 ({} per degree)",
+                 ({} per degree): write the divide tree as GeoJSON instead",
                 1.0 / c
             )));
         }
