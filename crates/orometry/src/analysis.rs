@@ -29,6 +29,7 @@ use serde::{Deserialize, Serialize};
 use crate::OrometryError;
 use crate::divide::{Ridge, contract};
 use crate::isolation::{Isolation, isolation};
+use crate::ridgeline::{Ascent, chains, join};
 use crate::union_find::find;
 
 /// The most samples the analysis indexes (`u32` cell indices).
@@ -51,6 +52,9 @@ pub struct AnalysisOptions {
     /// ground, and elevations are reported as they are (negative depths stay negative). With a
     /// sea level, only ground at or below it is analysed.
     pub depressions: bool,
+    /// Trace each saddle's ridge along the DEM's cells ([`Saddle::ridge`]); off by default (the
+    /// lines cost memory in proportion to their length).
+    pub ridge_lines: bool,
 }
 
 /// What the prominence of a land mass's highest peak (which has no key saddle) is measured to.
@@ -132,6 +136,11 @@ pub struct Saddle {
     /// peak itself, or a lower one on its ridge), then the one across. Not the prominence parent,
     /// which need not be ridge-connected ([`Peak::parent`]).
     pub peaks: [usize; 2],
+    /// With [`AnalysisOptions::ridge_lines`], the ridge along the DEM's cells, world positions from
+    /// `peaks[0]` through this saddle to `peaks[1]`: steepest ascent from the saddle into each side,
+    /// on through the peaks pruned away between; empty otherwise.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ridge: Vec<[f64; 2]>,
 }
 
 /// The orometry of a DEM: its peaks and key saddles, which together form the divide tree.
@@ -593,10 +602,58 @@ fn relink(parents: impl Iterator<Item = Option<usize>>, keep: &[bool]) -> (Vec<u
     (index, linked, kept)
 }
 
+/// The ridge lines of an analysis's saddles: full-tree ridges traced on the DEM (each once), joined
+/// along the chains the pruning left.
+struct RidgeLines<'a> {
+    ascent: Ascent<'a>,
+    grid: &'a relief_heightfield::GridSpec,
+    raw: &'a [RawPeak],
+    ridges: &'a [Ridge],
+    chains: Vec<Option<Vec<(u32, u32)>>>,
+    traced: std::collections::HashMap<u32, Vec<u32>>,
+}
+
+impl<'a> RidgeLines<'a> {
+    fn new(
+        dem: &'a Heightfield,
+        raw: &'a [RawPeak],
+        tree: &'a BasinTree,
+        ends: &[Option<[u32; 2]>],
+        keep: &[bool],
+    ) -> Self {
+        let grid = dem.grid();
+        Self {
+            ascent: Ascent { z: dem.samples(), nx: grid.nx(), ny: grid.ny() },
+            grid,
+            raw,
+            ridges: &tree.ridges,
+            chains: chains(&tree.ridges, ends, keep),
+            traced: std::collections::HashMap::new(),
+        }
+    }
+
+    /// Surviving ridge `e`'s line, in world positions.
+    fn line(&mut self, e: u32) -> Vec<[f64; 2]> {
+        let Some(Some(hops)) = self.chains.get(e as usize) else { return Vec::new() };
+        let (ascent, raw, ridges, traced) = (&self.ascent, self.raw, self.ridges, &mut self.traced);
+        let cells = join(ridges, hops, |f| {
+            traced
+                .entry(f)
+                .or_insert_with(|| {
+                    let r = ridges[f as usize];
+                    ascent.ridge(cell_of_key(r.key) as usize, raw[r.near as usize].cell, raw[r.far as usize].cell)
+                })
+                .clone()
+        });
+        let nx = self.grid.nx();
+        cells.into_iter().map(|c| self.grid.position(c as usize % nx, c as usize / nx).to_array()).collect()
+    }
+}
+
 /// Drops the peaks of zero prominence or below the threshold (land-mass tops stay, so the tree
 /// keeps its roots), re-links their children to the nearest kept ancestor, contracts the divide
 /// tree over the kept peaks (the dropped ones from the lowest up), and fills in the derived
-/// measures.
+/// measures (and, when asked, the ridge lines).
 fn assemble(
     dem: &Heightfield,
     options: &AnalysisOptions,
@@ -615,6 +672,7 @@ fn assemble(
         .collect();
     let (index, linked, kept) = relink(raw.iter().map(|p| p.parent.map(|q| q as usize)), &keep);
     let ridge_ends = contract(&tree.ridges, &keep, (0..raw.len()).rev().filter(|&k| !keep[k]));
+    let mut lines = options.ridge_lines.then(|| RidgeLines::new(dem, raw, tree, &ridge_ends, &keep));
     let cell_of = |c: u32| {
         let (i, j) = (c as usize % nx, c as usize / nx);
         ([i, j], grid.position(i, j).to_array())
@@ -636,6 +694,10 @@ fn assemble(
                     peaks: match tree.key_ridge[k].and_then(|e| ridge_ends[e as usize]) {
                         Some([a, b]) => [index[a as usize], index[b as usize]],
                         None => [index[k], index[q]],
+                    },
+                    ridge: match (&mut lines, tree.key_ridge[k]) {
+                        (Some(lines), Some(e)) => lines.line(e),
+                        _ => Vec::new(),
                     },
                 });
                 Some(saddles.len() - 1)
@@ -727,6 +789,8 @@ impl Orometry {
             .map(|(k, s)| Ridge { near: s.peaks[0] as u32, far: s.peaks[1] as u32, key: k as u64 })
             .collect();
         let ends = contract(&ridges, &keep, (0..self.peaks.len()).rev().filter(|&k| !keep[k]));
+        let traced = self.saddles.iter().any(|s| !s.ridge.is_empty());
+        let chains = if traced { chains(&ridges, &ends, &keep) } else { Vec::new() };
         let mut peaks = Vec::with_capacity(kept);
         let mut saddles = Vec::new();
         for (k, p) in self.peaks.iter().enumerate().filter(|(k, _)| keep[*k]) {
@@ -739,6 +803,9 @@ impl Orometry {
                         Some([a, b]) => [index[a as usize], index[b as usize]],
                         None => [peaks.len(), q],
                     };
+                    if let Some(Some(hops)) = chains.get(s) {
+                        saddle.ridge = join(&ridges, hops, |e| self.saddles[e as usize].ridge.clone());
+                    }
                     saddles.push(saddle);
                     Some(saddles.len() - 1)
                 }

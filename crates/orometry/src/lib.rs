@@ -18,7 +18,9 @@
 //!   within a metre and 174 of its 183 ridges join the same peaks through the same saddle (± 1
 //!   cell); the rest sit on the map's edge or on flat cols of equal height.
 //! - [`Orometry::pruned`] cuts the divide tree at a prominence threshold (Fig. 6);
-//!   [`Orometry::line_parents`] gives each peak's line parent beside its prominence parent.
+//!   [`Orometry::line_parents`] gives each peak's line parent beside its prominence parent;
+//!   with [`AnalysisOptions::ridge_lines`] every saddle carries its ridge along the DEM's cells,
+//!   peak → saddle → peak ([`Saddle::ridge`]).
 //! - [`Dvt`] reads and writes akirmse's `.dvt` divide-tree files, so trees go through its tools
 //!   and back; [`ProminenceBase::SeaLevel`] counts land-mass tops from the sea as it does, and
 //!   [`AnalysisOptions::depressions`] gives anti-prominence (pits, bathymetry).
@@ -69,6 +71,7 @@ mod edit;
 mod error;
 mod generate;
 mod isolation;
+mod ridgeline;
 mod terrain;
 mod tree;
 mod union_find;

@@ -277,8 +277,47 @@ fn distinct_dem() -> impl Strategy<Value = (usize, usize, Vec<f32>)> {
     })
 }
 
+/// Checks every saddle's ridge line: it runs from its first peak through the saddle to its
+/// second, cell to neighbouring cell, never below the saddle (the lowest point of the path between
+/// the two peaks).
+fn check_ridge_lines(o: &Orometry, dem: &Heightfield) -> Result<(), TestCaseError> {
+    let g = dem.grid();
+    for (k, s) in o.saddles.iter().enumerate() {
+        let line = &s.ridge;
+        prop_assert!(line.len() >= 2, "saddle {k} has no line");
+        prop_assert_eq!(line[0], o.peaks[s.peaks[0]].position, "saddle {} starts at its first peak", k);
+        prop_assert_eq!(line[line.len() - 1], o.peaks[s.peaks[1]].position, "saddle {} ends at its second", k);
+        prop_assert!(line.contains(&s.position), "saddle {k}'s line misses the saddle");
+        for w in line.windows(2) {
+            let d = (DVec2::from(w[1]) - DVec2::from(w[0])).abs();
+            prop_assert!(d.max_element() <= 1.0 + 1e-9 && d.max_element() > 0.0, "saddle {k}: a jump {w:?}");
+        }
+        for p in line {
+            let (i, j) = g.nearest_sample(DVec2::from(*p)).unwrap();
+            prop_assert!(
+                f64::from(dem.get(i, j).unwrap()) >= s.elevation,
+                "saddle {k}: the line dips below it at {p:?}"
+            );
+        }
+    }
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Ridge lines follow the DEM, pruned or not, and pruning an analysis traces the same lines
+    /// as analysing with the threshold.
+    #[test]
+    fn ridge_lines_run_peak_to_saddle_to_peak_on_high_ground((nx, ny, z) in random_dem(), min in 0.0f64..40.0) {
+        let dem = Heightfield::from_samples(grid(nx, ny), z).unwrap();
+        let options = AnalysisOptions { ridge_lines: true, ..AnalysisOptions::default() };
+        let full = analyze(&dem, &options).unwrap();
+        check_ridge_lines(&full, &dem)?;
+        let cut = analyze(&dem, &AnalysisOptions { min_prominence: min, ..options }).unwrap();
+        check_ridge_lines(&cut, &dem)?;
+        prop_assert_eq!(full.pruned(min), cut);
+    }
 
     /// Unpruned, the analysis's saddles are the divide tree by its definition: each joins the
     /// two peaks whose ascent basins meet at it.

@@ -273,6 +273,18 @@ fn prominence_writes_peaks_and_a_divide_tree_of_neighbouring_peaks() {
     let ridges: Vec<_> =
         geojson["features"].as_array().unwrap().iter().filter(|f| f["properties"]["kind"] == "ridge").collect();
     assert_eq!(ridges.len(), 183);
+    // Drawn along the DEM's cells (3″ apart), not as straight jumps across valleys.
+    let cell = 1.0 / 1200.0;
+    let mut vertices = 0;
+    for ridge in &ridges {
+        let line = ridge["geometry"]["coordinates"].as_array().unwrap();
+        vertices += line.len();
+        for w in line.windows(2) {
+            let d = |i: usize| (w[1][i].as_f64().unwrap() - w[0][i].as_f64().unwrap()).abs();
+            assert!(d(0).max(d(1)) < 1.01 * cell, "a ridge jumps: {w:?}");
+        }
+    }
+    assert!(vertices > 10 * ridges.len(), "{vertices} vertices");
     let saddles = report["saddles"].as_array().unwrap();
     let mut not_parent = 0;
     for (k, p) in peaks.iter().enumerate() {

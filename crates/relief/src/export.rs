@@ -110,7 +110,8 @@ pub fn geojson_crs_name(crs: &Crs) -> Option<String> {
 
 /// A divide tree as a GeoJSON `FeatureCollection`: peaks and saddles as `Point`s (property
 /// `kind`: `peak` or `saddle`) and each ridge pair as a `LineString` peak → saddle → peak (`kind`:
-/// `ridge`). Coordinates are the grid's world coordinates, so a geographic DEM gives
+/// `ridge`), along the DEM's cells where the analysis traced it ([`Saddle::ridge`](crate::orometry::Saddle::ridge), with
+/// `AnalysisOptions::ridge_lines`), else straight. Coordinates are the grid's world coordinates, so a geographic DEM gives
 /// longitude/latitude. With the analysis the tree came from, peaks carry its measures
 /// (prominence, dominance, isolation, ...), and ridges name the peak they are the key saddle of.
 /// With an EPSG-coded `crs`, the collection names it as [`contours_geojson`] does.
@@ -142,6 +143,9 @@ pub fn divide_tree_geojson(tree: &DivideTree, analysis: Option<&Orometry>, crs: 
     }
     for (k, s) in tree.saddles.iter().enumerate() {
         let [a, b] = s.peaks.map(|p| tree.peaks[p as usize].position);
+        let traced = analysis.and_then(|a| a.saddles.get(k)).filter(|t| !t.ridge.is_empty());
+        let line =
+            traced.map_or_else(|| json!([[a.x, a.y], [s.position.x, s.position.y], [b.x, b.y]]), |t| json!(t.ridge));
         features.push(json!({
             "type": "Feature",
             "properties": { "kind": "saddle", "id": k, "elevation": s.elevation, "peaks": s.peaks },
@@ -150,7 +154,7 @@ pub fn divide_tree_geojson(tree: &DivideTree, analysis: Option<&Orometry>, crs: 
         features.push(json!({
             "type": "Feature",
             "properties": { "kind": "ridge", "saddle": k, "peaks": s.peaks },
-            "geometry": { "type": "LineString", "coordinates": [[a.x, a.y], [s.position.x, s.position.y], [b.x, b.y]] },
+            "geometry": { "type": "LineString", "coordinates": line },
         }));
     }
     let mut collection = json!({ "type": "FeatureCollection", "features": features });

@@ -95,6 +95,7 @@ fn orometry(ui: &mut Ui, dem: &Heightfield, args: &AnalyzeArgs) -> Result<(Orome
     let options = AnalysisOptions {
         sea_level: args.sea_level,
         min_prominence: args.min_prominence,
+        ridge_lines: args.divide_tree.as_deref().is_some_and(|p| !super::prominence::is_dvt(p)),
         ..AnalysisOptions::default()
     };
     let (oro, descriptor) = ui.step("orometry", || Descriptor::of(dem, &options))?;

@@ -44,6 +44,7 @@ pub(crate) fn prominence(args: &ProminenceArgs, ui: &mut Ui) -> Result<()> {
         min_prominence: args.min_prominence,
         base,
         depressions: args.depressions,
+        ridge_lines: args.divide_tree.as_deref().is_some_and(|p| !is_dvt(p)),
     };
     let oro = ui.step("prominence", || analyze(&dem, &options))?;
     let geographic = dem.grid().units() == Units::Degrees;
