@@ -32,7 +32,7 @@ pub use outputs::{check_outputs, write_outputs};
 pub use progress::{Progress, Timing};
 pub use summary::{
     ContourSummary, DrainageSummary, GaussianSummary, GraphSummary, HistogramMatch, IslandSummary, OrometrySummary,
-    RasterSummary, Summary,
+    RasterSummary, Summary, TerrainOrometry,
 };
 
 use crate::budget::{Budget, read_json_text};

@@ -4,7 +4,7 @@
 use super::contours::growth_seed;
 use super::inputs::{Env, raster_grid};
 use super::progress::Timer;
-use super::summary::OrometrySummary;
+use super::summary::{OrometrySummary, TerrainOrometry};
 use super::{Generated, Report};
 use crate::error::SceneError;
 use crate::heightfield::Extent;
@@ -43,8 +43,41 @@ pub(super) fn generate(
     let heightfield = timer.step("terrain", || {
         terrain_from_tree(&tree, base, &grid, &options, |_, _| {}).map_err(|e| E::at(GENERATOR, e))
     })?;
-    let report = Report::Orometry(summary(tree, &target));
+    let threshold = match &g.source {
+        OrometrySource::Dem { min_prominence, .. } => *min_prominence,
+        OrometrySource::Descriptor { .. } => least_prominence(&tree, base),
+    };
+    let terrain = timer.step("terrain orometry", || terrain_orometry(&heightfield, &target, threshold));
+    let report = Report::Orometry(summary(tree, &target, terrain));
     Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new() })
+}
+
+/// The prominence of the tree's least prominent peak (not counting its tops).
+fn least_prominence(tree: &DivideTree, base: f64) -> f64 {
+    let oro = tree.orometry(base);
+    let least = oro.prominence.iter().zip(&oro.key_saddle).filter(|(_, k)| k.is_some()).map(|(&p, _)| p);
+    let least = least.fold(f64::INFINITY, f64::min);
+    if least.is_finite() { least.max(0.0) } else { 0.0 }
+}
+
+/// The generated terrain analysed at `threshold`, its descriptor at the target's radius compared
+/// with the target; `None` when it has no land.
+fn terrain_orometry(
+    heightfield: &crate::heightfield::Heightfield,
+    target: &Descriptor,
+    threshold: f64,
+) -> Option<TerrainOrometry> {
+    let options = AnalysisOptions { min_prominence: threshold, ..AnalysisOptions::default() };
+    let (_, terrain) = Descriptor::with_radius(heightfield, &options, Some(target.domain.radius_m)).ok()?;
+    let distance = terrain.distance(target).ok()?;
+    Some(TerrainOrometry {
+        min_prominence: threshold,
+        peaks: terrain.peaks,
+        target_peaks: target.peaks,
+        density_per_km2: terrain.density_per_km2,
+        target_density_per_km2: target.density_per_km2,
+        features: distance.features,
+    })
 }
 
 /// The target orometry: a DEM analysed, or a saved descriptor.
@@ -89,7 +122,7 @@ fn divide_tree(
 }
 
 /// The tree's counts and how its prominence and dominance histograms match the target's.
-fn summary(tree: DivideTree, target: &Descriptor) -> OrometrySummary {
+fn summary(tree: DivideTree, target: &Descriptor, terrain: Option<TerrainOrometry>) -> OrometrySummary {
     let oro = tree.orometry(target.domain.min_elevation);
     let prominence = FractionHistogram::uniform(0.0, 2000.0, 20).filled(oro.prominence.iter().copied());
     let dominance = FractionHistogram::uniform(0.0, 1.0, 20).filled(oro.dominance(&tree, target.domain.datum));
@@ -99,6 +132,7 @@ fn summary(tree: DivideTree, target: &Descriptor) -> OrometrySummary {
         prominence_emd: prominence.emd(&target.prominence).unwrap_or(f64::NAN),
         prominence_max_bin_error: prominence.max_bin_error(&target.prominence).unwrap_or(f64::NAN),
         dominance_max_bin_error: dominance.max_bin_error(&target.dominance).unwrap_or(f64::NAN),
+        terrain,
         tree,
     }
 }

@@ -133,9 +133,38 @@ pub struct OrometrySummary {
     pub prominence_max_bin_error: f64,
     /// Largest bin difference between the tree's dominance histogram and the target's.
     pub dominance_max_bin_error: f64,
+    /// The generated terrain analysed again and compared with the target (§7 measures its errors
+    /// on the terrain, not on the tree); `None` when the terrain has no land to analyse.
+    pub terrain: Option<TerrainOrometry>,
     /// The tree itself (written by `outputs.divide_tree`, not into the summary).
     #[serde(skip)]
     pub tree: DivideTree,
+}
+
+/// The orometry of a generated terrain against its target: what the paper's §7 reports.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TerrainOrometry {
+    /// The prominence threshold the terrain was analysed at (the target DEM's, or the least
+    /// prominent peak of the tree for a descriptor target).
+    pub min_prominence: f64,
+    /// Peaks of the terrain at least that prominent.
+    pub peaks: usize,
+    /// Peaks the target has.
+    pub target_peaks: usize,
+    /// Peaks per km² on the terrain.
+    pub density_per_km2: f64,
+    /// Peaks per km² in the target.
+    pub target_density_per_km2: f64,
+    /// Per Table 1 feature, in `relief_orometry::FEATURES` order: its name, the earth mover's
+    /// distance between the terrain's histogram and the target's, and their largest bin difference.
+    pub features: Vec<(String, f64, f64)>,
+}
+
+impl TerrainOrometry {
+    /// The largest bin difference of one feature.
+    pub fn max_bin_error(&self, feature: &str) -> Option<f64> {
+        self.features.iter().find(|f| f.0 == feature).map(|f| f.2)
+    }
 }
 
 /// What a gaussian scene ended with.
