@@ -28,8 +28,8 @@ pub(super) fn generate(
         return Err(E::at("domain", SceneError::NeedsDomain("orometry")));
     };
     let grid = raster_grid(scene, extent)?;
-    let target = timer.step("inputs", || target(&g.source, env))?;
-    let tree = timer.step("divide tree", || divide_tree(scene, g, &target, extent, env))?;
+    let (target, real_tree) = timer.step("inputs", || target(&g.source, extent, env))?;
+    let tree = timer.step("divide tree", || divide_tree(scene, g, &target, real_tree, extent, env))?;
     let base = target.domain.min_elevation;
     let options = TerrainOptions { seed: growth_seed(scene.seed), ..g.terrain.clone() };
     // The routing raster at λ/2 and the refined ridges count as cells (an invalid λ is left to the
@@ -80,21 +80,41 @@ fn terrain_orometry(
     })
 }
 
-/// The target orometry: a DEM analysed, or a saved descriptor.
-fn target(source: &OrometrySource, env: &Env<'_>) -> Result<Descriptor, ReliefError> {
+/// The target orometry: a DEM analysed, or a saved descriptor; and, when the scene asks for it,
+/// the DEM's own divide tree stretched over the domain.
+fn target(
+    source: &OrometrySource,
+    domain: Extent,
+    env: &Env<'_>,
+) -> Result<(Descriptor, Option<DivideTree>), ReliefError> {
     let at = format!("{GENERATOR}.source");
     match source {
-        OrometrySource::Dem { path, min_prominence, sea_level } => {
+        OrometrySource::Dem { path, min_prominence, sea_level, use_tree } => {
             let dem = env.read(path).map_err(|e| E::at(&at, e))?;
             let options = AnalysisOptions {
                 sea_level: *sea_level,
                 min_prominence: *min_prominence,
                 ..AnalysisOptions::default()
             };
-            Ok(Descriptor::of(&dem, &options).map_err(|e| E::at(&at, e))?.1)
+            let (oro, descriptor) = Descriptor::of(&dem, &options).map_err(|e| E::at(&at, e))?;
+            let tree = use_tree.then(|| stretched(DivideTree::from_orometry(&oro), dem.grid().extent(), domain));
+            Ok((descriptor, tree))
         }
-        OrometrySource::Descriptor { path } => env.read_json(path, &at),
+        OrometrySource::Descriptor { path } => Ok((env.read_json(path, &at)?, None)),
     }
+}
+
+/// `tree` with its positions mapped linearly from `from` onto `to`.
+fn stretched(mut tree: DivideTree, from: Extent, to: Extent) -> DivideTree {
+    let scale = to.size() / from.size().max(glam::DVec2::splat(f64::MIN_POSITIVE));
+    let map = |p: glam::DVec2| to.min + (p - from.min) * scale;
+    for p in &mut tree.peaks {
+        p.position = map(p.position);
+    }
+    for s in &mut tree.saddles {
+        s.position = map(s.position);
+    }
+    tree
 }
 
 /// The divide tree generated from `target` under the control maps and pinned peaks (its peak
@@ -103,9 +123,20 @@ fn divide_tree(
     scene: &Scene,
     g: &OrometryGenerator,
     target: &Descriptor,
+    real: Option<DivideTree>,
     extent: Extent,
     env: &Env<'_>,
 ) -> Result<DivideTree, ReliefError> {
+    if let Some(mut tree) = real {
+        if !g.pinned.is_empty() || g.peak_density.is_some() || g.elevation.is_some() {
+            // The DEM's own tree is used as it is: nothing can shape it.
+            return Err(E::at(GENERATOR, SceneError::Conflict("source.use_tree", "pinned, peak_density or elevation")));
+        }
+        for (i, edit) in g.edits.iter().enumerate() {
+            tree.apply(edit).map_err(|e| E::at(format!("{GENERATOR}.edits[{i}]"), e))?;
+        }
+        return Ok(tree);
+    }
     let map = |path: &Option<std::path::PathBuf>, field: &str| {
         path.as_ref().map(|p| env.control_map(p, extent, &format!("{GENERATOR}.{field}"))).transpose()
     };

@@ -323,6 +323,12 @@ pub enum OrometrySource {
         /// Ground at or below this is sea.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         sea_level: Option<f32>,
+        /// Build the terrain on the DEM's own divide tree (pruned at `min_prominence`) instead of
+        /// a generated one: the paper's "T2" (§7), a real tree turned into a new terrain. The
+        /// tree is stretched from the DEM's extent over the domain; pinned peaks and control
+        /// maps, which shape a generated tree, cannot be given with it; edits still apply.
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        use_tree: bool,
     },
     /// A descriptor saved as JSON (`relief analyze --descriptor` writes them).
     Descriptor {
