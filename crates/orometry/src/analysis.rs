@@ -50,7 +50,8 @@ pub struct AnalysisOptions {
     /// basins): the DEM is turned upside down, so "peaks" are the bottoms of pits and lakes,
     /// prominence is how far each lies below the lowest rim it must climb over to reach deeper
     /// ground, and elevations are reported as they are (negative depths stay negative). With a
-    /// sea level, only ground at or below it is analysed.
+    /// sea level, only ground below it is analysed. The upside-down DEM is a copy (4 bytes a cell
+    /// more).
     pub depressions: bool,
     /// Trace each saddle's ridge along the DEM's cells ([`Saddle::ridge`]); off by default (the
     /// lines cost memory in proportion to their length).

@@ -499,3 +499,38 @@ fn anti_prominence_finds_the_pits_of_the_dem_upside_down() {
     let o = run(&cones(-1.0));
     assert!(o.peaks.iter().all(|p| p.cell != [15, 10] && p.cell != [45, 10]));
 }
+
+#[test]
+fn line_parents_walk_through_trees_rerooted_at_their_saddles() {
+    // Q 90 — 30 — K 80 — 70 — M 75 — 40 — R 100. K's key saddle (40) is reached through M, so
+    // K's side hangs under R re-rooted at M; Q's walk from K then climbs K → M → R.
+    let dem = ridge(&[0.0, 90.0, 30.0, 80.0, 70.0, 75.0, 40.0, 100.0, 0.0]);
+    let oro = run(&dem);
+    let id = |cell| oro.peaks.iter().position(|p| p.cell == cell).unwrap();
+    let (q, k, m, r) = (id([1, 1]), id([3, 1]), id([5, 1]), id([7, 1]));
+    let line = oro.line_parents();
+    assert_eq!((line[q], line[k], line[m], line[r]), (Some(r), Some(r), Some(k), None));
+}
+
+#[test]
+fn anti_prominence_with_a_sea_level_keeps_to_the_sea_floor() {
+    // Sea floor at −5 with a pit at −30 (west), a shelf at 0 with a dip at −1, land at 50 with a
+    // dip at 40 (east); the sea level at −2.
+    let dem = Heightfield::from_fn_indexed(grid(12, 5), |i, j| match (i, j) {
+        (1, 2) => -30.0,
+        (6, 2) => -1.0,
+        (10, 2) => 40.0,
+        (i, _) if i <= 3 => -5.0,
+        (i, _) if i <= 7 => 0.0,
+        _ => 50.0,
+    })
+    .unwrap();
+    let pits = |sea_level| {
+        let o = analyze(&dem, &AnalysisOptions { depressions: true, sea_level, ..AnalysisOptions::default() }).unwrap();
+        o.peaks.iter().map(|p| (p.cell, p.elevation)).collect::<Vec<_>>()
+    };
+    let all = pits(None);
+    assert!(all.contains(&([10, 2], 40.0)) && all.contains(&([6, 2], -1.0)), "{all:?}");
+    let sea = pits(Some(-2.0));
+    assert!(sea.contains(&([1, 2], -30.0)) && sea.iter().all(|p| p.1 < -2.0), "{sea:?}");
+}

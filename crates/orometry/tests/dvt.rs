@@ -162,6 +162,10 @@ fn malformed_files_name_the_line_and_the_problem() {
         ("", "no grid line"),
         ("P,1,2,3,4\n", "first line must describe the grid"),
         ("G,36,-85,0,1200,37,-84\n", "samples per degree must be positive"),
+        ("G,36,-85,1200\n", "first line must describe the grid"),
+        ("U,17,1,2\n", "first line must describe the grid"),
+        ("U,0,500000,4000000,500100,4000100,30\n", "zone must be 1–60"),
+        ("U,17,500000,4000000,500100,4000100,0\n", "spacing positive"),
         ("G,36,-85,1200,1200,37,-84\nP,1,x,3,4.0\n", "line 2: column `x`"),
         ("G,36,-85,1200,1200,37,-84\nP,1,2,3\n", "line 2: `P,1,2,3` has 4 fields, not 5"),
         ("G,36,-85,1200,1200,37,-84\nP,1,2,3,NaN\n", "not finite"),
@@ -188,4 +192,37 @@ fn runoffs_and_old_one_degree_headers_are_accepted() {
     let dvt = Dvt::parse(text).unwrap();
     assert_eq!(dvt.runoffs, 1);
     assert!(matches!(dvt.grid, DvtGrid::Degrees { max_lat: 37.0, max_lng: -84.0, .. }));
+}
+
+#[test]
+fn every_utm_family_names_its_zone() {
+    let grid = GridSpec::new(5, 4, DVec2::new(500_010.0, 4_000_020.0), DVec2::splat(10.0)).unwrap();
+    for (epsg, zone) in [(32617, 17), (32733, 33), (26910, 10), (25832, 32)] {
+        let dvt = DvtGrid::for_grid(&grid, Some(&Crs::from_epsg(epsg).unwrap())).unwrap();
+        assert!(matches!(dvt, DvtGrid::Utm { zone: z, .. } if z == zone), "EPSG:{epsg}: {dvt:?}");
+    }
+    // Corners a hundredth of a cell off whole metres are rounded; square cells only.
+    let near = GridSpec::new(5, 4, DVec2::new(500_010.05, 4_000_020.0), DVec2::splat(10.0)).unwrap();
+    let crs = Crs::from_epsg(32617).unwrap();
+    assert!(matches!(DvtGrid::for_grid(&near, Some(&crs)).unwrap(), DvtGrid::Utm { min: [500_010, 4_000_020], .. }));
+    let oblong = GridSpec::new(5, 4, DVec2::new(500_010.0, 4_000_020.0), DVec2::new(10.0, 20.0)).unwrap();
+    let err = DvtGrid::for_grid(&oblong, Some(&crs)).unwrap_err().to_string();
+    assert!(err.contains("square cells"), "{err}");
+}
+
+#[test]
+fn a_canvas_edge_a_rounding_error_past_a_whole_degree_stays_on_it() {
+    // The top row a hair above 37° N: the canvas still ends at 37°, and that row is row 0.
+    let cell = 1.0 / 1200.0;
+    let (nx, ny) = (4, 30);
+    let origin = DVec2::new(-84.5, 37.0 + 1e-12 - (ny - 1) as f64 * cell);
+    let grid = GridSpec::geographic(nx, ny, origin, DVec2::splat(cell)).unwrap();
+    let dvt = DvtGrid::for_grid(&grid, None).unwrap();
+    assert!(matches!(dvt, DvtGrid::Degrees { max_lat: 37.0, min_lat: 36.0, .. }), "{dvt:?}");
+    assert_eq!(dvt.sample(grid.position(0, ny - 1)), [600, 0]);
+    // Columns on the lattice but rows half a sample off it: the grid's own corners, not the canvas.
+    let off = GridSpec::geographic(nx, ny, origin + DVec2::new(0.0, 0.5 * cell), DVec2::splat(cell)).unwrap();
+    let dvt = DvtGrid::for_grid(&off, None).unwrap();
+    assert!(matches!(dvt, DvtGrid::Degrees { min_lng, .. } if min_lng == -84.5), "{dvt:?}");
+    assert_eq!(dvt.sample(off.position(0, ny - 1)), [0, 0]);
 }

@@ -391,6 +391,39 @@ fn analyze_reports_basins_and_compares_descriptors() {
 }
 
 #[test]
+fn analyze_writes_descriptors_and_classifies_against_them() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = |name: &str| tmp.path().join(name).to_str().unwrap().to_owned();
+    let dem = "fixtures/dem/jacksboro.asc";
+    // A second landscape: the same DEM at a sixth of its resolution, smoother.
+    ok(&["convert", dem, &path("coarse.asc"), "--size", "67x57"]);
+    let (rugged, coarse) = (path("rugged.json"), path("coarse.json"));
+    let args = ["analyze", dem, "--min-prominence", "30", "--descriptor", &rugged, "--peaks", &path("p.csv")];
+    ok(&[&args[..], &["--divide-tree", &path("t.dvt")]].concat());
+    ok(&["analyze", &path("coarse.asc"), "--min-prominence", "30", "--descriptor", &coarse]);
+    let descriptor: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&rugged).unwrap()).unwrap();
+    assert_eq!(descriptor["peaks"].as_u64(), Some(184));
+    assert!(std::fs::read_to_string(path("t.dvt")).unwrap().lines().filter(|l| l.starts_with("P,")).count() == 184);
+    // Each DEM is nearest its own descriptor, the file's stem naming it.
+    for (input, label) in [(dem.to_owned(), "rugged"), (path("coarse.asc"), "coarse")] {
+        let report: serde_json::Value = serde_json::from_str(&ok(&[
+            "analyze",
+            &input,
+            "--min-prominence",
+            "30",
+            "--classify",
+            &rugged,
+            &coarse,
+            "--json",
+        ]))
+        .unwrap();
+        let nearest = &report["orometry"]["nearest"];
+        assert_eq!(nearest["label"], label, "{input}: {nearest}");
+        assert!(nearest["mean_emd"].as_f64().unwrap() < 1e-9, "{nearest}");
+    }
+}
+
+#[test]
 fn diffuse_refuses_contour_scenes_and_names_bad_curve_values() {
     let stderr = fails(&["diffuse", "fixtures/scenes/mesa.json"], 1);
     assert!(stderr.contains("relief generate"), "{stderr}");
