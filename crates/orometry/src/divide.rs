@@ -66,13 +66,15 @@ pub(crate) fn contract(
         .collect()
 }
 
+/// A ridge from its ends and key, for tests.
+#[cfg(test)]
+pub(crate) fn ridge(near: u32, far: u32, key: u64) -> Ridge {
+    Ridge { near, far, key }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn ridge(near: u32, far: u32, key: u64) -> Ridge {
-        Ridge { near, far, key }
-    }
 
     #[test]
     fn a_dropped_peak_merges_across_its_highest_saddle_and_keeps_the_lower() {

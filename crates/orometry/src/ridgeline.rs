@@ -160,11 +160,7 @@ impl Ascent<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::divide::contract;
-
-    fn ridge(near: u32, far: u32, key: u64) -> Ridge {
-        Ridge { near, far, key }
-    }
+    use crate::divide::{contract, ridge};
 
     #[test]
     fn a_pruned_ridge_runs_through_the_peaks_merged_into_its_ends() {
