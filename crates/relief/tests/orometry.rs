@@ -131,6 +131,13 @@ fn a_dems_own_divide_tree_becomes_a_terrain_with_the_papers_errors() {
     let error = |f: &str| t.max_bin_error(f).unwrap();
     assert!(error("prominence") <= 0.03 && error("dominance") <= 0.03, "{t:?}");
     assert!(error("isolation_distance") <= 0.08, "{t:?}");
+    // The terrain is analysed as the target was, at its sea level too.
+    let mut s = scene.clone();
+    let Generator::Orometry(g) = &mut s.generator else { panic!("an orometry fixture") };
+    let relief::scene::OrometrySource::Dem { sea_level, .. } = &mut g.source else { panic!("a DEM source") };
+    *sea_level = Some(300.0);
+    let t = generate(&s, base, &mut Quiet).unwrap().summary.orometry.unwrap().terrain.unwrap();
+    assert_eq!((t.sea_level, t.min_prominence), (Some(300.0), 30.0));
     // Pinned peaks and control maps shape generated trees only.
     let mut s = scene.clone();
     let Generator::Orometry(g) = &mut s.generator else { panic!("an orometry fixture") };

@@ -43,11 +43,16 @@ pub(super) fn generate(
     let heightfield = timer.step("terrain", || {
         terrain_from_tree(&tree, base, &grid, &options, |_, _| {}).map_err(|e| E::at(GENERATOR, e))
     })?;
-    let threshold = match &g.source {
-        OrometrySource::Dem { min_prominence, .. } => *min_prominence,
-        OrometrySource::Descriptor { .. } => least_prominence(&tree, base),
+    // The terrain is analysed as the target was: at its threshold and sea level.
+    let analysis = match &g.source {
+        OrometrySource::Dem { min_prominence, sea_level, .. } => {
+            AnalysisOptions { min_prominence: *min_prominence, sea_level: *sea_level, ..AnalysisOptions::default() }
+        }
+        OrometrySource::Descriptor { .. } => {
+            AnalysisOptions { min_prominence: least_prominence(&tree, base), ..AnalysisOptions::default() }
+        }
     };
-    let terrain = timer.step("terrain orometry", || terrain_orometry(&heightfield, &target, threshold));
+    let terrain = timer.step("terrain orometry", || terrain_orometry(&heightfield, &target, &analysis));
     let report = Report::Orometry(summary(tree, &target, terrain));
     Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new() })
 }
@@ -60,18 +65,18 @@ fn least_prominence(tree: &DivideTree, base: f64) -> f64 {
     if least.is_finite() { least.max(0.0) } else { 0.0 }
 }
 
-/// The generated terrain analysed at `threshold`, its descriptor at the target's radius compared
+/// The generated terrain analysed with `options`, its descriptor at the target's radius compared
 /// with the target; `None` when it has no land.
 fn terrain_orometry(
     heightfield: &crate::heightfield::Heightfield,
     target: &Descriptor,
-    threshold: f64,
+    options: &AnalysisOptions,
 ) -> Option<TerrainOrometry> {
-    let options = AnalysisOptions { min_prominence: threshold, ..AnalysisOptions::default() };
-    let (_, terrain) = Descriptor::with_radius(heightfield, &options, Some(target.domain.radius_m)).ok()?;
+    let (_, terrain) = Descriptor::with_radius(heightfield, options, Some(target.domain.radius_m)).ok()?;
     let distance = terrain.distance(target).ok()?;
     Some(TerrainOrometry {
-        min_prominence: threshold,
+        min_prominence: options.min_prominence,
+        sea_level: options.sea_level,
         peaks: terrain.peaks,
         target_peaks: target.peaks,
         density_per_km2: terrain.density_per_km2,

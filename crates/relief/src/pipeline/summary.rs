@@ -147,6 +147,8 @@ pub struct TerrainOrometry {
     /// The prominence threshold the terrain was analysed at (the target DEM's, or the least
     /// prominent peak of the tree for a descriptor target).
     pub min_prominence: f64,
+    /// The sea level the terrain was analysed with (the target DEM's).
+    pub sea_level: Option<f32>,
     /// Peaks of the terrain at least that prominent.
     pub peaks: usize,
     /// Peaks the target has.
