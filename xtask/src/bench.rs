@@ -22,6 +22,7 @@ pub(crate) fn run(root: &Path, quick: bool, packages: &[String], report_only: bo
     report.push_str(&paired_tin(root, quick)?);
     report.push_str(&crate::gdal::contour_runs(root, quick)?);
     report.push_str(&crate::gdal::geotiff_runs(root, quick)?);
+    report.push_str(&crate::prominence::prominence_runs(root, quick)?);
     let fit_again = !report_only && (packages.is_empty() || packages.iter().any(|p| p == "relief-gaussian-terrain"));
     report.push_str(&vectorize_runs(root, quick, !fit_again)?);
     let out = root.join("docs/benchmarks.md");

@@ -88,15 +88,15 @@ pub(crate) fn contour_runs(root: &Path, quick: bool) -> Result<String> {
 }
 
 /// One tool's best of three runs.
-struct Run {
-    seconds: f64,
-    peak_kb: u64,
+pub(crate) struct Run {
+    pub(crate) seconds: f64,
+    pub(crate) peak_kb: u64,
     bytes: u64,
 }
 
 /// Runs the command `make(out)` three times under `/usr/bin/time` (removing `out` first: GDAL
 /// refuses to overwrite), keeping the best time and the largest peak memory.
-fn measure(out: &Path, make: impl Fn(&Path) -> Command) -> Result<Run> {
+pub(crate) fn measure(out: &Path, make: impl Fn(&Path) -> Command) -> Result<Run> {
     let mut best = Run { seconds: f64::INFINITY, peak_kb: 0, bytes: 0 };
     for _ in 0..3 {
         let _ = fs::remove_file(out);

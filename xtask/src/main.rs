@@ -20,6 +20,7 @@ mod bench;
 mod fuzz;
 mod gallery;
 mod gdal;
+mod prominence;
 mod references;
 
 use std::path::{Path, PathBuf};
@@ -44,6 +45,10 @@ fn main() -> Result<()> {
             print!("{}", gdal::geotiff_runs(&root, false)?);
             Ok(())
         }
+        Some("prominence") => {
+            print!("{}", prominence::prominence_runs(&root, false)?);
+            Ok(())
+        }
         Some("fuzz") => {
             let seconds = args.get(1).and_then(|a| a.parse::<u64>().ok());
             let targets: Vec<String> = args.iter().skip(if seconds.is_some() { 2 } else { 1 }).cloned().collect();
@@ -51,7 +56,7 @@ fn main() -> Result<()> {
         }
         Some("help" | "--help" | "-h") | None => {
             println!(
-                "usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gdal-contours | gallery | fuzz [SECONDS] [TARGET]...>"
+                "usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gdal-contours | prominence | gallery | fuzz [SECONDS] [TARGET]...>"
             );
             Ok(())
         }
