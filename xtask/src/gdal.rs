@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 
@@ -31,21 +31,8 @@ pub(crate) fn contour_runs(root: &Path, quick: bool) -> Result<String> {
         md.push('\n');
         return Ok(md);
     }
-    crate::run(Command::new(env!("CARGO")).current_dir(root).args([
-        "build",
-        "--quiet",
-        "--release",
-        "-p",
-        "relief-cli",
-    ]))?;
-    let relief = root.join("target/release/relief");
-    let work = root.join("target/gdal-contour");
-    fs::create_dir_all(&work)?;
-    let small = root.join("fixtures/dem/jacksboro.asc");
-    let large = work.join("jacksboro-1209.asc");
-    let source = small.to_str().context("DEM path")?;
-    let resample = [source, large.to_str().context("path")?, "--size", "1209x1032", "--force", "-q"];
-    crate::run(Command::new(&relief).arg("convert").args(resample))?;
+    let (relief, work) = (root.join("target/release/relief"), root.join("target/gdal-contour"));
+    let (small, large) = jacksboro_resampled(root, &work.join("jacksboro-1209.asc"), "1209x1032")?;
     let mut lines = String::from(
         "| DEM | interval | relief | relief memory | relief output | gdal_contour | gdal memory | gdal output | time ratio |\n\
          |---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
@@ -85,6 +72,19 @@ pub(crate) fn contour_runs(root: &Path, quick: bool) -> Result<String> {
     md.push_str(&lines);
     md.push('\n');
     Ok(md)
+}
+
+/// Builds the release `relief`, then resamples the shared Jacksboro DEM to `size` (`WxH`) into
+/// `large` (its folder created): the small and large DEMs the sections measure on.
+pub(crate) fn jacksboro_resampled(root: &Path, large: &Path, size: &str) -> Result<(PathBuf, PathBuf)> {
+    let cargo = ["build", "--quiet", "--release", "-p", "relief-cli"];
+    crate::run(Command::new(env!("CARGO")).current_dir(root).args(cargo))?;
+    fs::create_dir_all(large.parent().context("resampled DEM path")?)?;
+    let small = root.join("fixtures/dem/jacksboro.asc");
+    let resample =
+        [small.to_str().context("DEM path")?, large.to_str().context("path")?, "--size", size, "--force", "-q"];
+    crate::run(Command::new(root.join("target/release/relief")).arg("convert").args(resample))?;
+    Ok((small, large.to_path_buf()))
 }
 
 /// One tool's best of three runs.

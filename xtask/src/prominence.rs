@@ -10,7 +10,7 @@ use std::process::Command;
 
 use anyhow::{Context, Result};
 
-use crate::gdal::measure;
+use crate::gdal::{jacksboro_resampled, measure};
 
 /// The report section: measured now when `/usr/bin/time` is there, else the last run's lines
 /// (kept in `target/prominence.md`).
@@ -34,21 +34,9 @@ pub(crate) fn prominence_runs(root: &Path, quick: bool) -> Result<String> {
         md.push('\n');
         return Ok(md);
     }
-    crate::run(Command::new(env!("CARGO")).current_dir(root).args([
-        "build",
-        "--quiet",
-        "--release",
-        "-p",
-        "relief-cli",
-    ]))?;
     let relief = root.join("target/release/relief");
     let work = root.join("target/prominence");
-    fs::create_dir_all(&work)?;
-    let small = root.join("fixtures/dem/jacksboro.asc");
-    let large = work.join("jacksboro-2617.tif");
-    let source = small.to_str().context("DEM path")?;
-    let resample = [source, large.to_str().context("path")?, "--size", "2617x2617", "--force", "-q"];
-    crate::run(Command::new(&relief).arg("convert").args(resample))?;
+    let (small, large) = jacksboro_resampled(root, &work.join("jacksboro-2617.tif"), "2617x2617")?;
     let dem_mib = 2617.0 * 2617.0 * 4.0 / 1024.0 / 1024.0;
     let mut lines = String::from(
         "| run | DEM | cells | wall time | peak memory | memory / DEM f32 bytes |\n|---|---|---:|---:|---:|---:|\n",
