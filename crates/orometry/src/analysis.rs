@@ -861,7 +861,7 @@ fn in_flood_order(peaks: &mut [Peak], saddles: Vec<Saddle>) -> Vec<Saddle> {
 
 /// Calls `f` with each of the (up to 8) neighbours of cell `(i, j)`.
 #[inline]
-fn for_neighbours(i: usize, j: usize, nx: usize, ny: usize, mut f: impl FnMut(usize)) {
+pub(crate) fn for_neighbours(i: usize, j: usize, nx: usize, ny: usize, mut f: impl FnMut(usize)) {
     let k = j * nx + i;
     if i > 0 && j > 0 && i + 1 < nx && j + 1 < ny {
         for w in [k - nx - 1, k - nx, k - nx + 1, k - 1, k + 1, k + nx - 1, k + nx, k + nx + 1] {

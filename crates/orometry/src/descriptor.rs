@@ -33,10 +33,11 @@
 use std::f64::consts::TAU;
 
 use glam::DVec2;
-use relief_heightfield::Heightfield;
+use relief_heightfield::{Extent, Heightfield};
 use relief_hydrology::{CdfShape, earth_movers_distance};
 use serde::{Deserialize, Serialize};
 
+use crate::point_grid::PointGrid;
 use crate::{AnalysisOptions, Orometry, OrometryError, analyze};
 
 /// Jurgalski's dominance thresholds (the "D" column of his elevation-unit chart, in percent),
@@ -180,6 +181,30 @@ impl FractionHistogram {
             .then(|| self.fractions.iter().zip(&other.fractions).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max))
     }
 
+    /// The histogram of values known to be at least `floor` (a linear histogram counted above a
+    /// threshold that falls inside a bin, such as prominences at or above 30 m in the [0, 100)
+    /// bin): the bins wholly below `floor` dropped, the one holding it starting at `floor`, the
+    /// fractions renormalized. `None` when nothing lies at or above `floor`, or for a circular
+    /// histogram. At or below the lowest edge it is the histogram itself.
+    #[must_use]
+    pub fn from_floor(&self, floor: f64) -> Option<Self> {
+        if self.circular || floor.is_nan() {
+            return None;
+        }
+        if floor <= self.edges[0] {
+            return Some(self.clone());
+        }
+        let first = self.edges[1..].partition_point(|&e| e <= floor);
+        let kept = self.fractions.get(first..)?;
+        let sum: f64 = kept.iter().sum();
+        if sum <= 0.0 {
+            return None;
+        }
+        let mut edges = self.edges[first..].to_vec();
+        edges[0] = floor;
+        Some(Self { edges, fractions: kept.iter().map(|f| f / sum).collect(), circular: false })
+    }
+
     /// The value at cumulative fraction `u ∈ [0, 1]`, linear within a bin (the inverse CDF).
     /// `None` for an empty histogram.
     pub fn quantile(&self, u: f64) -> Option<f64> {
@@ -232,6 +257,10 @@ pub struct DomainStats {
     /// The level dominance measures heights from: the sea level of the analysis, or 0.
     #[serde(default)]
     pub datum: f64,
+    /// The prominence threshold the peaks were counted at (0 when unknown): synthesis draws
+    /// prominences at or above it, so the terrain analysed at the same threshold keeps its peaks.
+    #[serde(default)]
+    pub min_prominence: f64,
 }
 
 impl DomainStats {
@@ -251,6 +280,7 @@ impl DomainStats {
             area_km2: area_m2 / 1e6,
             radius_m: (area_m2 / std::f64::consts::PI).sqrt(),
             datum: 0.0,
+            min_prominence: 0.0,
         }
     }
 }
@@ -287,6 +317,14 @@ pub struct Descriptor {
     pub relative_prominence: FractionHistogram,
     /// `ρ`, 20 bins over [0, 1].
     pub relevance: FractionHistogram,
+    /// Distance from each peak to the nearest higher peak / R, 20 bins over [0, 1]: not a
+    /// Table 1 feature (distances and classification leave it out) but what synthesis places
+    /// peaks by. A dart's distance to the peaks already placed (all higher) is a nearest-higher-
+    /// peak distance; isolation, the distance to higher *ground*, is shorter on a terrain, so
+    /// darts accepted by the isolation histogram crowd the peaks. `None` in descriptors written
+    /// before it existed: synthesis then falls back to the isolation histogram.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub higher_peak_distance: Option<FractionHistogram>,
 }
 
 impl Serialize for Descriptor {
@@ -317,6 +355,31 @@ impl DescriptorDistance {
     pub fn feature(&self, name: &str) -> Option<(f64, f64)> {
         self.features.iter().find(|(n, ..)| n == name).map(|&(_, e, m)| (e, m))
     }
+}
+
+/// Each peak's ground distance, metres, to the nearest strictly higher peak of `peaks` (`None`
+/// for those with none): peaks inserted highest first into a bucket grid, each equal-height
+/// group queried before it is inserted. Positions are scaled by `metres_per_unit` first.
+fn nearest_higher_peaks(peaks: &[crate::Peak], metres_per_unit: DVec2) -> Vec<Option<f64>> {
+    let at: Vec<DVec2> = peaks.iter().map(|p| DVec2::from(p.position) * metres_per_unit).collect();
+    let mut out = vec![None; peaks.len()];
+    let Some(extent) =
+        at.iter().fold(None, |e: Option<(DVec2, DVec2)>, &p| Some(e.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))))
+    else {
+        return out;
+    };
+    let mut grid = PointGrid::new(&Extent::new(extent.0, extent.1), peaks.len());
+    let mut order: Vec<usize> = (0..peaks.len()).collect();
+    order.sort_by(|&a, &b| peaks[b].elevation.total_cmp(&peaks[a].elevation));
+    for group in order.chunk_by(|&a, &b| peaks[a].elevation == peaks[b].elevation) {
+        for &k in group {
+            out[k] = grid.nearest(at[k], &at).map(|(_, d)| d);
+        }
+        for &k in group {
+            grid.insert(k as u32, at[k]);
+        }
+    }
+    out
 }
 
 /// Ground distance in metres between two world positions of `dem`'s grid, and the azimuth of
@@ -361,6 +424,10 @@ impl Descriptor {
             prominence: unit(0.0, 2000.0).filled(peaks.iter().map(|p| p.prominence)),
             relative_prominence: unit(0.0, 1.0).filled(peaks.iter().map(|p| p.relative_prominence)),
             relevance: unit(0.0, 1.0).filled(peaks.iter().map(|p| p.relevance)),
+            higher_peak_distance: Some(
+                unit(0.0, 1.0)
+                    .filled(nearest_higher_peaks(peaks, metres_per_unit).into_iter().flatten().map(|d| d / r)),
+            ),
         }
     }
 
@@ -394,6 +461,7 @@ impl Descriptor {
             stats.radius_m = r;
         }
         stats.datum = options.sea_level.map_or(0.0, f64::from);
+        stats.min_prominence = options.min_prominence;
         let d = Self::from_orometry(&oro, stats, grid.metres_per_unit(grid.ny() / 2));
         Ok((oro, d))
     }
@@ -422,6 +490,9 @@ impl Descriptor {
         for (name, h) in FEATURES.iter().zip(self.histograms()) {
             h.validate(name)?;
         }
+        if let Some(h) = &self.higher_peak_distance {
+            h.validate("higher_peak_distance")?;
+        }
         let d = &self.domain;
         let bad = |feature, reason| Err(OrometryError::InvalidDescriptor { feature, reason });
         if !(d.min_elevation.is_finite()
@@ -436,6 +507,9 @@ impl Descriptor {
         }
         if !(self.density_per_km2 >= 0.0 && self.density_per_km2.is_finite()) {
             return bad("density_per_km2", "must be finite and ≥ 0");
+        }
+        if !(d.min_prominence >= 0.0 && d.min_prominence.is_finite()) {
+            return bad("domain", "min_prominence must be finite and ≥ 0");
         }
         Ok(())
     }

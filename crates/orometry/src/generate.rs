@@ -12,9 +12,19 @@
 //!   the distance to the earlier ridges and `s` the pass's mean peak spacing;
 //! - a dart that is never accepted falls back to the best of its candidates, so generation always
 //!   finishes in `peaks × dart_attempts` draws;
+//! - darts are accepted by the distance to the nearest *higher peak* (the descriptor's
+//!   `higher_peak_distance`), not by isolation, which is a distance to higher ground and so
+//!   shorter on the terrain than between peaks; and each distance bin takes only its share of the
+//!   peaks (a quota), since uniform proposals in a filling domain mostly land near a peak;
+//! - the assignment works on bins, as the descriptor does: a target in a peak's current bin needs
+//!   no move, and a move aims at the point of the target's bin nearest the target that the
+//!   saddle's range allows, a tenth of a bin inside its edges;
+//! - prominences stay at or above the threshold the target was counted at
+//!   ([`crate::DomainStats::min_prominence`]) plus 2 m, and peaks the rounds leave below it are
+//!   lifted back over it, so the terrain analysed at that threshold keeps them;
 //! - the assignment is a sparse forward auction with ε-scaling (Bertsekas): each peak bids on the
-//!   24 targets nearest its current value plus its rank-matched target, which guarantees a
-//!   perfect matching exists.
+//!   4 targets nearest its current value in every bin plus its rank-matched target, which
+//!   guarantees a perfect matching exists.
 
 use glam::DVec2;
 use rand::{RngExt, SeedableRng};
@@ -24,6 +34,7 @@ use relief_tin::Tin;
 use serde::{Deserialize, Serialize};
 
 use crate::descriptor::FractionHistogram;
+use crate::point_grid::PointGrid;
 use crate::tree::{DivideTree, TreeOrometry, TreePeak, TreeSaddle};
 use crate::union_find::find;
 use crate::{Descriptor, OrometryError};
@@ -52,9 +63,11 @@ pub struct TreeOptions {
     pub rho: f64,
     /// Multi-pass placement passes (default 4; 1 places every peak at once).
     pub passes: usize,
-    /// Saddle-elevation rounds, alternating dominance and prominence targets (default 4).
+    /// Saddle-elevation rounds, alternating dominance and prominence targets (default 16; the
+    /// paper's 3–4 leave Fig. 11's pairing shifts unsettled, about 5 % off in a dominance bin).
     pub saddle_rounds: usize,
-    /// Darts thrown per peak before taking the best candidate (default 64).
+    /// Darts thrown per peak before taking the best candidate (default 256: late peaks need
+    /// many tries to find the gaps the distance histogram asks for).
     pub dart_attempts: usize,
     /// Peaks keep at least this far apart, metres (default 200, the meshing distance λ).
     pub min_spacing_m: f64,
@@ -64,7 +77,7 @@ pub struct TreeOptions {
 
 impl Default for TreeOptions {
     fn default() -> Self {
-        Self { peaks: None, rho: 1.0, passes: 4, saddle_rounds: 4, dart_attempts: 64, min_spacing_m: 200.0, seed: 0 }
+        Self { peaks: None, rho: 1.0, passes: 4, saddle_rounds: 16, dart_attempts: 256, min_spacing_m: 200.0, seed: 0 }
     }
 }
 
@@ -143,71 +156,6 @@ pub(crate) fn check_control(
     Ok(())
 }
 
-/// Buckets of placed peaks for nearest-neighbour queries.
-struct PointGrid {
-    origin: DVec2,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-    buckets: Vec<Vec<u32>>,
-}
-
-impl PointGrid {
-    fn new(extent: &Extent, expected: usize) -> Self {
-        let size = extent.size().max(DVec2::splat(1e-9));
-        let cell = (size.x * size.y / expected.max(1) as f64).sqrt().max(size.max_element() / 1024.0);
-        let nx = (size.x / cell).ceil() as usize + 1;
-        let ny = (size.y / cell).ceil() as usize + 1;
-        Self { origin: extent.min, cell, nx, ny, buckets: vec![Vec::new(); nx * ny] }
-    }
-
-    fn cell_of(&self, p: DVec2) -> (usize, usize) {
-        let g = ((p - self.origin) / self.cell).floor();
-        (g.x.clamp(0.0, (self.nx - 1) as f64) as usize, g.y.clamp(0.0, (self.ny - 1) as f64) as usize)
-    }
-
-    fn insert(&mut self, k: u32, p: DVec2) {
-        let (i, j) = self.cell_of(p);
-        self.buckets[j * self.nx + i].push(k);
-    }
-
-    /// The nearest stored point to `p` and its distance.
-    fn nearest(&self, p: DVec2, points: &[DVec2]) -> Option<(u32, f64)> {
-        let (ci, cj) = self.cell_of(p);
-        let mut best: Option<(u32, f64)> = None;
-        let max_ring = self.nx.max(self.ny);
-        for ring in 0..=max_ring {
-            // Every point in ring r is at least (r − 1)·cell away.
-            if let Some((_, d)) = best
-                && d < (ring as f64 - 1.0) * self.cell
-            {
-                break;
-            }
-            let (i0, i1) = (ci as isize - ring as isize, ci as isize + ring as isize);
-            let (j0, j1) = (cj as isize - ring as isize, cj as isize + ring as isize);
-            for j in j0..=j1 {
-                if j < 0 || j >= self.ny as isize {
-                    continue;
-                }
-                let step = if j == j0 || j == j1 { 1 } else { (i1 - i0).max(1) };
-                let mut i = i0;
-                while i <= i1 {
-                    if i >= 0 && i < self.nx as isize {
-                        for &k in &self.buckets[j as usize * self.nx + i as usize] {
-                            let d = points[k as usize].distance(p);
-                            if best.is_none_or(|(bk, bd)| d < bd || (d == bd && k < bk)) {
-                                best = Some((k, d));
-                            }
-                        }
-                    }
-                    i += step;
-                }
-            }
-        }
-        best
-    }
-}
-
 /// `n` stratified samples of a histogram's inverse CDF (one per equal-probability stratum, jittered
 /// inside it), in random order.
 fn stratified(h: &FractionHistogram, n: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
@@ -254,6 +202,7 @@ pub fn generate_tree(
     for round in 0..options.saddle_rounds {
         assign_saddles(&mut tree, descriptor, placement.base, round % 2 == 0, &mut rng);
     }
+    lift_below_threshold(&mut tree, descriptor, placement.base, &mut rng);
     Ok(tree)
 }
 
@@ -387,12 +336,19 @@ impl<'a> Placement<'a> {
         let size = self.extent.size();
         let mut placed = Placed { positions: Vec::with_capacity(n), grid: PointGrid::new(&self.extent, n) };
         let mut ridges: Vec<[u32; 2]> = Vec::new();
+        let mut quota = Quota::new(self.distances(), n);
         let mut start = 0;
         for end in pass_ends(self.options.passes, n) {
             let ridge_field = (start > 0).then(|| RidgeField::new(&self.extent, &placed.positions, &ridges));
             let spacing = (size.x * size.y / end as f64).sqrt();
             for &(h, pin) in &peaks[start..end] {
-                let p = if let Some(p) = pin { p } else { self.throw(h, &placed, ridge_field.as_ref(), spacing, rng) };
+                let p = match pin {
+                    Some(p) => p,
+                    None => self.throw(h, &placed, ridge_field.as_ref(), spacing, &quota, rng),
+                };
+                if let Some((_, d)) = placed.nearest(p) {
+                    quota.fill(d / self.descriptor.domain.radius_m);
+                }
                 placed.push(p);
             }
             let heights: Vec<f64> = peaks[..end].iter().map(|p| p.0).collect();
@@ -402,18 +358,28 @@ impl<'a> Placement<'a> {
         (placed.positions, ridges)
     }
 
+    /// The histogram of distances to the nearest higher peak that darts are accepted by: the
+    /// descriptor's own, or its isolation histogram where it has none.
+    fn distances(&self) -> &'a FractionHistogram {
+        let d = self.descriptor;
+        d.higher_peak_distance.as_ref().unwrap_or(&d.isolation_distance)
+    }
+
     /// Dart throwing for one peak of height `h` (§5.1): a uniform candidate is accepted with the
-    /// probability `C_P`/max × the `C_H` Gaussian `exp(−½((C_H − h)/σ)²)` × the descriptor's
-    /// relative isolation distance and direction densities (each at least 0.02) towards the
-    /// nearest placed peak × the earlier-ridge bias `0.2 + 0.8·exp(−(d/spacing)²)`; candidates
-    /// closer than the minimum spacing are refused. Without an accepted dart, the most probable
-    /// candidate wins, or, when every one was too close, the one with the most room.
+    /// probability `C_P`/max × the `C_H` Gaussian `exp(−½((C_H − h)/σ)²)` × the relative
+    /// densities of the descriptor's nearest-higher-peak distance (see [`Placement::distances`])
+    /// and isolation direction (each at least 0.02) towards the nearest placed peak, the former
+    /// times the share of its bin's `quota` still open × the earlier-ridge bias
+    /// `0.2 + 0.8·exp(−(d/spacing)²)`; candidates closer than the minimum spacing are refused.
+    /// Without an accepted dart, the most probable candidate wins, or, when every one was too
+    /// close, the one with the most room.
     fn throw(
         &self,
         h: f64,
         placed: &Placed,
         ridge_field: Option<&RidgeField>,
         spacing: f64,
+        quota: &Quota,
         rng: &mut ChaCha8Rng,
     ) -> DVec2 {
         let (extent, size) = (self.extent, self.extent.size());
@@ -436,7 +402,7 @@ impl<'a> Placement<'a> {
                     continue;
                 }
                 let az = crate::descriptor::azimuth(placed.positions[k as usize] - c).to_degrees();
-                prob *= descriptor.isolation_distance.relative_density(dist / radius).max(0.02);
+                prob *= self.distances().relative_density(dist / radius).max(0.02) * quota.open(dist / radius);
                 prob *= descriptor.isolation_direction.relative_density(az).max(0.02);
             }
             if let Some(f) = ridge_field {
@@ -467,6 +433,41 @@ impl<'a> Placement<'a> {
             let elevation = base + (top - base) * rng.random_range(0.5..0.9);
             tree.saddles.push(TreeSaddle { position, elevation, peaks: [a, b] });
         }
+    }
+}
+
+/// How many peaks each bin of the nearest-higher-peak distances may still take: its fraction of
+/// all the peaks less those placed in it. Peaks are placed highest first, so a peak's distance to
+/// the nearest peak placed before it is final; plain dart throwing accepts by the target's
+/// density but proposes uniformly, and as the domain fills, most proposals land near a peak, so
+/// the short distances overflow. Scaling the acceptance by the share of the bin still open
+/// steers later darts into the gaps instead.
+struct Quota {
+    edges: Vec<f64>,
+    target: Vec<f64>,
+    filled: Vec<f64>,
+}
+
+impl Quota {
+    fn new(hist: &FractionHistogram, peaks: usize) -> Self {
+        let target: Vec<f64> = hist.fractions.iter().map(|f| f * peaks as f64).collect();
+        Self { edges: hist.edges.clone(), filled: vec![0.0; target.len()], target }
+    }
+
+    /// The bin of `v` (beyond the top, the last bin, as the histogram counts it).
+    fn bin(&self, v: f64) -> usize {
+        self.edges[1..self.edges.len() - 1].partition_point(|&e| e <= v)
+    }
+
+    /// The share of `v`'s bin still open, at least 0.02.
+    fn open(&self, v: f64) -> f64 {
+        let b = self.bin(v);
+        if self.target[b] > 0.0 { ((self.target[b] - self.filled[b]) / self.target[b]).max(0.02) } else { 0.02 }
+    }
+
+    fn fill(&mut self, v: f64) {
+        let b = self.bin(v);
+        self.filled[b] += 1.0;
     }
 }
 
@@ -556,6 +557,41 @@ fn spanning_ridges(positions: &[DVec2], heights: &[f64], base: f64, rho: f64, pr
     out
 }
 
+/// Passes of [`lift_below_threshold`] at most; each only lowers saddles, so it settles in a few.
+const LIFT_PASSES: usize = 16;
+
+/// The rounds move saddles up as well as down, and raising one saddle can open a higher route
+/// for another peak (Fig. 11), leaving it below the prominence threshold the target was counted
+/// at: analysed at that threshold, the terrain would lose it. Each such peak (and any peak of
+/// prominence 0) has its key saddle lowered to give it a prominence drawn from the lowest bin
+/// above the threshold, never below the base; lowering only raises prominences, so passes repeat
+/// until none is left (or its saddle is already at the base).
+fn lift_below_threshold(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, rng: &mut ChaCha8Rng) {
+    let floor = descriptor.domain.min_prominence;
+    let Some(above) = descriptor.prominence.from_floor(floor) else { return };
+    let margin = BIN_MARGIN * (above.edges[1] - above.edges[0]);
+    let (lo, hi) = (above.edges[0] + margin, above.edges[1] - margin);
+    for _ in 0..LIFT_PASSES {
+        let oro = tree.orometry(base);
+        let mut moved = false;
+        for (k, peak) in tree.peaks.iter().enumerate() {
+            let (Some(s), pi) = (oro.key_saddle[k], oro.prominence[k]) else { continue };
+            if pi >= floor && pi > 0.0 {
+                continue;
+            }
+            let saddle = &mut tree.saddles[s as usize];
+            let target = (peak.elevation - rng.random_range(lo..hi)).max(base);
+            if target < saddle.elevation {
+                saddle.elevation = target;
+                moved = true;
+            }
+        }
+        if !moved {
+            return;
+        }
+    }
+}
+
 /// Per person: current value, the saddle shift per unit of target change, bounds, ridge length.
 struct Person {
     current: f64,
@@ -566,8 +602,15 @@ struct Person {
     length: f64,
 }
 
-/// Targets each peak bids on, on either side of its current value.
-const WINDOW: usize = 12;
+/// How far above the target's prominence threshold the rounds keep every peak, metres: the
+/// terrain moves a prominence by a metre or two, which must not drop a peak below it.
+const FLOOR_MARGIN_M: f64 = 2.0;
+
+/// The share of a bin's width at each side that saddle moves keep clear of.
+const BIN_MARGIN: f64 = 0.1;
+
+/// Targets each peak bids on in each bin, those nearest its current value.
+const PER_BIN: usize = 4;
 
 /// One round of §5.4: sample targets (dominance or prominence), assign them to the peaks with key
 /// saddles by minimum total cost, and move those saddles.
@@ -575,13 +618,17 @@ fn assign_saddles(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, dom
     let oro = tree.orometry(base);
     let people: Vec<usize> = (0..tree.peaks.len()).filter(|&k| oro.key_saddle[k].is_some()).collect();
     let m = people.len();
-    let hist = if dominance { &descriptor.dominance } else { &descriptor.prominence };
+    // Prominences are drawn at or above the threshold the target's peaks were counted at, so the
+    // terrain analysed at that threshold keeps every peak.
+    let above = (!dominance).then(|| descriptor.prominence.from_floor(descriptor.domain.min_prominence)).flatten();
+    let hist = if dominance { &descriptor.dominance } else { above.as_ref().unwrap_or(&descriptor.prominence) };
     if m == 0 || hist.is_empty() {
         return;
     }
     let mut targets = stratified(hist, m, rng);
     targets.sort_by(f64::total_cmp);
-    let persons = persons(tree, &oro, &people, dominance, descriptor.domain.datum, base);
+    let d = &descriptor.domain;
+    let persons = persons(tree, &oro, &people, dominance, d.datum, base, d.min_prominence + FLOOR_MARGIN_M);
     let round = Round { hist, persons, targets };
     let assignment = auction(&normalized_costs(&round.candidates()), m);
     for (i, p) in round.persons.iter().enumerate() {
@@ -594,7 +641,9 @@ fn assign_saddles(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, dom
 
 /// The persons of a §5.4 round, one per peak in `people` (those with a key saddle): its current
 /// dominance (heights above `datum`) or prominence, how far its key saddle moves per unit of
-/// target, the moves that keep the saddle between `base` and its lower peak, its ridge's length.
+/// target, the moves that keep the saddle between `base` and its lower peak and the peak's
+/// prominence at or above `floor` (the target's threshold; where even the base cannot give it
+/// that, any move down to the base), its ridge's length.
 fn persons(
     tree: &DivideTree,
     oro: &TreeOrometry,
@@ -602,6 +651,7 @@ fn persons(
     dominance: bool,
     datum: f64,
     base: f64,
+    floor: f64,
 ) -> Vec<Person> {
     let dom = oro.dominance(tree, datum);
     people
@@ -614,13 +664,16 @@ fn persons(
             let h_max = pa.elevation.min(pb.elevation);
             let lift = tree.peaks[k].elevation - datum;
             let (current, scale) = if dominance { (dom[k], lift) } else { (oro.prominence[k], 1.0) };
-            // h' = h(K) − scale·(target − current) must stay in [base, h_max].
+            // h' = h(K) − scale·(target − current) must stay in [base, h_max], and the
+            // prominence π + shift at or above the floor.
+            let hi_shift = saddle.elevation - base;
+            let lo_shift = (saddle.elevation - h_max).max(floor - oro.prominence[k]).min(hi_shift);
             Person {
                 current,
                 scale,
                 saddle: s,
-                lo_shift: saddle.elevation - h_max,
-                hi_shift: saddle.elevation - base,
+                lo_shift,
+                hi_shift,
                 length: pa.position.distance(pb.position).max(1e-6),
             }
         })
@@ -636,17 +689,39 @@ struct Round<'a> {
 }
 
 impl Round<'_> {
-    /// The histogram bin of `v`.
-    fn bin(&self, v: f64) -> usize {
+    /// The histogram bin of `v`; `None` below the histogram's range (a prominence under the
+    /// threshold), which is never a target's bin.
+    fn bin(&self, v: f64) -> Option<usize> {
         let edges = &self.hist.edges;
-        edges[1..edges.len() - 1].partition_point(|&e| e <= v)
+        (v >= edges[0]).then(|| edges[1..edges.len() - 1].partition_point(|&e| e <= v))
+    }
+
+    /// The part of bin `b` a move aims for: the bin less [`BIN_MARGIN`] of its width at each
+    /// side (the last bin open above, as it counts everything beyond its top), so the small
+    /// changes the terrain makes to prominences do not carry a peak across an edge.
+    fn window(&self, b: usize) -> (f64, f64) {
+        let edges = &self.hist.edges;
+        let margin = BIN_MARGIN * (edges[b + 1] - edges[b]);
+        let top = if b + 2 == edges.len() { f64::INFINITY } else { edges[b + 1] - margin };
+        (edges[b] + margin, top)
     }
 
     /// How far `p`'s saddle moves down to reach target `t`. The descriptor only knows bins: a
     /// target in the peak's current bin needs no move, so a round never undoes what the other
-    /// round matched within a bin.
+    /// round matched within a bin, and a peak below the range always moves. Otherwise the move
+    /// goes to the point of `t`'s bin (its [`Round::window`]) nearest `t` that the saddle's range
+    /// allows: a target uniform within its bin may lie where this peak cannot go while the rest
+    /// of the bin is open to it. Where none of the bin is, the move to `t` (clamped into the
+    /// window), whose cost then reports the gap.
     fn shift(&self, p: &Person, t: f64) -> f64 {
-        if self.bin(t) == self.bin(p.current) { 0.0 } else { p.scale * (t - p.current) }
+        let bin = self.bin(t);
+        if bin == self.bin(p.current) || p.scale <= 0.0 {
+            return 0.0;
+        }
+        let (a, b) = self.window(bin.unwrap_or(0));
+        let (lo, hi) = (a.max(p.current + p.lo_shift / p.scale), b.min(p.current + p.hi_shift / p.scale));
+        let v = if lo <= hi { t.clamp(lo, hi) } else { t.clamp(a, b) };
+        p.scale * (v - p.current)
     }
 
     /// The raw cost s²/L of target `t` for `p` and, for an infeasible target, how far (metres)
@@ -663,9 +738,10 @@ impl Round<'_> {
         (s * s / p.length, gap)
     }
 
-    /// Each person's candidates `(target, raw cost, gap)`: the [`WINDOW`] targets on either side
-    /// of its current value, plus the rank-matched target (the one at its rank among the
-    /// persons' current values), which guarantees a perfect matching exists.
+    /// Each person's candidates `(target, raw cost, gap)`: in every bin, the [`PER_BIN`]
+    /// targets nearest its current value (so any bin is open to it, however far), plus the
+    /// rank-matched target (the one at its rank among the persons' current values), which
+    /// guarantees a perfect matching exists.
     fn candidates(&self) -> Vec<Vec<(u32, f64, f64)>> {
         let (persons, targets) = (&self.persons, &self.targets);
         let m = persons.len();
@@ -675,15 +751,26 @@ impl Round<'_> {
         for (r, &p) in order.iter().enumerate() {
             rank[p] = r;
         }
+        // The sorted targets' index range per bin.
+        let mut bins: Vec<std::ops::Range<usize>> = Vec::new();
+        for (j, &t) in targets.iter().enumerate() {
+            match bins.last_mut() {
+                Some(r) if self.bin(targets[r.start]) == self.bin(t) => r.end = j + 1,
+                _ => bins.push(j..j + 1),
+            }
+        }
         persons
             .iter()
             .enumerate()
             .map(|(i, p)| {
-                let at = targets.partition_point(|&t| t < p.current);
-                let lo = at.saturating_sub(WINDOW);
-                let hi = (at + WINDOW).min(m);
-                let mut c: Vec<usize> = (lo..hi).collect();
-                if !(lo..hi).contains(&rank[i]) {
+                let mut c: Vec<usize> = Vec::with_capacity(bins.len() * PER_BIN + 1);
+                for r in &bins {
+                    let at = r.start + targets[r.clone()].partition_point(|&t| t < p.current);
+                    let lo =
+                        at.saturating_sub(PER_BIN / 2).max(r.start).min(r.end.saturating_sub(PER_BIN).max(r.start));
+                    c.extend(lo..(lo + PER_BIN).min(r.end));
+                }
+                if !c.contains(&rank[i]) {
                     c.push(rank[i]);
                 }
                 c.into_iter()

@@ -64,6 +64,7 @@
 //! ```
 
 mod analysis;
+mod carve;
 mod descriptor;
 mod divide;
 mod dvt;
@@ -71,6 +72,7 @@ mod edit;
 mod error;
 mod generate;
 mod isolation;
+mod point_grid;
 mod ridgeline;
 mod terrain;
 mod tree;

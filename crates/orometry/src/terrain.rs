@@ -24,8 +24,15 @@
 //!   (The paper prints `E + U·ΔH` with `ΔH = E − H`, which would double erosion at the peaks; the
 //!   sign here is the one that keeps them fixed.) The eroded change is added back at full
 //!   resolution under the same mask.
+//! - **Crest lines.** The ridges are burnt into the grid after rasterizing (each sample on a ridge
+//!   at least the ridge's height, up to 10 m above its saddle), since the TIN sampled off its
+//!   lines would dip below the saddle and lower the col.
 //! - Peaks and saddles are snapped to grid samples so the grid holds their exact heights, and the
 //!   result is filled (Priority-Flood+ε) so it has no endorheic basins.
+//! - **The tree kept.** Flanks of two branches can meet above the col between them (the paper's
+//!   bounded rivers keep them apart; our routed rivers only where they drain enough), raising
+//!   the col. A last descending sweep (`carve`) lowers every sample that would join land the tree
+//!   only joins lower down to just under the next saddle, then fills again.
 
 use std::collections::HashSet;
 
@@ -160,6 +167,8 @@ struct Network {
     segments: Vec<[u32; 2]>,
     /// Valley width per segment (rivers only).
     widths: Vec<f64>,
+    /// Per segment, the height of the saddle its leg (peak → saddle) ends at (ridges only).
+    saddles: Vec<f64>,
 }
 
 impl Network {
@@ -178,6 +187,31 @@ impl Network {
         let t = if len2 > 0.0 { ((p - pa).dot(ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
         let h = self.heights[a as usize] + t * (self.heights[b as usize] - self.heights[a as usize]);
         (p.distance(pa + ab * t), h)
+    }
+
+    /// Raises the samples along every ridge segment to the segment's height there, capped at
+    /// [`BURN_ABOVE_SADDLE_M`] above the saddle its leg ends at: rasterizing the TIN samples
+    /// ridges off their lines, on their flanks, and a crest path on the grid would dip below
+    /// the saddle next to it (a lower effective col, a higher prominence). Higher up a leg the
+    /// dip does not matter, and raising the whole crest would bring higher ground nearer to the
+    /// peaks beside it (shorter isolations). Each segment is walked in steps of half a cell; the
+    /// nearest sample takes the larger of its value and the capped segment's.
+    fn burn(&self, hf: &mut Heightfield) {
+        let grid = *hf.grid();
+        let step = grid.cell_size().min_element() * 0.5;
+        let samples = hf.samples_mut();
+        for (&[a, b], &saddle) in self.segments.iter().zip(&self.saddles) {
+            let (pa, pb) = (self.points[a as usize], self.points[b as usize]);
+            let (ha, hb) = (self.heights[a as usize], self.heights[b as usize]);
+            let k = (pa.distance(pb) / step).ceil().max(1.0) as usize;
+            for t in 0..=k {
+                let t = t as f64 / k as f64;
+                if let Some((i, j)) = grid.nearest_sample(pa.lerp(pb, t)) {
+                    let v = &mut samples[grid.index(i, j)];
+                    *v = v.max((ha + (hb - ha) * t).min(saddle + BURN_ABOVE_SADDLE_M) as f32);
+                }
+            }
+        }
     }
 
     /// Nearest-segment labels on `grid`: each sample holds the segment closest to it.
@@ -208,6 +242,9 @@ impl Network {
         Some(label)
     }
 }
+
+/// How far above its saddle a leg's crest is burnt into the grid, metres (see `Network::burn`).
+const BURN_ABOVE_SADDLE_M: f64 = 10.0;
 
 /// `g(r) = (1 − r²)³` for `r < 1`, else 0.
 fn falloff(r: f64) -> f64 {
@@ -242,6 +279,7 @@ pub fn terrain_from_tree(
     progress("rivers", 1.0);
     let samples = networks.fill_samples(&mut rng)?;
     let mut hf = networks.triangulate(&samples, grid)?;
+    networks.ridges.burn(&mut hf);
     progress("triangulation", 1.0);
     let uplift = uplift_mask(&anchors, grid, options.uplift_radius_m);
     if options.noise_m > 0.0 {
@@ -330,10 +368,12 @@ fn refine_ridges(
                 let wobble = rng.random_range(-1.0..1.0) * options.jitter * lambda * (std::f64::consts::PI * t).sin();
                 let v = ridges.push(pa.lerp(pb, t) + side * wobble, ha + (hb - ha) * t);
                 ridges.segments.push([prev, v]);
+                ridges.saddles.push(hb);
                 prev = v;
             }
             if pa != pb {
                 ridges.segments.push([prev, b]);
+                ridges.saddles.push(hb);
             }
         }
     }
@@ -582,6 +622,12 @@ fn settle(
             samples_mut[grid.index(i, j)] = heights[k] as f32;
         }
     }
+    let mut hf = fill(&hf, Outlets::default())?;
+    let peak_cells: Vec<Option<usize>> = anchors[..tree.peaks.len()]
+        .iter()
+        .map(|p| grid.nearest_sample(*p).filter(|&(i, j)| grid.position(i, j) == *p).map(|(i, j)| grid.index(i, j)))
+        .collect();
+    crate::carve::separate(&mut hf, tree, &peak_cells, base);
     Ok(fill(&hf, Outlets::default())?)
 }
 

@@ -56,6 +56,44 @@ fn histogram_fractions_quantiles_and_emd() {
 }
 
 #[test]
+fn a_histogram_from_a_floor_keeps_what_lies_above_it() {
+    // Prominences counted at 30 m in [0, 100) bins: the first bin holds only values ≥ 30.
+    let h = FractionHistogram::uniform(0.0, 400.0, 4).filled([30.0, 50.0, 150.0, 350.0]);
+    let above = h.from_floor(30.0).unwrap();
+    assert_eq!(above.edges, [30.0, 100.0, 200.0, 300.0, 400.0]);
+    assert_eq!(above.fractions, h.fractions);
+    assert!(above.quantile(0.0).unwrap() >= 30.0);
+    // A floor in a later bin drops the bins under it and renormalizes.
+    let high = h.from_floor(120.0).unwrap();
+    assert_eq!(high.edges, [120.0, 200.0, 300.0, 400.0]);
+    assert_eq!(high.fractions, [0.5, 0.0, 0.5]);
+    assert_eq!(h.from_floor(-5.0).unwrap(), h);
+    assert_eq!(h.from_floor(f64::NAN), None);
+    assert_eq!(FractionHistogram::uniform(0.0, 400.0, 4).filled([10.0]).from_floor(150.0), None);
+}
+
+#[test]
+fn the_descriptor_counts_distances_to_the_nearest_higher_peak() {
+    // Three cones on a 1 km grid: 300 m at (200, 500), 200 m at (800, 500), 100 m at (800, 200).
+    let grid = GridSpec::from_extent(101, 101, Extent::new(DVec2::ZERO, DVec2::splat(1000.0))).unwrap();
+    let cones =
+        [(DVec2::new(200.0, 500.0), 300.0), (DVec2::new(800.0, 500.0), 200.0), (DVec2::new(800.0, 200.0), 100.0)];
+    let dem =
+        Heightfield::from_fn(grid, |p| cones.iter().map(|&(c, h)| h - 0.5 * p.distance(c)).fold(0.0, f64::max) as f32)
+            .unwrap();
+    let (oro, d) =
+        Descriptor::of(&dem, &AnalysisOptions { min_prominence: 10.0, ..AnalysisOptions::default() }).unwrap();
+    assert_eq!(oro.peaks.len(), 3);
+    assert_eq!(d.domain.min_prominence, 10.0);
+    // 600 m from the 200 m cone to the 300 m one, 300 m from the 100 m cone to the 200 m one
+    // (not to higher ground, which is nearer); the highest has none.
+    let r = d.domain.radius_m;
+    let expected = FractionHistogram::uniform(0.0, 1.0, 20).filled([600.0 / r, 300.0 / r]);
+    assert_eq!(d.higher_peak_distance.as_ref(), Some(&expected));
+    assert_ne!(d.isolation_distance, expected, "isolation is to higher ground, shorter");
+}
+
+#[test]
 fn descriptor_of_a_dem_is_at_distance_zero_from_itself_and_validates() {
     let (oro, d) = Descriptor::of(&fbm_dem(201, 2, 1.0 / 3000.0, 500.0), &analysis()).unwrap();
     assert_eq!(d.peaks, oro.peaks.len());
@@ -211,6 +249,48 @@ fn generated_trees_match_the_target_prominence_and_dominance() {
     assert_ne!(generate_tree(&target, extent, &ControlMaps::default(), &[], &other).unwrap(), tree);
 }
 
+/// Each peak's distance to the nearest strictly higher peak (none for the highest).
+fn nearest_higher(peaks: &[TreePeak]) -> Vec<f64> {
+    peaks
+        .iter()
+        .filter_map(|p| {
+            let higher = peaks.iter().filter(|q| q.elevation > p.elevation);
+            higher.map(|q| q.position.distance(p.position)).min_by(f64::total_cmp)
+        })
+        .collect()
+}
+
+#[test]
+fn a_generated_tree_keeps_every_peak_above_the_targets_threshold() {
+    let target = target();
+    assert_eq!(target.domain.min_prominence, 20.0);
+    let extent = Extent::new(DVec2::ZERO, DVec2::splat(18_000.0));
+    let tree = generate_tree(&target, extent, &ControlMaps::default(), &[], &TreeOptions::default()).unwrap();
+    let base = target.domain.min_elevation;
+    let oro = tree.orometry(base);
+    // The target's peaks were counted at 20 m; the rounds keep 2 m above that, so the terrain
+    // analysed at 20 m keeps every peak (a peak too low above the base to be that prominent
+    // cannot, and there is none here).
+    let least = (0..tree.peaks.len()).filter(|&k| oro.key_saddle[k].is_some()).map(|k| oro.prominence[k]);
+    let least = least.fold(f64::INFINITY, f64::min);
+    assert!(least >= 22.0 - 1e-9, "least prominence {least}");
+}
+
+#[test]
+fn a_generated_tree_spaces_its_peaks_as_the_target_does() {
+    // Darts are accepted by the distance to the nearest higher peak, each distance bin taking
+    // only its share of the peaks: the tree's distances follow the target's histogram of them.
+    let target = target();
+    let wanted = target.higher_peak_distance.clone().unwrap();
+    let extent = Extent::new(DVec2::ZERO, DVec2::splat(18_000.0));
+    let tree = generate_tree(&target, extent, &ControlMaps::default(), &[], &TreeOptions::default()).unwrap();
+    let r = target.domain.radius_m;
+    let got = FractionHistogram::uniform(0.0, 1.0, 20).filled(nearest_higher(&tree.peaks).iter().map(|d| d / r));
+    let error = got.max_bin_error(&wanted).unwrap();
+    println!("nearest higher peak: max bin error {error:.4} over {} peaks", tree.peaks.len());
+    assert!(error < 0.1, "max bin error {error}");
+}
+
 #[test]
 fn density_control_keeps_peaks_out_of_zeroed_areas() {
     let target = target();
@@ -240,9 +320,8 @@ fn synthesized_terrain_keeps_its_orometry_pins_and_drainage() {
     assert_eq!(hf.value(60, 170), pinned[0].elevation as f32);
     let (oro, got) = Descriptor::with_radius(&hf, &analysis(), Some(target.domain.radius_m)).unwrap();
     assert_eq!(oro.peaks[0].cell, [60, 170]);
-    // Tree peaks prominent in the tree are found by the analysis within two cells and 1 m. A few
-    // are lost where another, higher ridge of the tree passes within a cell or two of them (the
-    // tree's straight ridges do not keep clear of other peaks), so the bound is a share.
+    // Tree peaks prominent in the tree are found by the analysis within two cells and 1 m (the
+    // last sweep cuts the bridges that flanks of other branches build over their cols).
     let tree_oro = tree.orometry(target.domain.min_elevation);
     let prominent: Vec<&TreePeak> =
         tree.peaks.iter().enumerate().filter(|(k, _)| tree_oro.prominence[*k] >= 40.0).map(|(_, p)| p).collect();
@@ -255,7 +334,7 @@ fn synthesized_terrain_keeps_its_orometry_pins_and_drainage() {
         })
         .count();
     println!("{found} of {} prominent tree peaks found", prominent.len());
-    assert!(found as f64 >= 0.8 * prominent.len() as f64, "{found} of {} prominent tree peaks found", prominent.len());
+    assert!(found as f64 >= 0.95 * prominent.len() as f64, "{found} of {} prominent tree peaks found", prominent.len());
     let distance = got.distance(&target).unwrap();
     println!("terrain: mean EMD {:.4}", distance.mean_emd);
     for (name, emd, max) in &distance.features {
