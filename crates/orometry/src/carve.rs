@@ -68,10 +68,8 @@ pub(crate) fn separate(hf: &mut Heightfield, tree: &DivideTree, peak_cells: &[Op
     let mut lowered = 0;
     let mut roots: Vec<u32> = Vec::with_capacity(8);
     while let Some(Item(h, c)) = heap.pop() {
+        // The queue holds each unswept sample once: a cut sample's entry was popped to cut it.
         let c = c as usize;
-        if parent[c] != NONE || samples[c] != h {
-            continue;
-        }
         while next_saddle < saddles.len() && saddles[next_saddle].0 >= f64::from(h) {
             let [a, b] = saddles[next_saddle].1;
             let (ra, rb) = (find(&mut tree_uf, a), find(&mut tree_uf, b));

@@ -357,11 +357,12 @@ impl DescriptorDistance {
     }
 }
 
-/// Each peak's ground distance, metres, to the nearest strictly higher peak of `peaks` (`None`
-/// for those with none): peaks inserted highest first into a bucket grid, each equal-height
-/// group queried before it is inserted. Positions are scaled by `metres_per_unit` first.
-fn nearest_higher_peaks(peaks: &[crate::Peak], metres_per_unit: DVec2) -> Vec<Option<f64>> {
-    let at: Vec<DVec2> = peaks.iter().map(|p| DVec2::from(p.position) * metres_per_unit).collect();
+/// Each peak's ground distance, metres, to the nearest strictly higher peak (`None` for those
+/// with none), peaks given as `(position, elevation)`: inserted highest first into a bucket grid,
+/// each equal-height group queried before it is inserted. Positions are scaled by
+/// `metres_per_unit` first.
+fn nearest_higher_peaks(peaks: &[(DVec2, f64)], metres_per_unit: DVec2) -> Vec<Option<f64>> {
+    let at: Vec<DVec2> = peaks.iter().map(|&(p, _)| p * metres_per_unit).collect();
     let mut out = vec![None; peaks.len()];
     let Some(extent) =
         at.iter().fold(None, |e: Option<(DVec2, DVec2)>, &p| Some(e.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))))
@@ -370,8 +371,8 @@ fn nearest_higher_peaks(peaks: &[crate::Peak], metres_per_unit: DVec2) -> Vec<Op
     };
     let mut grid = PointGrid::new(&Extent::new(extent.0, extent.1), peaks.len());
     let mut order: Vec<usize> = (0..peaks.len()).collect();
-    order.sort_by(|&a, &b| peaks[b].elevation.total_cmp(&peaks[a].elevation));
-    for group in order.chunk_by(|&a, &b| peaks[a].elevation == peaks[b].elevation) {
+    order.sort_by(|&a, &b| peaks[b].1.total_cmp(&peaks[a].1));
+    for group in order.chunk_by(|&a, &b| peaks[a].1 == peaks[b].1) {
         for &k in group {
             out[k] = grid.nearest(at[k], &at).map(|(_, d)| d);
         }
@@ -395,6 +396,7 @@ impl Descriptor {
     /// domain's latitude for geographic ones).
     pub fn from_orometry(oro: &Orometry, domain: DomainStats, metres_per_unit: DVec2) -> Self {
         let peaks = &oro.peaks;
+        let summits: Vec<(DVec2, f64)> = peaks.iter().map(|p| (DVec2::from(p.position), p.elevation)).collect();
         let r = domain.radius_m.max(f64::MIN_POSITIVE);
         let span = (domain.max_elevation - domain.min_elevation).max(f64::MIN_POSITIVE);
         let unit = |lo: f64, hi: f64| FractionHistogram::uniform(lo, hi, 20);
@@ -426,7 +428,7 @@ impl Descriptor {
             relevance: unit(0.0, 1.0).filled(peaks.iter().map(|p| p.relevance)),
             higher_peak_distance: Some(
                 unit(0.0, 1.0)
-                    .filled(nearest_higher_peaks(peaks, metres_per_unit).into_iter().flatten().map(|d| d / r)),
+                    .filled(nearest_higher_peaks(&summits, metres_per_unit).into_iter().flatten().map(|d| d / r)),
             ),
         }
     }
@@ -556,4 +558,26 @@ pub fn classify<'a>(
 /// Azimuth of `v` in radians clockwise from north, in [0, 2π).
 pub(crate) fn azimuth(v: DVec2) -> f64 {
     v.x.atan2(v.y).rem_euclid(TAU)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearest_higher_peaks_measure_ground_distance_to_strictly_higher_peaks() {
+        let peaks = [
+            (DVec2::new(0.0, 0.0), 100.0),
+            (DVec2::new(4.0, 0.0), 80.0),
+            (DVec2::new(4.0, 1.0), 80.0), // as high as its neighbour: measured to the first
+            (DVec2::new(1.0, 1.0), 50.0),
+        ];
+        // Units of 2 m east and 3 m north.
+        let d = nearest_higher_peaks(&peaks, DVec2::new(2.0, 3.0));
+        assert_eq!(d[0], None);
+        assert_eq!(d[1], Some(8.0));
+        assert_eq!(d[2], Some(DVec2::new(8.0, 3.0).length()));
+        assert_eq!(d[3], Some(DVec2::new(2.0, 3.0).length()));
+        assert_eq!(nearest_higher_peaks(&[], DVec2::ONE), Vec::<Option<f64>>::new());
+    }
 }

@@ -840,3 +840,105 @@ pub(crate) fn auction(candidates: &[Vec<(u32, f64)>], objects: usize) -> Vec<u32
     }
     assigned
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::DomainStats;
+
+    /// A descriptor whose peaks were counted at `min_prominence`, all of them in the [0, 100) m
+    /// prominence bin; the other histograms empty.
+    fn counted_at(min_prominence: f64) -> Descriptor {
+        let empty = FractionHistogram::uniform(0.0, 1.0, 20);
+        Descriptor {
+            domain: DomainStats {
+                min_elevation: 0.0,
+                max_elevation: 1000.0,
+                area_km2: 100.0,
+                radius_m: 5000.0,
+                datum: 0.0,
+                min_prominence,
+            },
+            peaks: 10,
+            density_per_km2: 0.1,
+            dominance: empty.clone(),
+            dominance_groups: empty.clone(),
+            normalized_elevation: empty.clone(),
+            isolation_direction: empty.clone(),
+            isolation_distance: empty.clone(),
+            saddle_direction: empty.clone(),
+            saddle_distance: empty.clone(),
+            prominence: FractionHistogram::uniform(0.0, 2000.0, 20).filled([50.0]),
+            relative_prominence: empty.clone(),
+            relevance: empty,
+            higher_peak_distance: None,
+        }
+    }
+
+    /// A 1000 m summit with three neighbours: B (500 m, col 495), C (400 m, col 340) and
+    /// D (20 m above the base at 0, col 10).
+    fn summit_and_neighbours() -> DivideTree {
+        let peak = |x: f64, elevation| TreePeak { position: DVec2::new(x, 0.0), elevation };
+        let saddle = |x: f64, elevation, b| TreeSaddle { position: DVec2::new(x, 0.0), elevation, peaks: [0, b] };
+        DivideTree {
+            peaks: vec![peak(0.0, 1000.0), peak(1000.0, 500.0), peak(-1000.0, 400.0), peak(2000.0, 20.0)],
+            saddles: vec![saddle(500.0, 495.0, 1), saddle(-500.0, 340.0, 2), saddle(1500.0, 10.0, 3)],
+        }
+    }
+
+    #[test]
+    fn peaks_below_the_threshold_are_lifted_into_the_lowest_bin_above_it() {
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let mut tree = summit_and_neighbours();
+        lift_below_threshold(&mut tree, &counted_at(30.0), 0.0, &mut rng);
+        let oro = tree.orometry(0.0);
+        // B, 5 m prominent, gets 37–93 m: the [30, 100) bin less a tenth of it at each side.
+        assert!((37.0..=93.0).contains(&oro.prominence[1]), "{}", oro.prominence[1]);
+        // C, 60 m prominent, is left alone; D cannot reach 30 m: its col goes to the base.
+        assert_eq!(tree.saddles[1].elevation, 340.0);
+        assert_eq!(tree.saddles[2].elevation, 0.0);
+        // Without a threshold only prominence-0 peaks would move; B stays.
+        let mut tree = summit_and_neighbours();
+        lift_below_threshold(&mut tree, &counted_at(0.0), 0.0, &mut rng);
+        assert_eq!(tree.saddles[0].elevation, 495.0);
+    }
+
+    #[test]
+    fn saddle_moves_keep_prominence_above_the_floor_and_dominance_scales_with_the_datum() {
+        let tree = summit_and_neighbours();
+        let oro = tree.orometry(0.0);
+        let people = [1, 2];
+        // Prominence rounds, floor 32 m: B (5 m prominent) must move its col down 27 m or more;
+        // C (60 m) may raise its col by up to 28 m. Neither col goes below the base.
+        let p = persons(&tree, &oro, &people, false, 0.0, 0.0, 32.0);
+        assert_eq!((p[0].lo_shift, p[0].hi_shift), (27.0, 495.0));
+        assert_eq!((p[1].lo_shift, p[1].hi_shift), (-28.0, 340.0));
+        assert_eq!((p[0].current, p[0].scale), (5.0, 1.0));
+        // Dominance rounds measure heights from the datum: B stands 400 m above a datum at 100.
+        let p = persons(&tree, &oro, &people, true, 100.0, 0.0, 32.0);
+        assert_eq!(p[0].scale, 400.0);
+        assert!((p[0].current - 5.0 / 400.0).abs() < 1e-12);
+        // Where even the base cannot give the floor, any move down to the base is allowed.
+        let p = persons(&tree, &oro, &[3], false, 0.0, 0.0, 32.0);
+        assert_eq!((p[0].lo_shift, p[0].hi_shift), (10.0, 10.0));
+    }
+
+    #[test]
+    fn a_quota_closes_a_bin_as_it_fills() {
+        let hist = FractionHistogram::uniform(0.0, 1.0, 2).filled([0.2, 0.3, 0.4, 0.9]);
+        let mut quota = Quota::new(&hist, 8); // 6 peaks for [0, 0.5), 2 for [0.5, 1]
+        assert_eq!(quota.open(0.1), 1.0);
+        quota.fill(0.1);
+        quota.fill(0.2);
+        quota.fill(0.3);
+        assert_eq!(quota.open(0.4), 0.5);
+        quota.fill(0.7);
+        assert_eq!(quota.open(0.7), 0.5);
+        assert_eq!(quota.open(3.0), 0.5, "beyond the top counts in the last bin");
+        quota.fill(0.8);
+        quota.fill(0.9);
+        assert_eq!(quota.open(0.9), 0.02, "a full (or overfull) bin keeps a small chance");
+        let empty = Quota::new(&FractionHistogram::uniform(0.0, 1.0, 2).filled([0.1]), 4);
+        assert_eq!(empty.open(0.9), 0.02, "a bin the target never holds");
+    }
+}

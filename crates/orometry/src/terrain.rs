@@ -682,3 +682,33 @@ fn erode(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crests_are_burnt_in_up_to_a_little_above_their_saddle() {
+        // A leg from a peak at (0, 1), 100 m, down to its saddle at (10, 1), 50 m: 5 m per cell.
+        let grid = GridSpec::new(11, 3, DVec2::ZERO, DVec2::ONE).unwrap();
+        let mut hf = Heightfield::from_samples(grid, vec![0.0; 33]).unwrap();
+        hf.samples_mut()[0] = 200.0; // higher already: kept
+        let mut leg = Network::default();
+        let (a, b) = (leg.push(DVec2::new(0.0, 1.0), 100.0), leg.push(DVec2::new(10.0, 1.0), 50.0));
+        leg.segments.push([a, b]);
+        leg.saddles.push(50.0);
+        leg.burn(&mut hf);
+        let cap = 50.0 + BURN_ABOVE_SADDLE_M;
+        for x in 0..11 {
+            let v = f64::from(hf.value(x, 1));
+            let line = (100.0 - 5.0 * x as f64).min(cap);
+            // The nearest sample of points up to half a cell away: within 2.5 m above the line.
+            assert!(v >= line && v <= line + 2.5, "x = {x}: {v} for a crest of {line}");
+            assert!(v <= cap);
+        }
+        assert_eq!(f64::from(hf.value(10, 1)), 52.5, "the saddle's sample: half a cell up the leg");
+        assert!((0..11).all(|x| hf.value(x, 2) == 0.0));
+        assert_eq!(hf.samples()[0], 200.0);
+        assert!((1..11).all(|x| hf.value(x, 0) == 0.0));
+    }
+}

@@ -274,6 +274,13 @@ fn a_generated_tree_keeps_every_peak_above_the_targets_threshold() {
     let least = (0..tree.peaks.len()).filter(|&k| oro.key_saddle[k].is_some()).map(|k| oro.prominence[k]);
     let least = least.fold(f64::INFINITY, f64::min);
     assert!(least >= 22.0 - 1e-9, "least prominence {least}");
+    // The lowest bin is spread above the floor as the target's is, not piled on it.
+    let low: Vec<f64> =
+        (0..tree.peaks.len()).filter(|&k| oro.key_saddle[k].is_some()).map(|k| oro.prominence[k]).collect();
+    let piled = low.iter().filter(|&&p| p < 23.0).count();
+    let under_40 = low.iter().filter(|&&p| p < 40.0).count();
+    println!("{piled} of {} peaks within 1 m of the floor, {under_40} under 40 m", low.len());
+    assert!(piled * 4 < low.len() && under_40 * 10 > low.len());
 }
 
 #[test]
