@@ -12,6 +12,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+use rayon::prelude::*;
 use relief_heightfield::Heightfield;
 
 use crate::analysis::for_neighbours;
@@ -60,15 +61,27 @@ pub(crate) fn separate(hf: &mut Heightfield, tree: &DivideTree, peak_cells: &[Op
     let mut next_saddle = 0;
     let mut tree_uf: Vec<u32> = (0..tree.peaks.len() as u32).collect();
     let samples = hf.samples_mut();
-    let mut heap: BinaryHeap<Item> =
-        samples.iter().enumerate().filter(|(_, v)| !v.is_nan()).map(|(k, &v)| Item(v, k as u32)).collect();
+    // Every sample sorted once, highest first (rows of keys in parallel); the few cut samples go
+    // to a heap and are merged in at their new heights.
+    let mut sorted: Vec<Item> =
+        samples.par_iter().enumerate().filter(|(_, v)| !v.is_nan()).map(|(k, &v)| Item(v, k as u32)).collect();
+    sorted.par_sort_unstable_by(|a, b| b.cmp(a));
+    let mut sorted = sorted.into_iter().peekable();
+    let mut cut: BinaryHeap<Item> = BinaryHeap::new();
     // Per sample: its component's parent (NONE until swept); per root: a tree peak in it.
     let mut parent = vec![NONE; n];
     let mut peak_of = vec![NONE; n];
     let mut lowered = 0;
     let mut roots: Vec<u32> = Vec::with_capacity(8);
-    while let Some(Item(h, c)) = heap.pop() {
-        // The queue holds each unswept sample once: a cut sample's entry was popped to cut it.
+    loop {
+        let from_cut = match (cut.peek(), sorted.peek()) {
+            (Some(a), Some(b)) => a > b,
+            (Some(_), None) => true,
+            (None, Some(_)) => false,
+            (None, None) => break,
+        };
+        let Some(Item(h, c)) = (if from_cut { cut.pop() } else { sorted.next() }) else { break };
+        // Each unswept sample is queued once: a cut sample's entry was taken to cut it.
         let c = c as usize;
         while next_saddle < saddles.len() && saddles[next_saddle].0 >= f64::from(h) {
             let [a, b] = saddles[next_saddle].1;
@@ -104,7 +117,7 @@ pub(crate) fn separate(hf: &mut Heightfield, tree: &DivideTree, peak_cells: &[Op
             if v < h {
                 samples[c] = v;
                 lowered += 1;
-                heap.push(Item(v, c as u32));
+                cut.push(Item(v, c as u32));
                 continue;
             }
         }
