@@ -37,7 +37,7 @@
 //!   col the terrain raised above the tree's), and [`synthesize`] does both. Judged on the
 //!   terrain, as §7 does: a 48 × 48 km range synthesized from the Jacksboro fixture's orometry and
 //!   analysed again has maximum histogram errors of 0.9 % (prominence), 1.1 % (dominance) and
-//!   2.7 % (isolation), against the paper's 2–3, 2–3 and 8 %.
+//!   2.4 % (isolation), against the paper's 2–3, 2–3 and 8 %.
 //!   [`relief_tin`] triangulates and [`relief_hydrology`] routes and erodes; `rand_chacha` seeds
 //!   every random choice, so a seed gives identical bytes for any thread count.
 //! - Editing (§7.2): [`TreeEdit`] (insert, move or delete peaks, saddles and ridges) as data,

@@ -18,8 +18,9 @@
 //!   `w = c·(A / 1 km²)^0.4`.
 //! - **Noise (§6.3).** fBm whose amplitude grows with height (a multi-fractal), at most
 //!   [`TerrainOptions::noise_m`], faded to zero at peaks and saddles so they keep their heights.
-//! - **Erosion (§6.3).** [`relief_hydrology::StreamPower`] steps on a grid of at most
-//!   [`TerrainOptions::erosion_resolution`] samples a side, each followed by the uplift
+//! - **Erosion (§6.3).** [`relief_hydrology::StreamPower`] steps at each of
+//!   [`TerrainOptions::erosion_scales_m`] (100, 50 and 30 m cells, as the paper's), on grids of at
+//!   most [`TerrainOptions::erosion_resolution`] samples a side, each followed by the uplift
 //!   `H ← E − U·(E − H)` with `U = g(d/R)`, `g(r) = (1 − r²)³`: where `U = 1` the step is undone.
 //!   (The paper prints `E + U·ΔH` with `ΔH = E − H`, which would double erosion at the peaks; the
 //!   sign here is the one that keeps them fixed.) The eroded change is added back at full
@@ -76,6 +77,10 @@ pub struct TerrainOptions {
     pub erosion_steps: usize,
     /// Erosion steps run on a grid of at most this many samples a side (default 1024).
     pub erosion_resolution: usize,
+    /// Cell sizes of the erosion scales, metres, coarse to fine (default 100, 50 and 30, §6.3's
+    /// three scales): [`TerrainOptions::erosion_steps`] steps at each, never finer than the
+    /// output grid. Empty: one scale, the output grid's.
+    pub erosion_scales_m: Vec<f64>,
     /// Erodibility K of the stream-power law (default 1e-5 per year, time step 1000 years).
     pub erodibility: f64,
     /// Radius R of the uplift compensation around peaks and saddles, metres (default 500).
@@ -97,6 +102,7 @@ impl Default for TerrainOptions {
             noise_wavelength_m: 2000.0,
             erosion_steps: 6,
             erosion_resolution: 1024,
+            erosion_scales_m: vec![100.0, 50.0, 30.0],
             erodibility: 1e-5,
             uplift_radius_m: 500.0,
             seed: 0,
@@ -153,6 +159,15 @@ impl TerrainOptions {
             (16..=8192).contains(&self.erosion_resolution),
             "must be in 16..=8192",
         )?;
+        check(
+            "erosion_scales_m",
+            self.erosion_scales_m.len() as f64,
+            self.erosion_scales_m.len() <= 8,
+            "holds at most 8 scales",
+        )?;
+        for &cell in &self.erosion_scales_m {
+            check("erosion_scales_m", cell, cell > 0.0, "cells must be finite and > 0")?;
+        }
         check("erodibility", self.erodibility, self.erodibility >= 0.0, "must be finite and ≥ 0")?;
         check("uplift_radius_m", self.uplift_radius_m, self.uplift_radius_m > 0.0, "must be finite and > 0")?;
         Ok(())
@@ -650,35 +665,62 @@ fn dedup(points: Vec<DVec2>, values: Vec<f64>, constraints: Vec<[u32; 2]>) -> (V
     (p2, v2, c2)
 }
 
-/// Stream-power erosion with uplift compensation on a grid of at most `erosion_resolution` a side;
-/// the change is added back at full resolution, faded by the same uplift.
+/// The erosion grids, coarse to fine: one per [`TerrainOptions::erosion_scales_m`] (the output
+/// grid's own cell when there are none), each never finer than the output grid and at most
+/// `erosion_resolution` samples a side; scales that come out the same size run once.
+fn erosion_grids(grid: &GridSpec, options: &TerrainOptions) -> Result<Vec<GridSpec>, OrometryError> {
+    let (nx, ny) = (grid.nx(), grid.ny());
+    let size = grid.extent().size();
+    let cap = (nx.max(ny) as f64 / options.erosion_resolution as f64).max(1.0);
+    let finest = (nx, ny);
+    let own = [grid.cell_size().max_element()];
+    let scales = if options.erosion_scales_m.is_empty() { &own[..] } else { &options.erosion_scales_m[..] };
+    let mut grids: Vec<GridSpec> = Vec::new();
+    for &cell in scales {
+        let fit = |n: usize, span: f64| ((span / cell).round() as usize + 1).clamp(2, n);
+        let (ex, ey) = (fit(finest.0, size.x), fit(finest.1, size.y));
+        let (ex, ey) = (
+            ((ex as f64).min(nx as f64 / cap).round() as usize).max(2),
+            ((ey as f64).min(ny as f64 / cap).round() as usize).max(2),
+        );
+        if grids.last().is_none_or(|g| (g.nx(), g.ny()) != (ex, ey)) {
+            grids.push(grid.resized(ex, ey)?);
+        }
+    }
+    Ok(grids)
+}
+
+/// §6.3, constrained multi-scale erosion: at each of [`erosion_grids`], coarse to fine,
+/// [`TerrainOptions::erosion_steps`] stream-power steps each followed by the uplift
+/// compensation; each scale's change is added back at full resolution, faded by the same uplift.
 fn erode(
     hf: &mut Heightfield,
     uplift: &[f64],
     options: &TerrainOptions,
     progress: &mut impl FnMut(&str, f64),
 ) -> Result<(), OrometryError> {
-    let (nx, ny) = (hf.nx(), hf.ny());
-    let side = nx.max(ny);
-    let scale = (side as f64 / options.erosion_resolution as f64).max(1.0);
-    let (ex, ey) = (((nx as f64 / scale).round() as usize).max(2), ((ny as f64 / scale).round() as usize).max(2));
-    let coarse_grid = hf.grid().resized(ex, ey)?;
-    let before = hf.resample_to(&coarse_grid);
-    let coarse_uplift =
-        Heightfield::from_samples(*hf.grid(), uplift.iter().map(|&u| u as f32).collect())?.resample_to(&coarse_grid);
+    let grids = erosion_grids(hf.grid(), options)?;
+    let uplift_hf = Heightfield::from_samples(*hf.grid(), uplift.iter().map(|&u| u as f32).collect())?;
     let law = StreamPower { erodibility: Field::Uniform(options.erodibility), ..StreamPower::default() };
-    let mut h = before.clone();
-    for step in 0..options.erosion_steps {
-        let prev = h.clone();
-        law.step(&mut h)?;
-        for ((e, &p), &u) in h.samples_mut().iter_mut().zip(prev.samples()).zip(coarse_uplift.samples()) {
-            *e -= u * (*e - p);
+    let total = (grids.len() * options.erosion_steps) as f64;
+    let mut done = 0.0;
+    for coarse_grid in &grids {
+        let before = hf.resample_to(coarse_grid);
+        let coarse_uplift = uplift_hf.resample_to(coarse_grid);
+        let mut h = before.clone();
+        for _ in 0..options.erosion_steps {
+            let prev = h.clone();
+            law.step(&mut h)?;
+            for ((e, &p), &u) in h.samples_mut().iter_mut().zip(prev.samples()).zip(coarse_uplift.samples()) {
+                *e -= u * (*e - p);
+            }
+            done += 1.0;
+            progress("erosion", done / total);
         }
-        progress("erosion", (step + 1) as f64 / options.erosion_steps as f64);
-    }
-    let delta = h.zip_with(&before, |a, b| a - b)?.resample_to(hf.grid());
-    for ((v, &d), &u) in hf.samples_mut().iter_mut().zip(delta.samples()).zip(uplift) {
-        *v += d * (1.0 - u as f32);
+        let delta = h.zip_with(&before, |a, b| a - b)?.resample_to(hf.grid());
+        for ((v, &d), &u) in hf.samples_mut().iter_mut().zip(delta.samples()).zip(uplift) {
+            *v += d * (1.0 - u as f32);
+        }
     }
     Ok(())
 }
@@ -710,5 +752,19 @@ mod tests {
         assert!((0..11).all(|x| hf.value(x, 2) == 0.0));
         assert_eq!(hf.samples()[0], 200.0);
         assert!((1..11).all(|x| hf.value(x, 0) == 0.0));
+    }
+
+    #[test]
+    fn erosion_runs_coarse_to_fine_at_the_papers_scales_within_the_grid() {
+        // 48 km at 50 m: the 100 m scale, then the grid's own (50 m and 30 m are the same).
+        let grid = GridSpec::from_extent(961, 961, Extent::new(DVec2::ZERO, DVec2::splat(48_000.0))).unwrap();
+        let sizes =
+            |o: &TerrainOptions| erosion_grids(&grid, o).unwrap().iter().map(|g| (g.nx(), g.ny())).collect::<Vec<_>>();
+        let options = TerrainOptions::default();
+        assert_eq!(sizes(&options), [(481, 481), (961, 961)]);
+        // Capped at `erosion_resolution` a side; no scales: the grid's own.
+        assert_eq!(sizes(&TerrainOptions { erosion_resolution: 300, ..options.clone() }), [(300, 300)]);
+        assert_eq!(sizes(&TerrainOptions { erosion_scales_m: vec![], ..options.clone() }), [(961, 961)]);
+        assert_eq!(sizes(&TerrainOptions { erosion_scales_m: vec![400.0], ..options }), [(121, 121)]);
     }
 }

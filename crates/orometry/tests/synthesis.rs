@@ -445,6 +445,14 @@ fn bad_synthesis_input_is_a_typed_error() {
     let hf = terrain_from_tree(&single, 0.0, &grid, &relief_orometry::TerrainOptions::default(), |_, _| {}).unwrap();
     assert_eq!(hf.value(5, 5), 30.0);
     assert!(hf.samples().iter().all(|&v| (0.0..=30.0).contains(&v)));
+    // Erosion scales must be positive cells, at most eight of them.
+    for scales in [vec![0.0], vec![f64::NAN], vec![30.0; 9]] {
+        let bad = relief_orometry::TerrainOptions { erosion_scales_m: scales, ..Default::default() };
+        match terrain_from_tree(&single, 0.0, &grid, &bad, |_, _| {}) {
+            Err(OrometryError::InvalidOption { name: "erosion_scales_m", .. }) => {}
+            other => panic!("{other:?}"),
+        }
+    }
     // A meshing distance far too fine for the domain (10^10 routing cells) fails before allocating.
     let fine = relief_orometry::TerrainOptions { lambda_m: 0.002, ..relief_orometry::TerrainOptions::default() };
     assert!(fine.mesh_samples(&single, grid.extent()) > 1e10);
