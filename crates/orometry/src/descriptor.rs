@@ -91,6 +91,12 @@ impl FractionHistogram {
         self
     }
 
+    /// The bin of `v`: below the first edge the first bin, beyond the last the last (for a
+    /// circular histogram, wrap `v` first).
+    pub(crate) fn bin(&self, v: f64) -> usize {
+        self.edges[1..self.fractions.len()].partition_point(|&e| e <= v)
+    }
+
     /// The histogram of `values` (non-finite ones skipped; out-of-range ones clamped into the
     /// first or last bin, or wrapped for a circular histogram).
     #[must_use]
@@ -100,8 +106,7 @@ impl FractionHistogram {
         let mut counts = vec![0u64; bins];
         for v in values.into_iter().filter(|v| v.is_finite()) {
             let v = if self.circular { lo + (v - lo).rem_euclid(hi - lo) } else { v };
-            let b = self.edges[1..bins].partition_point(|&e| e <= v);
-            counts[b] += 1;
+            counts[self.bin(v)] += 1;
         }
         let total: u64 = counts.iter().sum();
         if total > 0 {
@@ -238,7 +243,7 @@ impl FractionHistogram {
         if peak == 0.0 {
             return 1.0;
         }
-        let b = self.edges[1..bins].partition_point(|&e| e <= v);
+        let b = self.bin(v);
         self.fractions[b] / (self.edges[b + 1] - self.edges[b]) / peak
     }
 }

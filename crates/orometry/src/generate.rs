@@ -379,7 +379,7 @@ impl<'a> Placement<'a> {
         placed: &Placed,
         ridge_field: Option<&RidgeField>,
         spacing: f64,
-        quota: &Quota,
+        quota: &Quota<'_>,
         rng: &mut ChaCha8Rng,
     ) -> DVec2 {
         let (extent, size) = (self.extent, self.extent.size());
@@ -442,32 +442,27 @@ impl<'a> Placement<'a> {
 /// density but proposes uniformly, and as the domain fills, most proposals land near a peak, so
 /// the short distances overflow. Scaling the acceptance by the share of the bin still open
 /// steers later darts into the gaps instead.
-struct Quota {
-    edges: Vec<f64>,
+struct Quota<'a> {
+    hist: &'a FractionHistogram,
     target: Vec<f64>,
     filled: Vec<f64>,
 }
 
-impl Quota {
-    fn new(hist: &FractionHistogram, peaks: usize) -> Self {
+impl<'a> Quota<'a> {
+    fn new(hist: &'a FractionHistogram, peaks: usize) -> Self {
         let target: Vec<f64> = hist.fractions.iter().map(|f| f * peaks as f64).collect();
-        Self { edges: hist.edges.clone(), filled: vec![0.0; target.len()], target }
+        Self { hist, filled: vec![0.0; target.len()], target }
     }
 
-    /// The bin of `v` (beyond the top, the last bin, as the histogram counts it).
-    fn bin(&self, v: f64) -> usize {
-        self.edges[1..self.edges.len() - 1].partition_point(|&e| e <= v)
-    }
-
-    /// The share of `v`'s bin still open, at least 0.02.
+    /// The share of `v`'s bin (beyond the top, the last, as the histogram counts it) still open,
+    /// at least 0.02.
     fn open(&self, v: f64) -> f64 {
-        let b = self.bin(v);
+        let b = self.hist.bin(v);
         if self.target[b] > 0.0 { ((self.target[b] - self.filled[b]) / self.target[b]).max(0.02) } else { 0.02 }
     }
 
     fn fill(&mut self, v: f64) {
-        let b = self.bin(v);
-        self.filled[b] += 1.0;
+        self.filled[self.hist.bin(v)] += 1.0;
     }
 }
 
@@ -569,8 +564,7 @@ const LIFT_PASSES: usize = 16;
 fn lift_below_threshold(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, rng: &mut ChaCha8Rng) {
     let floor = descriptor.domain.min_prominence;
     let Some(above) = descriptor.prominence.from_floor(floor) else { return };
-    let margin = BIN_MARGIN * (above.edges[1] - above.edges[0]);
-    let (lo, hi) = (above.edges[0] + margin, above.edges[1] - margin);
+    let (lo, hi) = inside(&above, 0);
     for _ in 0..LIFT_PASSES {
         let oro = tree.orometry(base);
         let mut moved = false;
@@ -608,6 +602,13 @@ const FLOOR_MARGIN_M: f64 = 2.0;
 
 /// The share of a bin's width at each side that saddle moves keep clear of.
 const BIN_MARGIN: f64 = 0.1;
+
+/// Bin `b` of `hist` less [`BIN_MARGIN`] of its width at each side.
+fn inside(hist: &FractionHistogram, b: usize) -> (f64, f64) {
+    let (lo, hi) = (hist.edges[b], hist.edges[b + 1]);
+    let margin = BIN_MARGIN * (hi - lo);
+    (lo + margin, hi - margin)
+}
 
 /// Targets each peak bids on in each bin, those nearest its current value.
 const PER_BIN: usize = 4;
@@ -692,18 +693,15 @@ impl Round<'_> {
     /// The histogram bin of `v`; `None` below the histogram's range (a prominence under the
     /// threshold), which is never a target's bin.
     fn bin(&self, v: f64) -> Option<usize> {
-        let edges = &self.hist.edges;
-        (v >= edges[0]).then(|| edges[1..edges.len() - 1].partition_point(|&e| e <= v))
+        (v >= self.hist.edges[0]).then(|| self.hist.bin(v))
     }
 
     /// The part of bin `b` a move aims for: the bin less [`BIN_MARGIN`] of its width at each
     /// side (the last bin open above, as it counts everything beyond its top), so the small
     /// changes the terrain makes to prominences do not carry a peak across an edge.
     fn window(&self, b: usize) -> (f64, f64) {
-        let edges = &self.hist.edges;
-        let margin = BIN_MARGIN * (edges[b + 1] - edges[b]);
-        let top = if b + 2 == edges.len() { f64::INFINITY } else { edges[b + 1] - margin };
-        (edges[b] + margin, top)
+        let (lo, hi) = inside(self.hist, b);
+        (lo, if b + 1 == self.hist.fractions.len() { f64::INFINITY } else { hi })
     }
 
     /// How far `p`'s saddle moves down to reach target `t`. The descriptor only knows bins: a
@@ -938,7 +936,8 @@ mod tests {
         quota.fill(0.8);
         quota.fill(0.9);
         assert_eq!(quota.open(0.9), 0.02, "a full (or overfull) bin keeps a small chance");
-        let empty = Quota::new(&FractionHistogram::uniform(0.0, 1.0, 2).filled([0.1]), 4);
+        let only_low = FractionHistogram::uniform(0.0, 1.0, 2).filled([0.1]);
+        let empty = Quota::new(&only_low, 4);
         assert_eq!(empty.open(0.9), 0.02, "a bin the target never holds");
     }
 }

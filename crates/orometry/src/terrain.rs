@@ -213,18 +213,28 @@ impl Network {
     /// nearest sample takes the larger of its value and the capped segment's.
     fn burn(&self, hf: &mut Heightfield) {
         let grid = *hf.grid();
-        let step = grid.cell_size().min_element() * 0.5;
         let samples = hf.samples_mut();
-        for (&[a, b], &saddle) in self.segments.iter().zip(&self.saddles) {
-            let (pa, pb) = (self.points[a as usize], self.points[b as usize]);
+        for (s, &saddle) in self.saddles.iter().enumerate() {
+            let [a, b] = self.segments[s];
             let (ha, hb) = (self.heights[a as usize], self.heights[b as usize]);
-            let k = (pa.distance(pb) / step).ceil().max(1.0) as usize;
-            for t in 0..=k {
-                let t = t as f64 / k as f64;
-                if let Some((i, j)) = grid.nearest_sample(pa.lerp(pb, t)) {
-                    let v = &mut samples[grid.index(i, j)];
-                    *v = v.max((ha + (hb - ha) * t).min(saddle + BURN_ABOVE_SADDLE_M) as f32);
-                }
+            self.walk(s, &grid, |at, _, t| {
+                let v = &mut samples[at];
+                *v = v.max((ha + (hb - ha) * t).min(saddle + BURN_ABOVE_SADDLE_M) as f32);
+            });
+        }
+    }
+
+    /// Walks segment `s` in steps of at most half a cell of `grid`, calling `f(sample, point, t)`
+    /// with the nearest sample of each point `t` of the way along.
+    fn walk(&self, s: usize, grid: &GridSpec, mut f: impl FnMut(usize, DVec2, f64)) {
+        let [a, b] = self.segments[s];
+        let (pa, pb) = (self.points[a as usize], self.points[b as usize]);
+        let k = (pa.distance(pb) / (grid.cell_size().min_element() * 0.5)).ceil().max(1.0) as usize;
+        for t in 0..=k {
+            let t = t as f64 / k as f64;
+            let q = pa.lerp(pb, t);
+            if let Some((i, j)) = grid.nearest_sample(q) {
+                f(grid.index(i, j), q, t);
             }
         }
     }
@@ -237,21 +247,14 @@ impl Network {
         let (nx, ny) = (grid.nx(), grid.ny());
         let mut sq = vec![f64::INFINITY; nx * ny];
         let mut label = vec![0u32; nx * ny];
-        let step = grid.cell_size().min_element() * 0.5;
-        for (s, &[a, b]) in self.segments.iter().enumerate() {
-            let (pa, pb) = (self.points[a as usize], self.points[b as usize]);
-            let k = (pa.distance(pb) / step).ceil().max(1.0) as usize;
-            for t in 0..=k {
-                let q = pa.lerp(pb, t as f64 / k as f64);
-                if let Some((i, j)) = grid.nearest_sample(q) {
-                    let at = grid.index(i, j);
-                    let d = grid.position(i, j).distance_squared(q);
-                    if d < sq[at] {
-                        sq[at] = d;
-                        label[at] = s as u32;
-                    }
+        for s in 0..self.segments.len() {
+            self.walk(s, grid, |at, q, _| {
+                let d = grid.position(at % nx, at / nx).distance_squared(q);
+                if d < sq[at] {
+                    sq[at] = d;
+                    label[at] = s as u32;
                 }
-            }
+            });
         }
         distance_transform_seeded(nx, ny, grid.cell_size(), &mut sq, Some(&mut label));
         Some(label)
@@ -629,20 +632,19 @@ fn settle(
     let grid = *hf.grid();
     let top = tree.peaks.iter().map(|p| p.elevation).fold(base, f64::max);
     hf.samples_mut().iter_mut().for_each(|v| *v = v.clamp(base as f32, top as f32));
-    let samples_mut = hf.samples_mut();
-    for (k, p) in anchors.iter().enumerate() {
-        if let Some((i, j)) = grid.nearest_sample(*p)
-            && grid.position(i, j) == *p
-        {
-            samples_mut[grid.index(i, j)] = heights[k] as f32;
-        }
-    }
-    let mut hf = fill(&hf, Outlets::default())?;
-    let peak_cells: Vec<Option<usize>> = anchors[..tree.peaks.len()]
+    // The samples the anchors were snapped to (`None` for one that kept its own position).
+    let snapped: Vec<Option<usize>> = anchors
         .iter()
         .map(|p| grid.nearest_sample(*p).filter(|&(i, j)| grid.position(i, j) == *p).map(|(i, j)| grid.index(i, j)))
         .collect();
-    crate::carve::separate(&mut hf, tree, &peak_cells, base);
+    let samples_mut = hf.samples_mut();
+    for (at, &h) in snapped.iter().zip(heights) {
+        if let Some(at) = *at {
+            samples_mut[at] = h as f32;
+        }
+    }
+    let mut hf = fill(&hf, Outlets::default())?;
+    crate::carve::separate(&mut hf, tree, &snapped[..tree.peaks.len()], base);
     Ok(fill(&hf, Outlets::default())?)
 }
 
