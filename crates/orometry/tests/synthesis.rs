@@ -353,6 +353,28 @@ fn synthesized_terrain_keeps_its_orometry_pins_and_drainage() {
 }
 
 #[test]
+fn erodibility_and_noise_wavelength_shape_the_terrain() {
+    // A generated tree over 6 km at 30 m: each option, changed alone, changes the terrain.
+    let target = target();
+    let extent = Extent::new(DVec2::ZERO, DVec2::splat(6000.0));
+    let tree = generate_tree(&target, extent, &ControlMaps::default(), &[], &TreeOptions::default()).unwrap();
+    let grid = GridSpec::from_extent(201, 201, extent).unwrap();
+    let base = target.domain.min_elevation;
+    let run = |o: &relief_orometry::TerrainOptions| terrain_from_tree(&tree, base, &grid, o, |_, _| {}).unwrap();
+    let default = relief_orometry::TerrainOptions::default();
+    let reference = run(&default);
+    let changed = |o: relief_orometry::TerrainOptions| {
+        let hf = run(&o);
+        hf.samples().iter().zip(reference.samples()).filter(|(a, b)| a != b).count()
+    };
+    // The stream-power law's own default erodibility (2e-5) would not do: ours is the option's.
+    for erodibility in [2e-5, 4e-5] {
+        assert!(changed(relief_orometry::TerrainOptions { erodibility, ..default.clone() }) > 100);
+    }
+    assert!(changed(relief_orometry::TerrainOptions { noise_wavelength_m: 700.0, ..default.clone() }) > 100);
+}
+
+#[test]
 fn synthesis_is_identical_for_any_thread_count() {
     let target = target();
     let grid = GridSpec::from_extent(121, 121, Extent::new(DVec2::ZERO, DVec2::splat(3600.0))).unwrap();
