@@ -78,6 +78,7 @@ mod generate;
 mod isolation;
 mod point_grid;
 mod ridgeline;
+mod rivers;
 mod terrain;
 mod tree;
 mod union_find;

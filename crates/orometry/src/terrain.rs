@@ -4,15 +4,14 @@
 //! erosion with the uplift compensation that keeps peaks and saddles at their heights.
 //!
 //! How each step is realized (the paper leaves these open):
-//! - **River network (§6.1).** Instead of pruning a Voronoi diagram, the dual is routed on a raster
-//!   at spacing λ/2: the surface `max(base, h(q) − s·d(p, T))` (`q` the nearest ridge point,
-//!   `s` = [`TerrainOptions::flank_slope`]) has its creases on the medial axis between ridges,
-//!   which is exactly where the Voronoi edges that survive pruning lie. Priority-flood filling and
-//!   D8 give every cell a strictly descending path to the border — the "oriented drainage network
-//!   with propagated elevation bounds" — and cells draining more than
-//!   [`TerrainOptions::river_area_km2`] are rivers, their elevations bounded by the ridges around them.
-//! - **Refinement (§6.2).** Ridge segments are split to lengths below λ with sideways jitter,
-//!   heights linear along the original segment; river nodes sit on the raster, jittered.
+//! - **River network (§6.1).** The Voronoi dual of the refined ridges, pruned where it would
+//!   cross them (module `rivers`): river nodes at the circumcentres of a constrained Delaunay
+//!   triangulation of the ridge nodes and of sites in open country, each bounded under the tree's
+//!   col between the ridges around it; a priority flood from the map's edge orients it into a
+//!   drainage tree, and Flint's law on its catchments sets the river profiles. Channels draining
+//!   at least [`TerrainOptions::river_area_km2`] are rivers.
+//! - **Refinement (§6.2).** Ridge and river segments are split to lengths below λ with sideways
+//!   jitter, heights linear along the original segment.
 //! - **Fill.** Poisson-disc samples at radius λ get `h = (1 − α)h(q) + α·h(r)`,
 //!   `α = d_T / (d_R + d_T − w)`, and the river's height within the valley width
 //!   `w = c·(A / 1 km²)^0.4`.
@@ -30,9 +29,8 @@
 //!   lines would dip below the saddle and lower the col.
 //! - Peaks and saddles are snapped to grid samples so the grid holds their exact heights, and the
 //!   result is filled (Priority-Flood+ε) so it has no endorheic basins.
-//! - **The tree kept.** Flanks of two branches can meet above the col between them (the paper's
-//!   bounded rivers keep them apart; our routed rivers only where they drain enough), raising
-//!   the col. A last descending sweep (`carve`) lowers every sample that would join land the tree
+//! - **The tree kept.** Flanks of two branches can still meet above the col between them where
+//!   no river runs between them (channels draining less than the river area), raising the col. A last descending sweep (`carve`) lowers every sample that would join land the tree
 //!   only joins lower down to just under the next saddle, then fills again.
 
 use std::collections::HashSet;
@@ -43,7 +41,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use relief_heightfield::noise::Fbm;
 use relief_heightfield::{Extent, GridSpec, Heightfield, distance_transform_seeded};
-use relief_hydrology::{D8, Field, NO_RECEIVER, Outlets, StreamPower, fill};
+use relief_hydrology::{Field, Outlets, StreamPower, fill};
 use relief_tin::Tin;
 use relief_tin::poisson_sampling::{PoissonDisc, Rect};
 use serde::{Deserialize, Serialize};
@@ -60,10 +58,19 @@ pub struct TerrainOptions {
     pub lambda_m: f64,
     /// Sideways jitter of refined ridge and river nodes, as a fraction of λ (default 0.3).
     pub jitter: f64,
-    /// Slope `s` of the flanks used to route rivers (default 0.4, about 22°).
+    /// Slope `s` of the flanks where there are no rivers, `max(base, h − s·d)` at distance `d`
+    /// from a ridge at height `h`, and the steepest a river may be (default 0.4, about 22°).
     pub flank_slope: f64,
-    /// Drainage area from which a channel is a river, km² (default 1).
+    /// Catchment from which a channel of the dual network is a river (a valley floor the terrain
+    /// is built on), km² (default 1). Smaller ones are left to the fill: every channel kept is a
+    /// valley between ridges, and the many small ones beside the crests would cut spurs off them
+    /// (peaks the tree does not have).
     pub river_area_km2: f64,
+    /// River slope `s₁` at a catchment of 1 km² in Flint's law `s = s₁·(A / 1 km²)^(−θ)`
+    /// (default 0.03): how fast valley floors rise from the map's edge towards the ridges.
+    pub river_slope: f64,
+    /// The concavity θ of Flint's law (default 0.45): steep heads, gentle main stems.
+    pub river_concavity: f64,
     /// Valley width `c` at 1 km² of drainage, metres: `w = c·(A / 1 km²)^exponent` (default 40).
     pub valley_width_m: f64,
     /// The exponent of the valley-width law (default 0.4, May et al. 2013).
@@ -96,6 +103,8 @@ impl Default for TerrainOptions {
             jitter: 0.3,
             flank_slope: 0.4,
             river_area_km2: 1.0,
+            river_slope: 0.03,
+            river_concavity: 0.45,
             valley_width_m: 40.0,
             valley_exponent: 0.4,
             noise_m: 12.0,
@@ -142,7 +151,14 @@ impl TerrainOptions {
         check("lambda_m", self.lambda_m, self.lambda_m > 0.0, "must be finite and > 0")?;
         check("jitter", self.jitter, (0.0..=0.45).contains(&self.jitter), "must be in [0, 0.45]")?;
         check("flank_slope", self.flank_slope, self.flank_slope > 0.0, "must be finite and > 0")?;
-        check("river_area_km2", self.river_area_km2, self.river_area_km2 > 0.0, "must be finite and > 0")?;
+        check("river_area_km2", self.river_area_km2, self.river_area_km2 >= 0.0, "must be finite and ≥ 0")?;
+        check("river_slope", self.river_slope, self.river_slope >= 0.0, "must be finite and ≥ 0")?;
+        check(
+            "river_concavity",
+            self.river_concavity,
+            (0.0..=1.0).contains(&self.river_concavity),
+            "must be in [0, 1]",
+        )?;
         check("valley_width_m", self.valley_width_m, self.valley_width_m >= 0.0, "must be finite and ≥ 0")?;
         check(
             "valley_exponent",
@@ -176,18 +192,18 @@ impl TerrainOptions {
 
 /// A network of refined nodes and segments with linear heights.
 #[derive(Default)]
-struct Network {
-    points: Vec<DVec2>,
-    heights: Vec<f64>,
-    segments: Vec<[u32; 2]>,
+pub(crate) struct Network {
+    pub(crate) points: Vec<DVec2>,
+    pub(crate) heights: Vec<f64>,
+    pub(crate) segments: Vec<[u32; 2]>,
     /// Valley width per segment (rivers only).
-    widths: Vec<f64>,
+    pub(crate) widths: Vec<f64>,
     /// Per segment, the height of the saddle its leg (peak → saddle) ends at (ridges only).
-    saddles: Vec<f64>,
+    pub(crate) saddles: Vec<f64>,
 }
 
 impl Network {
-    fn push(&mut self, p: DVec2, h: f64) -> u32 {
+    pub(crate) fn push(&mut self, p: DVec2, h: f64) -> u32 {
         self.points.push(p);
         self.heights.push(h);
         self.points.len() as u32 - 1
@@ -292,7 +308,12 @@ pub fn terrain_from_tree(
     refine_ridges(&mut ridges, tree, first_saddle, options, &mut rng);
     progress("ridges", 1.0);
     let mut networks = Networks::new(ridges, grid.extent(), base, options)?;
-    networks.rivers = networks.route_rivers(&mut rng)?;
+    networks.rivers = match &networks.ridge_label {
+        Some(label) => crate::rivers::dual_rivers(&networks.ridges, networks.extent, base, options, &mut rng, |p| {
+            networks.ridge_at(p, label).0
+        })?,
+        None => Network::default(),
+    };
     networks.river_label = networks.rivers.nearest_segments(&networks.coarse);
     progress("rivers", 1.0);
     let samples = networks.fill_samples(&mut rng)?;
@@ -370,31 +391,57 @@ fn refine_ridges(
     options: &TerrainOptions,
     rng: &mut ChaCha8Rng,
 ) {
-    let lambda = options.lambda_m;
     for (s, saddle) in tree.saddles.iter().enumerate() {
         let sv = first_saddle + s as u32;
         for &peak in &saddle.peaks {
-            let (a, b) = (peak, sv);
-            let (pa, pb) = (ridges.points[a as usize], ridges.points[b as usize]);
-            let (ha, hb) = (ridges.heights[a as usize], ridges.heights[b as usize]);
-            let len = pa.distance(pb);
-            let k = (len / lambda).ceil().max(1.0) as usize;
-            let side = (pb - pa).perp().normalize_or_zero();
-            let mut prev = a;
-            for i in 1..k {
-                let t = i as f64 / k as f64;
-                let wobble = rng.random_range(-1.0..1.0) * options.jitter * lambda * (std::f64::consts::PI * t).sin();
-                let v = ridges.push(pa.lerp(pb, t) + side * wobble, ha + (hb - ha) * t);
-                ridges.segments.push([prev, v]);
-                ridges.saddles.push(hb);
-                prev = v;
-            }
-            if pa != pb {
-                ridges.segments.push([prev, b]);
-                ridges.saddles.push(hb);
-            }
+            let added = jittered_leg(ridges, peak, sv, options, rng);
+            let hb = ridges.heights[sv as usize];
+            ridges.saddles.extend(std::iter::repeat_n(hb, added));
         }
     }
+}
+
+/// §6.2's refinement of one leg `a → b` of `net`: split into segments shorter than λ, heights
+/// linear along it, inner nodes jittered sideways by up to `jitter·λ` tapered to zero at both
+/// ends by `sin(πt)`. Returns how many segments were added (none for a leg of zero length).
+pub(crate) fn jittered_leg(net: &mut Network, a: u32, b: u32, options: &TerrainOptions, rng: &mut ChaCha8Rng) -> usize {
+    let lambda = options.lambda_m;
+    let (pa, pb) = (net.points[a as usize], net.points[b as usize]);
+    if pa == pb {
+        return 0;
+    }
+    let (ha, hb) = (net.heights[a as usize], net.heights[b as usize]);
+    let k = (pa.distance(pb) / lambda).ceil().max(1.0) as usize;
+    let side = (pb - pa).perp().normalize_or_zero();
+    let mut prev = a;
+    for i in 1..k {
+        let t = i as f64 / k as f64;
+        let wobble = rng.random_range(-1.0..1.0) * options.jitter * lambda * (std::f64::consts::PI * t).sin();
+        let v = net.push(pa.lerp(pb, t) + side * wobble, ha + (hb - ha) * t);
+        net.segments.push([prev, v]);
+        prev = v;
+    }
+    net.segments.push([prev, b]);
+    k
+}
+
+/// Points along the border of `extent` at most `step` apart, corners included, each once.
+pub(crate) fn border_points(extent: Extent, step: f64) -> Vec<DVec2> {
+    let size = extent.size();
+    let count = |n: f64| (n / step).ceil().max(1.0) as usize;
+    let (bx, by) = (count(size.x), count(size.y));
+    let mut points = Vec::with_capacity(2 * (bx + by));
+    for i in 0..=bx {
+        let x = extent.min.x + size.x * i as f64 / bx as f64;
+        points.push(DVec2::new(x, extent.min.y));
+        points.push(DVec2::new(x, extent.max.y));
+    }
+    for j in 1..by {
+        let y = extent.min.y + size.y * j as f64 / by as f64;
+        points.push(DVec2::new(extent.min.x, y));
+        points.push(DVec2::new(extent.max.x, y));
+    }
+    points
 }
 
 /// The refined ridge and river networks with their nearest-segment labels on the routing raster
@@ -438,68 +485,10 @@ impl<'a> Networks<'a> {
         (h - self.options.flank_slope * d).max(self.base)
     }
 
-    /// §6.1, the dual river network: the flank surface of the ridges on the routing raster,
-    /// filled (Priority-Flood+ε) and routed by D8; each cell draining at least
-    /// [`TerrainOptions::river_area_km2`] and more than λ from a ridge, as is its receiver, gives
-    /// a river segment to its receiver, with the valley width `c·A^exponent`. River nodes sit on
-    /// the raster, jittered, at their filled heights.
-    fn route_rivers(&self, rng: &mut ChaCha8Rng) -> Result<Network, OrometryError> {
-        let mut rivers = Network::default();
-        let Some(label) = &self.ridge_label else { return Ok(rivers) };
-        let (options, coarse, extent) = (self.options, &self.coarse, self.extent);
-        let lambda = options.lambda_m;
-        let cell = lambda * 0.5;
-        let h0: Vec<f32> = (0..coarse.len())
-            .into_par_iter()
-            .map(|k| {
-                let (i, j) = coarse.coords(k);
-                let (d, h) = self.ridge_at(coarse.position(i, j), label);
-                self.flank(d, h) as f32
-            })
-            .collect();
-        let filled = fill(&Heightfield::from_samples(*coarse, h0)?, Outlets::default())?;
-        let routed = D8::new(&filled)?;
-        let (receivers, area) = (routed.receivers(), routed.drainage_area());
-        let min_area = options.river_area_km2 * 1e6;
-        let mut node = vec![u32::MAX; coarse.len()];
-        let mut river_node = |k: usize, rivers: &mut Network, rng: &mut ChaCha8Rng| {
-            if node[k] == u32::MAX {
-                let (i, j) = coarse.coords(k);
-                let jitter = DVec2::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0))
-                    * (options.jitter * cell * 0.5);
-                let p = (coarse.position(i, j) + jitter).clamp(extent.min, extent.max);
-                node[k] = rivers.push(p, f64::from(filled.samples()[k]));
-            }
-            node[k]
-        };
-        for &k in routed.order() {
-            let k = k as usize;
-            let r = receivers[k];
-            if area[k] < min_area || r == NO_RECEIVER {
-                continue;
-            }
-            // Keep rivers off the ridges: a channel within λ of a ridge would cut it.
-            let (i, j) = coarse.coords(k);
-            let (ir, jr) = coarse.coords(r as usize);
-            if self.ridge_at(coarse.position(i, j), label).0 < lambda
-                || self.ridge_at(coarse.position(ir, jr), label).0 < lambda
-            {
-                continue;
-            }
-            let a = river_node(k, &mut rivers, rng);
-            let b = river_node(r as usize, &mut rivers, rng);
-            rivers.segments.push([a, b]);
-            let km2 = area[k] / 1e6;
-            rivers.widths.push(options.valley_width_m * km2.powf(options.valley_exponent));
-        }
-        Ok(rivers)
-    }
-
     /// §6.2, the fill: Poisson-disc samples at radius λ plus the border every λ or less, less
     /// those within λ/2 of a ridge or river (the corners always stay).
     fn fill_samples(&self, rng: &mut ChaCha8Rng) -> Result<Vec<DVec2>, OrometryError> {
         let (extent, lambda) = (self.extent, self.options.lambda_m);
-        let size = extent.size();
         let mut samples = PoissonDisc::new(lambda)
             .map_err(|_| OrometryError::InvalidOption {
                 name: "lambda_m",
@@ -510,18 +499,7 @@ impl<'a> Networks<'a> {
             .with_max_points(50_000_000)
             .sample(&Rect::new(extent.min, extent.max))
             .map_err(|e| OrometryError::InvalidTree(format!("sampling the domain failed: {e}")))?;
-        let border = |n: f64| (n / lambda).ceil().max(1.0) as usize;
-        let (bx, by) = (border(size.x), border(size.y));
-        for i in 0..=bx {
-            let x = extent.min.x + size.x * i as f64 / bx as f64;
-            samples.push(DVec2::new(x, extent.min.y));
-            samples.push(DVec2::new(x, extent.max.y));
-        }
-        for j in 1..by {
-            let y = extent.min.y + size.y * j as f64 / by as f64;
-            samples.push(DVec2::new(extent.min.x, y));
-            samples.push(DVec2::new(extent.max.x, y));
-        }
+        samples.extend(border_points(extent, lambda));
         let corners =
             [extent.min, extent.max, DVec2::new(extent.min.x, extent.max.y), DVec2::new(extent.max.x, extent.min.y)];
         samples.retain(|&p| corners.contains(&p) || !self.near_network(p));
@@ -649,7 +627,11 @@ fn settle(
 }
 
 /// Drops exact duplicate points (keeping the first) and remaps constraints.
-fn dedup(points: Vec<DVec2>, values: Vec<f64>, constraints: Vec<[u32; 2]>) -> (Vec<DVec2>, Vec<f64>, Vec<[u32; 2]>) {
+pub(crate) fn dedup(
+    points: Vec<DVec2>,
+    values: Vec<f64>,
+    constraints: Vec<[u32; 2]>,
+) -> (Vec<DVec2>, Vec<f64>, Vec<[u32; 2]>) {
     let mut seen = std::collections::HashMap::with_capacity(points.len());
     let mut remap = Vec::with_capacity(points.len());
     let (mut p2, mut v2) = (Vec::with_capacity(points.len()), Vec::with_capacity(points.len()));
