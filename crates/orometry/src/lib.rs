@@ -76,6 +76,7 @@ mod edit;
 mod error;
 mod generate;
 mod isolation;
+mod network;
 mod point_grid;
 mod ridgeline;
 mod rivers;

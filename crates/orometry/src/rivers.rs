@@ -29,7 +29,8 @@ use relief_tin::poisson_sampling::{PoissonDisc, Rect};
 use relief_tin::{NO_TRIANGLE, Tin};
 
 use crate::OrometryError;
-use crate::terrain::{Network, TerrainOptions, border_points, dedup, jittered_leg};
+use crate::network::{Network, border_points, dedup, jittered_leg};
+use crate::terrain::TerrainOptions;
 
 /// How far below the lowest ridge node around it a river node stays at most, metres.
 pub(crate) const BELOW_RIDGE_M: f64 = 1.0;
@@ -397,7 +398,7 @@ fn emit(
         let m = rivers.push(mid, h_mid);
         for [from, to] in [[a, m], [m, b]] {
             let before = rivers.segments.len();
-            jittered_leg(&mut rivers, from, to, options, rng);
+            jittered_leg(&mut rivers, from, to, options.lambda_m, options.jitter, rng);
             rivers.widths.extend(std::iter::repeat_n(width, rivers.segments.len() - before));
         }
     }
