@@ -198,17 +198,17 @@ pub fn generate_tree(
             .collect(),
         saddles: Vec::with_capacity(ridges.len()),
     };
-    placement.split_ridges(&mut tree, &ridges, &mut rng);
+    split_ridges(&mut tree, &ridges, placement.base, extent, &mut rng);
     for round in 0..options.saddle_rounds {
-        assign_saddles(&mut tree, descriptor, placement.base, round % 2 == 0, &mut rng);
+        assign_saddles(&mut tree, descriptor, placement.base, round % 2 == 0, &mut rng, &|_| true);
     }
-    lift_below_threshold(&mut tree, descriptor, placement.base, &mut rng);
+    lift_below_threshold(&mut tree, descriptor, placement.base, &mut rng, &|_| true);
     Ok(tree)
 }
 
 /// Checks everything [`generate_tree`] is given (options, descriptor, extent, control maps,
 /// pinned peaks) and returns the number of peaks to place.
-fn check_inputs(
+pub(crate) fn check_inputs(
     descriptor: &Descriptor,
     extent: Extent,
     controls: &ControlMaps,
@@ -241,7 +241,7 @@ fn check_inputs(
 }
 
 /// Pinned peaks must be finite, inside the domain and above its base.
-fn check_pinned(pinned: &[TreePeak], extent: &Extent, base: f64) -> Result<(), OrometryError> {
+pub(crate) fn check_pinned(pinned: &[TreePeak], extent: &Extent, base: f64) -> Result<(), OrometryError> {
     for (index, p) in pinned.iter().enumerate() {
         if !(p.position.is_finite() && p.elevation.is_finite()) {
             return Err(OrometryError::InvalidPinnedPeak { index, reason: "position and elevation must be finite" });
@@ -262,7 +262,7 @@ fn check_pinned(pinned: &[TreePeak], extent: &Extent, base: f64) -> Result<(), O
 /// §5, the peaks' elevations: `n` less the pinned ones drawn from the descriptor's normalized
 /// elevation histogram by stratified sampling and scaled to the domain's range, plus the pinned
 /// ones (with their positions); highest first, a pinned peak before a free one of equal height.
-fn peak_elevations(
+pub(crate) fn peak_elevations(
     descriptor: &Descriptor,
     pinned: &[TreePeak],
     n: usize,
@@ -292,7 +292,7 @@ fn pass_ends(passes: usize, n: usize) -> Vec<usize> {
 
 /// What peak placement (§5.1: dart throwing steered by the descriptor and the control maps;
 /// multi-pass with the Eq. 1 ridges between passes) works with, fixed for one generation.
-struct Placement<'a> {
+pub(crate) struct Placement<'a> {
     descriptor: &'a Descriptor,
     options: &'a TreeOptions,
     extent: Extent,
@@ -307,7 +307,12 @@ struct Placement<'a> {
 }
 
 impl<'a> Placement<'a> {
-    fn new(descriptor: &'a Descriptor, extent: Extent, controls: &'a ControlMaps, options: &'a TreeOptions) -> Self {
+    pub(crate) fn new(
+        descriptor: &'a Descriptor,
+        extent: Extent,
+        controls: &'a ControlMaps,
+        options: &'a TreeOptions,
+    ) -> Self {
         let density_max =
             controls.peak_density.as_ref().and_then(Heightfield::min_max).map_or(1.0, |(_, hi)| f64::from(hi));
         let sigma_h = controls
@@ -331,7 +336,7 @@ impl<'a> Placement<'a> {
     /// free ones by [`Placement::throw`], biased towards the earlier passes' ridges), then the
     /// ridges are recomputed over every peak placed so far as the Eq. 1 spanning tree. Returns
     /// the positions, in `peaks`' order, and the final ridges.
-    fn place(&self, peaks: &[(f64, Option<DVec2>)], rng: &mut ChaCha8Rng) -> (Vec<DVec2>, Vec<[u32; 2]>) {
+    pub(crate) fn place(&self, peaks: &[(f64, Option<DVec2>)], rng: &mut ChaCha8Rng) -> (Vec<DVec2>, Vec<[u32; 2]>) {
         let n = peaks.len();
         let size = self.extent.size();
         let mut placed = Placed { positions: Vec::with_capacity(n), grid: PointGrid::new(&self.extent, n) };
@@ -416,23 +421,6 @@ impl<'a> Placement<'a> {
             }
         }
         if best.0 > f64::NEG_INFINITY { best.1 } else { roomiest.1 }
-    }
-
-    /// One saddle per ridge of `tree`'s peaks: at a random point between 30 % and 70 % of the
-    /// way, nudged sideways by up to a tenth of the ridge's length, kept inside the domain, at a
-    /// random 50–90 % of the lower peak's height above the base. §5.4 then moves them vertically.
-    fn split_ridges(&self, tree: &mut DivideTree, ridges: &[[u32; 2]], rng: &mut ChaCha8Rng) {
-        let base = self.base;
-        for &[a, b] in ridges {
-            let (pa, pb) = (tree.peaks[a as usize].position, tree.peaks[b as usize].position);
-            let t = rng.random_range(0.3..0.7);
-            let side = rng.random_range(-0.1..0.1);
-            let dir = pb - pa;
-            let position = (pa + dir * t + dir.perp() * side).clamp(self.extent.min, self.extent.max);
-            let top = tree.peaks[a as usize].elevation.min(tree.peaks[b as usize].elevation);
-            let elevation = base + (top - base) * rng.random_range(0.5..0.9);
-            tree.saddles.push(TreeSaddle { position, elevation, peaks: [a, b] });
-        }
     }
 }
 
@@ -520,9 +508,37 @@ impl RidgeField {
     }
 }
 
+/// One saddle per ridge of `tree`'s peaks: at a random point between 30 % and 70 % of the
+/// way, nudged sideways by up to a tenth of the ridge's length, kept inside the domain, at a
+/// random 50–90 % of the lower peak's height above the base. §5.4 then moves them vertically.
+pub(crate) fn split_ridges(
+    tree: &mut DivideTree,
+    ridges: &[[u32; 2]],
+    base: f64,
+    extent: Extent,
+    rng: &mut ChaCha8Rng,
+) {
+    for &[a, b] in ridges {
+        let (pa, pb) = (tree.peaks[a as usize].position, tree.peaks[b as usize].position);
+        let t = rng.random_range(0.3..0.7);
+        let side = rng.random_range(-0.1..0.1);
+        let dir = pb - pa;
+        let position = (pa + dir * t + dir.perp() * side).clamp(extent.min, extent.max);
+        let top = tree.peaks[a as usize].elevation.min(tree.peaks[b as usize].elevation);
+        let elevation = base + (top - base) * rng.random_range(0.5..0.9);
+        tree.saddles.push(TreeSaddle { position, elevation, peaks: [a, b] });
+    }
+}
+
 /// Ridges: the minimum spanning tree of the peaks' Delaunay triangulation under Eq. 1's weights
 /// `‖Pᵢ − Pⱼ‖ / min(hᵢ − base, hⱼ − base)^ρ`; edges in `previous` weigh half.
-fn spanning_ridges(positions: &[DVec2], heights: &[f64], base: f64, rho: f64, previous: &[[u32; 2]]) -> Vec<[u32; 2]> {
+pub(crate) fn spanning_ridges(
+    positions: &[DVec2],
+    heights: &[f64],
+    base: f64,
+    rho: f64,
+    previous: &[[u32; 2]],
+) -> Vec<[u32; 2]> {
     let n = positions.len();
     if n < 2 {
         return Vec::new();
@@ -561,7 +577,13 @@ const LIFT_PASSES: usize = 16;
 /// prominence 0) has its key saddle lowered to give it a prominence drawn from the lowest bin
 /// above the threshold, never below the base; lowering only raises prominences, so passes repeat
 /// until none is left (or its saddle is already at the base).
-fn lift_below_threshold(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, rng: &mut ChaCha8Rng) {
+pub(crate) fn lift_below_threshold(
+    tree: &mut DivideTree,
+    descriptor: &Descriptor,
+    base: f64,
+    rng: &mut ChaCha8Rng,
+    keep: &dyn Fn(usize) -> bool,
+) {
     let floor = descriptor.domain.min_prominence;
     let Some(above) = descriptor.prominence.from_floor(floor) else { return };
     let (lo, hi) = inside(&above, 0);
@@ -570,7 +592,7 @@ fn lift_below_threshold(tree: &mut DivideTree, descriptor: &Descriptor, base: f6
         let mut moved = false;
         for (k, peak) in tree.peaks.iter().enumerate() {
             let (Some(s), pi) = (oro.key_saddle[k], oro.prominence[k]) else { continue };
-            if pi >= floor && pi > 0.0 {
+            if (pi >= floor && pi > 0.0) || !keep(k) {
                 continue;
             }
             let saddle = &mut tree.saddles[s as usize];
@@ -615,9 +637,16 @@ const PER_BIN: usize = 4;
 
 /// One round of §5.4: sample targets (dominance or prominence), assign them to the peaks with key
 /// saddles by minimum total cost, and move those saddles.
-fn assign_saddles(tree: &mut DivideTree, descriptor: &Descriptor, base: f64, dominance: bool, rng: &mut ChaCha8Rng) {
+pub(crate) fn assign_saddles(
+    tree: &mut DivideTree,
+    descriptor: &Descriptor,
+    base: f64,
+    dominance: bool,
+    rng: &mut ChaCha8Rng,
+    keep: &dyn Fn(usize) -> bool,
+) {
     let oro = tree.orometry(base);
-    let people: Vec<usize> = (0..tree.peaks.len()).filter(|&k| oro.key_saddle[k].is_some()).collect();
+    let people: Vec<usize> = (0..tree.peaks.len()).filter(|&k| oro.key_saddle[k].is_some() && keep(k)).collect();
     let m = people.len();
     // Prominences are drawn at or above the threshold the target's peaks were counted at, so the
     // terrain analysed at that threshold keeps every peak.
@@ -888,7 +917,7 @@ mod tests {
     fn peaks_below_the_threshold_are_lifted_into_the_lowest_bin_above_it() {
         let mut rng = ChaCha8Rng::seed_from_u64(1);
         let mut tree = summit_and_neighbours();
-        lift_below_threshold(&mut tree, &counted_at(30.0), 0.0, &mut rng);
+        lift_below_threshold(&mut tree, &counted_at(30.0), 0.0, &mut rng, &|_| true);
         let oro = tree.orometry(0.0);
         // B, 5 m prominent, gets 37–93 m: the [30, 100) bin less a tenth of it at each side.
         assert!((37.0..=93.0).contains(&oro.prominence[1]), "{}", oro.prominence[1]);
@@ -897,7 +926,7 @@ mod tests {
         assert_eq!(tree.saddles[2].elevation, 0.0);
         // Without a threshold only prominence-0 peaks would move; B stays.
         let mut tree = summit_and_neighbours();
-        lift_below_threshold(&mut tree, &counted_at(0.0), 0.0, &mut rng);
+        lift_below_threshold(&mut tree, &counted_at(0.0), 0.0, &mut rng, &|_| true);
         assert_eq!(tree.saddles[0].elevation, 495.0);
     }
 

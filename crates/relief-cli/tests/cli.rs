@@ -101,19 +101,24 @@ fn check_outputs(dir: &Path, histogram: Option<&Histogram>, depressions: bool) {
         // The divide tree matches its target's prominence and dominance within a few percent.
         let o = &summary["orometry"];
         assert!(o["peaks"].as_u64().unwrap() > 0);
-        assert!(o["prominence_max_bin_error"].as_f64().unwrap() < 0.05, "{o}");
-        assert!(o["dominance_max_bin_error"].as_f64().unwrap() < 0.05, "{o}");
-        // The terrain analysed again: most of the tree's peaks survive as peaks of the raster,
-        // and its histograms stay near the target's. (Regression bounds from the measured 87 of
-        // 112 peaks and errors of 11, 10 and 23 %; the paper reaches 3, 3 and 8 %.)
-        let t = &o["terrain"];
-        assert!(t["peaks"].as_u64().unwrap() * 2 >= o["peaks"].as_u64().unwrap(), "{t}");
-        assert_eq!(t["features"].as_array().unwrap().len(), 10, "{t}");
-        let error = |name: &str| {
-            let f = t["features"].as_array().unwrap().iter().find(|f| f[0] == name).unwrap();
-            f[2].as_f64().unwrap()
-        };
-        assert!(error("prominence") < 0.2 && error("dominance") < 0.2 && error("isolation_distance") < 0.35, "{t}");
+        assert_eq!(o["saddles"].as_u64().unwrap() + 1, o["peaks"].as_u64().unwrap());
+        // With several terrain types the comparisons are against the first only (the type-map
+        // test in the facade checks each region).
+        if o["types"].as_u64().unwrap() == 1 {
+            assert!(o["prominence_max_bin_error"].as_f64().unwrap() < 0.05, "{o}");
+            assert!(o["dominance_max_bin_error"].as_f64().unwrap() < 0.05, "{o}");
+            // The terrain analysed again: most of the tree's peaks survive as peaks of the raster,
+            // and its histograms stay near the target's. (Regression bounds from the measured 87 of
+            // 112 peaks and errors of 11, 10 and 23 %; the paper reaches 3, 3 and 8 %.)
+            let t = &o["terrain"];
+            assert!(t["peaks"].as_u64().unwrap() * 2 >= o["peaks"].as_u64().unwrap(), "{t}");
+            assert_eq!(t["features"].as_array().unwrap().len(), 10, "{t}");
+            let error = |name: &str| {
+                let f = t["features"].as_array().unwrap().iter().find(|f| f[0] == name).unwrap();
+                f[2].as_f64().unwrap()
+            };
+            assert!(error("prominence") < 0.2 && error("dominance") < 0.2 && error("isolation_distance") < 0.35, "{t}");
+        }
     } else if summary["island"].is_object() {
         // Island: sea exactly 0, land above the sea level.
         assert!(summary["island"]["area"].as_f64().unwrap() > 0.0);

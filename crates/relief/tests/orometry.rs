@@ -175,3 +175,57 @@ fn a_dems_own_divide_tree_becomes_a_terrain_with_the_papers_errors() {
     let e = generate(&s, base, &mut Quiet).unwrap_err().to_string();
     assert!(e.contains("use_tree") && e.contains("pinned"), "{e}");
 }
+
+#[test]
+fn a_type_map_gives_each_region_its_own_orometry() {
+    // §7.2, Fig. 24: the dark part of the painted map takes the Jacksboro DEM's orometry, the
+    // light part an edited descriptor twice as prominent and twice as high above the base.
+    let path = root().join("fixtures/scenes/orometry-types.json");
+    let scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let terrain = generate(&scene, path.parent().unwrap(), &mut Quiet).unwrap();
+    let tree = &terrain.summary.orometry.as_ref().unwrap().tree;
+    tree.validate().unwrap();
+    assert_eq!(tree.saddles.len() + 1, tree.peaks.len(), "one tree over both types");
+    // The painted map, stretched over the domain: light (≥ half its range) is the second type.
+    let png = relief::io::read(root().join("fixtures/scenes/inputs/orometry-types.png")).unwrap();
+    let domain = scene.domain.unwrap();
+    let light = |p: glam::DVec2| {
+        let t = (p - domain.min) / domain.size();
+        let (i, j) = ((t.x * (png.nx() - 1) as f64).round() as usize, (t.y * (png.ny() - 1) as f64).round() as usize);
+        png.value(i, j) >= 0.5
+    };
+    // Peaks above the DEM's highest (1076 m) come from the second type only, in the light part
+    // (a cell of the map either side of its edge is read bilinearly when placing).
+    let high: Vec<_> = tree.peaks.iter().filter(|p| p.elevation > 1076.0).collect();
+    assert!(high.len() >= 10, "{} peaks above the DEM's top", high.len());
+    assert!(high.iter().all(|p| light(p.position)), "a high peak outside the light part");
+    let (dark, bright) = tree.peaks.iter().partition::<Vec<_>, _>(|p| !light(p.position));
+    let mean = |v: &[&relief::orometry::TreePeak]| v.iter().map(|p| p.elevation).sum::<f64>() / v.len() as f64;
+    assert!(mean(&bright) > mean(&dark) + 150.0, "{} against {}", mean(&bright), mean(&dark));
+    // Peak counts follow each type's density over its area: the light part is 37.5 % of the
+    // map, and the second type's density half the DEM's 0.192 per km².
+    let km2 = domain.size().x * domain.size().y / 1e6;
+    let expected = [0.625 * km2 * 0.1925, 0.375 * km2 * 0.0962];
+    for (n, e) in [dark.len(), bright.len()].into_iter().zip(expected) {
+        assert!((n as f64 / e - 1.0).abs() < 0.2, "{n} peaks for {e:.0}");
+    }
+}
+
+#[test]
+fn a_type_map_is_refused_with_a_real_tree_and_names_what_conflicts() {
+    let path = root().join("fixtures/scenes/orometry-types.json");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // The generator's source as a real tree: nothing can shape it.
+    let with_tree = text.replace(r#""min_prominence": 30 }"#, r#""min_prominence": 30, "use_tree": true }"#);
+    let scene = Scene::from_json(&with_tree).unwrap();
+    let err = generate(&scene, path.parent().unwrap(), &mut Quiet).unwrap_err().to_string();
+    assert!(err.contains("source.use_tree") && err.contains("types"), "{err}");
+    // A further type's source as a real tree.
+    let further = text.replace(
+        r#"{ "kind": "descriptor", "path": "inputs/jacksboro-twice-as-prominent.json" }"#,
+        r#"{ "kind": "dem", "path": "../dem/jacksboro.asc", "use_tree": true }"#,
+    );
+    let scene = Scene::from_json(&further).unwrap();
+    let err = generate(&scene, path.parent().unwrap(), &mut Quiet).unwrap_err().to_string();
+    assert!(err.contains("generator.orometry.types.sources[0]") && err.contains("use_tree"), "{err}");
+}

@@ -184,11 +184,12 @@ fn report(s: &Summary, seconds: f64, written: &[PathBuf], ui: &Ui) {
         s.heightfield.nx,
         s.heightfield.ny,
     ));
-    if let Some(t) = s.orometry.as_ref().and_then(|o| o.terrain.as_ref()) {
+    if let Some((o, t)) = s.orometry.as_ref().and_then(|o| Some((o, o.terrain.as_ref()?))) {
+        let against = if o.types > 1 { " against the type map's first type" } else { "" };
         let error = |f: &str| t.max_bin_error(f).map_or_else(|| "?".to_owned(), |e| format!("{:.1} %", 100.0 * e));
         ui.say(format_args!(
             "terrain orometry: {} peaks at least {} m prominent (target {}); largest histogram errors: prominence {}, \
-             dominance {}, isolation {} (the paper reaches about 3, 3 and 8 %)",
+             dominance {}, isolation {}{against} (the paper reaches about 3, 3 and 8 %)",
             t.peaks,
             t.min_prominence,
             t.target_peaks,

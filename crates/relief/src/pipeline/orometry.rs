@@ -9,10 +9,10 @@ use super::{Generated, Report};
 use crate::error::SceneError;
 use crate::heightfield::Extent;
 use crate::orometry::{
-    AnalysisOptions, ControlMaps, Descriptor, DivideTree, FractionHistogram, TerrainOptions, TreeOptions,
-    generate_tree, terrain_from_tree,
+    AnalysisOptions, ControlMaps, Descriptor, DivideTree, FractionHistogram, TerrainOptions, TreeOptions, TypeMap,
+    generate_tree, generate_typed_tree, terrain_from_tree,
 };
-use crate::scene::{OrometryGenerator, OrometrySource, Scene};
+use crate::scene::{OrometryGenerator, OrometrySource, OrometryTypes, Scene};
 use crate::{ReliefError, ReliefError as E};
 
 const GENERATOR: &str = "generator.orometry";
@@ -28,7 +28,8 @@ pub(super) fn generate(
         return Err(E::at("domain", SceneError::NeedsDomain("orometry")));
     };
     let grid = raster_grid(scene, extent)?;
-    let (target, real_tree) = timer.step("inputs", || target(&g.source, extent, env))?;
+    let (target, real_tree) =
+        timer.step("inputs", || target(&g.source, extent, env, &format!("{GENERATOR}.source")))?;
     let tree = timer.step("divide tree", || divide_tree(scene, g, &target, real_tree, extent, env))?;
     let base = target.domain.min_elevation;
     let options = TerrainOptions { seed: growth_seed(scene.seed), ..g.terrain.clone() };
@@ -53,7 +54,8 @@ pub(super) fn generate(
         }
     };
     let terrain = timer.step("terrain orometry", || terrain_orometry(&heightfield, &target, &analysis));
-    let report = Report::Orometry(summary(tree, &target, terrain));
+    let types = g.types.as_ref().map_or(1, |t| t.sources.len() + 1);
+    let report = Report::Orometry(summary(tree, &target, types, terrain));
     Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new() })
 }
 
@@ -91,21 +93,21 @@ fn target(
     source: &OrometrySource,
     domain: Extent,
     env: &Env<'_>,
+    at: &str,
 ) -> Result<(Descriptor, Option<DivideTree>), ReliefError> {
-    let at = format!("{GENERATOR}.source");
     match source {
         OrometrySource::Dem { path, min_prominence, sea_level, use_tree } => {
-            let dem = env.read(path).map_err(|e| E::at(&at, e))?;
+            let dem = env.read(path).map_err(|e| E::at(at, e))?;
             let options = AnalysisOptions {
                 sea_level: *sea_level,
                 min_prominence: *min_prominence,
                 ..AnalysisOptions::default()
             };
-            let (oro, descriptor) = Descriptor::of(&dem, &options).map_err(|e| E::at(&at, e))?;
+            let (oro, descriptor) = Descriptor::of(&dem, &options).map_err(|e| E::at(at, e))?;
             let tree = use_tree.then(|| stretched(DivideTree::from_orometry(&oro), dem.grid().extent(), domain));
             Ok((descriptor, tree))
         }
-        OrometrySource::Descriptor { path } => Ok((env.read_json(path, &at)?, None)),
+        OrometrySource::Descriptor { path } => Ok((env.read_json(path, at)?, None)),
     }
 }
 
@@ -133,9 +135,12 @@ fn divide_tree(
     env: &Env<'_>,
 ) -> Result<DivideTree, ReliefError> {
     if let Some(mut tree) = real {
-        if !g.pinned.is_empty() || g.peak_density.is_some() || g.elevation.is_some() {
+        if !g.pinned.is_empty() || g.peak_density.is_some() || g.elevation.is_some() || g.types.is_some() {
             // The DEM's own tree is used as it is: nothing can shape it.
-            return Err(E::at(GENERATOR, SceneError::Conflict("source.use_tree", "pinned, peak_density or elevation")));
+            return Err(E::at(
+                GENERATOR,
+                SceneError::Conflict("source.use_tree", "pinned, peak_density, elevation or types"),
+            ));
         }
         for (i, edit) in g.edits.iter().enumerate() {
             tree.apply(edit).map_err(|e| E::at(format!("{GENERATOR}.edits[{i}]"), e))?;
@@ -148,23 +153,60 @@ fn divide_tree(
     let controls =
         ControlMaps { peak_density: map(&g.peak_density, "peak_density")?, elevation: map(&g.elevation, "elevation")? };
     let options = TreeOptions { seed: scene.seed, ..g.tree.clone() };
-    let peaks = options.peak_count(target, extent, g.pinned.len());
-    env.budget.peaks(peaks as u64, &format!("{GENERATOR}.tree.peaks"))?;
-    let mut tree = generate_tree(target, extent, &controls, &g.pinned, &options).map_err(|e| E::at(GENERATOR, e))?;
+    let mut tree = match &g.types {
+        None => {
+            let peaks = options.peak_count(target, extent, g.pinned.len());
+            env.budget.peaks(peaks as u64, &format!("{GENERATOR}.tree.peaks"))?;
+            generate_tree(target, extent, &controls, &g.pinned, &options)
+        }
+        Some(types) => {
+            let types = type_map(types, target, extent, env)?;
+            // At most the densest type's count over the whole domain.
+            let densest = types.descriptors.iter().max_by(|a, b| a.density_per_km2.total_cmp(&b.density_per_km2));
+            let peaks = densest.map_or(0, |d| options.peak_count(d, extent, g.pinned.len()));
+            env.budget.peaks(peaks as u64, &format!("{GENERATOR}.tree.peaks"))?;
+            generate_typed_tree(&types, extent, &controls, &g.pinned, &options)
+        }
+    }
+    .map_err(|e| E::at(GENERATOR, e))?;
     for (i, edit) in g.edits.iter().enumerate() {
         tree.apply(edit).map_err(|e| E::at(format!("{GENERATOR}.edits[{i}]"), e))?;
     }
     Ok(tree)
 }
 
+/// The scene's type map `C_T`: the map's values in as many equal bands as there are types
+/// (`first` the lowest band's, then each of `types.sources`' descriptor in order), each sample
+/// holding its band's index.
+fn type_map(types: &OrometryTypes, first: &Descriptor, extent: Extent, env: &Env<'_>) -> Result<TypeMap, ReliefError> {
+    let at = format!("{GENERATOR}.types");
+    let mut descriptors = vec![first.clone()];
+    for (i, source) in types.sources.iter().enumerate() {
+        let at = format!("{at}.sources[{i}]");
+        if let OrometrySource::Dem { use_tree: true, .. } = source {
+            return Err(E::at(&at, SceneError::Conflict("use_tree", "types")));
+        }
+        descriptors.push(target(source, extent, env, &at)?.0);
+    }
+    let mut map = env.control_map(&types.map, extent, &format!("{at}.map"))?;
+    let (lo, hi) = map.min_max().map_or((0.0, 0.0), |(lo, hi)| (f64::from(lo), f64::from(hi)));
+    let bands = descriptors.len() as f64;
+    for v in map.samples_mut() {
+        let t = if hi > lo { (f64::from(*v) - lo) / (hi - lo) } else { 0.0 };
+        *v = (t * bands).floor().clamp(0.0, bands - 1.0) as f32;
+    }
+    Ok(TypeMap { map, descriptors })
+}
+
 /// The tree's counts and how its prominence and dominance histograms match the target's.
-fn summary(tree: DivideTree, target: &Descriptor, terrain: Option<TerrainOrometry>) -> OrometrySummary {
+fn summary(tree: DivideTree, target: &Descriptor, types: usize, terrain: Option<TerrainOrometry>) -> OrometrySummary {
     let oro = tree.orometry(target.domain.min_elevation);
     let prominence = FractionHistogram::uniform(0.0, 2000.0, 20).filled(oro.prominence.iter().copied());
     let dominance = FractionHistogram::uniform(0.0, 1.0, 20).filled(oro.dominance(&tree, target.domain.datum));
     OrometrySummary {
         peaks: tree.peaks.len(),
         saddles: tree.saddles.len(),
+        types,
         prominence_emd: prominence.emd(&target.prominence).unwrap_or(f64::NAN),
         prominence_max_bin_error: prominence.max_bin_error(&target.prominence).unwrap_or(f64::NAN),
         dominance_max_bin_error: dominance.max_bin_error(&target.dominance).unwrap_or(f64::NAN),

@@ -127,6 +127,10 @@ pub struct OrometrySummary {
     pub peaks: usize,
     /// Saddles in the divide tree.
     pub saddles: usize,
+    /// Terrain types: 1, or the type map's count. With a type map, the target every comparison
+    /// here is made against is the first type's (the generator's `source`), so they include how
+    /// far the other types are from it.
+    pub types: usize,
     /// Earth mover's distance between the tree's prominence histogram and the target's.
     pub prominence_emd: f64,
     /// Largest bin difference between the tree's prominence histogram and the target's.

@@ -38,6 +38,13 @@ impl Scene {
                 files.push(path);
                 files.extend(g.peak_density.as_deref());
                 files.extend(g.elevation.as_deref());
+                if let Some(types) = &g.types {
+                    files.push(&types.map);
+                    files.extend(types.sources.iter().map(|s| {
+                        let (OrometrySource::Dem { path, .. } | OrometrySource::Descriptor { path }) = s;
+                        path.as_path()
+                    }));
+                }
             }
         }
         files

@@ -290,6 +290,10 @@ pub struct OrometryGenerator {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(with = "Option<String>")]
     pub elevation: Option<PathBuf>,
+    /// A type map `C_T` (§7.2): several terrain types, each with its own orometry, in one
+    /// synthesis. Without it, `source` applies everywhere.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub types: Option<OrometryTypes>,
     /// Peaks placed before synthesis, kept at their positions and heights.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub pinned: Vec<TreePeak>,
@@ -305,6 +309,21 @@ pub struct OrometryGenerator {
     /// Contours drawn from the result (default 20 evenly spaced levels).
     #[serde(default = "raster_levels")]
     pub levels: Levels,
+}
+
+/// A type map `C_T` of an `orometry` generator: where each terrain type lies.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OrometryTypes {
+    /// The map (any format `relief` reads, e.g. a grayscale PNG painted by hand; stretched over
+    /// the domain). Its values, from its lowest to its highest, fall into as many equal bands as
+    /// there are types: the lowest band takes the generator's `source`, the next ones `sources`
+    /// in order (two types: dark and light; three: dark, mid-gray and light). Anti-aliased edges
+    /// fall into the nearer band.
+    #[schemars(with = "String")]
+    pub map: PathBuf,
+    /// The orometry of each further type (`use_tree` cannot be given here).
+    pub sources: Vec<OrometrySource>,
 }
 
 /// The target orometry of an `orometry` generator.
