@@ -84,22 +84,7 @@ pub(crate) fn dual_rivers(
     if ridges.segments.is_empty() {
         return Ok(Network::default());
     }
-    let spacing = OPEN_STEP * options.lambda_m;
-    let mut open = border_points(extent, spacing);
-    open.extend(
-        PoissonDisc::new(spacing)
-            .map_err(|_| OrometryError::InvalidOption {
-                name: "lambda_m",
-                value: options.lambda_m,
-                reason: "must be finite and > 0",
-            })?
-            .with_seed(rng.random())
-            .with_max_points(50_000_000)
-            .sample(&Rect::new(extent.min, extent.max))
-            .map_err(|e| OrometryError::InvalidTree(format!("sampling the domain failed: {e}")))?
-            .into_iter()
-            .filter(|&p| ridge_distance(p) > 0.5 * spacing),
-    );
+    let open = open_sites(extent, options.lambda_m, rng, ridge_distance)?;
     let graph = dual_graph(ridges, open, base)?;
     let (order, receiver) = drain(&graph, base, |_| options.river_slope);
     let mut area = graph.area.clone();
@@ -111,6 +96,33 @@ pub(crate) fn dual_rivers(
     let slope = |n: usize| flint_slope(area[n], options);
     let height = profile(&graph, base, &order, &receiver, slope);
     Ok(emit(&graph, &order, &receiver, &height, &area, options, rng))
+}
+
+/// The sites away from the ridges: the border every [`OPEN_STEP`]·λ or less, and Poisson-disc
+/// samples that far apart, more than half of it from any ridge (`ridge_distance`).
+fn open_sites(
+    extent: Extent,
+    lambda: f64,
+    rng: &mut ChaCha8Rng,
+    ridge_distance: impl Fn(DVec2) -> f64,
+) -> Result<Vec<DVec2>, OrometryError> {
+    let spacing = OPEN_STEP * lambda;
+    let mut open = border_points(extent, spacing);
+    open.extend(
+        PoissonDisc::new(spacing)
+            .map_err(|_| OrometryError::InvalidOption {
+                name: "lambda_m",
+                value: lambda,
+                reason: "must be finite and > 0",
+            })?
+            .with_seed(rng.random())
+            .with_max_points(50_000_000)
+            .sample(&Rect::new(extent.min, extent.max))
+            .map_err(|e| OrometryError::InvalidTree(format!("sampling the domain failed: {e}")))?
+            .into_iter()
+            .filter(|&p| ridge_distance(p) > 0.5 * spacing),
+    );
+    Ok(open)
 }
 
 /// Flint's law at catchment `area` (m²): `s₁·(A / 1 km²)^(−θ)`, at most the flank slope.
@@ -443,6 +455,12 @@ mod tests {
             for &[c, d] in &ridges.segments {
                 assert!(!crosses(p, q, ridges.points[c as usize], ridges.points[d as usize]), "{p} → {q}");
             }
+            // Rivers flow downhill, segment by segment.
+            assert!(rivers.heights[a as usize] >= rivers.heights[b as usize]);
+        }
+        // No river passes through a ridge (a link across one would go through its midpoint).
+        for (s, _) in ridges.segments.iter().enumerate() {
+            assert!(rivers.points.iter().all(|&p| ridges.project(s as u32, p).0 > 1.0));
         }
         // Every river node lies below the lowest ridge node of its triangle, and some rise well
         // above the base (the rivers climb towards the ridge instead of lying flat).
@@ -462,6 +480,18 @@ mod tests {
         let graph = dual_graph(&ridge(), border_points(extent(), 1000.0), 100.0).unwrap();
         let (order, receiver) = drain(&graph, 100.0, |_| options.river_slope);
         assert_eq!(order.len(), graph.points.len(), "every node drains to the border");
+        // One link per pair, each through the midpoint of the edge it crosses; outlets on the
+        // map's edge.
+        let pairs: HashSet<(u32, u32)> = graph.links.iter().map(|&(a, b, _, _)| (a.min(b), a.max(b))).collect();
+        assert_eq!(pairs.len(), graph.links.len());
+        for &(a, b, mid, len) in &graph.links {
+            let (pa, pb) = (graph.points[a as usize], graph.points[b as usize]);
+            assert!((pa.distance(mid) + mid.distance(pb) - len).abs() < 1e-9);
+        }
+        for o in graph.first_outlet..graph.points.len() {
+            let p = graph.points[o];
+            assert!(p.min_element() == 0.0 || p.max_element() == 10_000.0, "{p}");
+        }
         let mut area = graph.area.clone();
         for &n in order.iter().rev() {
             if let Some((r, _)) = receiver[n as usize] {
@@ -520,8 +550,31 @@ mod tests {
 
     #[test]
     fn path_minima_match_a_search_along_the_tree() {
+        // A branching tree of 60 nodes (node i hangs from one of the nodes before it), heights
+        // scattered: lowest common ancestors away from either end.
+        let mut branching = Network::default();
+        for i in 0..60u32 {
+            branching.push(DVec2::new(f64::from(i), 0.0), f64::from((i * 37) % 101));
+            if i > 0 {
+                branching.segments.push([(i * 13 + 5) % i, i]);
+            }
+        }
+        for net in [u_range(), branching] {
+            check_path_minima(&net);
+        }
         let net = u_range();
         let paths = PathMinima::new(&net);
+        assert_eq!(paths.lowest_between([0, 8].into_iter()), 300.0);
+        assert_eq!(paths.lowest_between([0, 1, 2].into_iter()), 800.0);
+        assert_eq!(paths.lowest_between(std::iter::empty()), f64::INFINITY);
+        // Two components never join.
+        let mut forest = ridge();
+        forest.push(DVec2::ZERO, 10.0);
+        assert_eq!(PathMinima::new(&forest).between(0, 3), f64::INFINITY);
+    }
+
+    fn check_path_minima(net: &Network) {
+        let paths = PathMinima::new(net);
         let n = net.points.len();
         let mut adjacent = vec![Vec::new(); n];
         for &[a, b] in &net.segments {
@@ -545,23 +598,78 @@ mod tests {
                 assert_eq!(paths.between(a as u32, b as u32), lowest, "{a} → {b}");
             }
         }
-        assert_eq!(paths.lowest_between([0, 8].into_iter()), 300.0);
-        assert_eq!(paths.lowest_between([0, 1, 2].into_iter()), 800.0);
-        assert_eq!(paths.lowest_between(std::iter::empty()), f64::INFINITY);
-        // Two components never join.
-        let mut forest = ridge();
-        forest.push(DVec2::ZERO, 10.0);
-        assert_eq!(PathMinima::new(&forest).between(0, 3), f64::INFINITY);
     }
 
     #[test]
     fn voronoi_vertices_are_circumcentres_kept_inside_their_triangles() {
-        let (a, b, c) = (DVec2::ZERO, DVec2::new(4.0, 0.0), DVec2::new(2.0, 3.0));
+        let (a, b, c) = (DVec2::new(3.0, 1.0), DVec2::new(9.0, 2.0), DVec2::new(5.0, 6.0));
         let v = voronoi_vertex(a, b, c);
-        assert!((v.distance(a) - v.distance(b)).abs() < 1e-12 && (v.distance(a) - v.distance(c)).abs() < 1e-12);
-        // Obtuse: the circumcentre (2, −1.5) lies below; the vertex stays just inside.
-        let v = voronoi_vertex(a, b, DVec2::new(2.0, 1.0));
-        assert!(v.y > 0.0 && v.y < 0.2 && (v.x - 2.0).abs() < 0.1, "{v}");
-        assert_eq!(voronoi_vertex(a, b, DVec2::new(8.0, 0.0)), DVec2::new(4.0, 0.0));
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            assert!((v.distance(p) - v.distance(q)).abs() < 1e-12, "{v}");
+        }
+        // Obtuse: the circumcentre (5, −3.5) lies below the long side; the vertex is its
+        // nearest point on it, (5, 1), a tenth of the way to the centroid (5, 1.5).
+        let (a, b) = (DVec2::new(1.0, 1.0), DVec2::new(9.0, 1.0));
+        let v = voronoi_vertex(a, b, DVec2::new(5.0, 2.5));
+        assert!(v.distance(DVec2::new(5.0, 1.05)) < 1e-12, "{v}");
+        // Obtuse at a corner, the circumcentre beyond a short side.
+        let (p, q, r) = (DVec2::new(0.0, 0.0), DVec2::new(10.0, 0.0), DVec2::new(1.0, 1.0));
+        let v = voronoi_vertex(p, q, r);
+        let inside = |x: DVec2| [(p, q), (q, r), (r, p)].iter().all(|&(s, t)| (t - s).perp_dot(x - s) > 0.0);
+        assert!(inside(v), "{v}");
+        assert_eq!(voronoi_vertex(a, b, DVec2::new(17.0, 1.0)), DVec2::new(9.0, 1.0));
+    }
+
+    #[test]
+    fn open_sites_keep_their_spacing_and_their_distance_from_the_ridges() {
+        let mut rng = ChaCha8Rng::seed_from_u64(2);
+        let ridge_x = 5000.0;
+        let sites = open_sites(extent(), 200.0, &mut rng, |p| (p.x - ridge_x).abs()).unwrap();
+        let inner: Vec<DVec2> =
+            sites.iter().copied().filter(|p| p.min_element() > 0.0 && p.max_element() < 10_000.0).collect();
+        assert!(inner.len() >= 4, "{} inner sites", inner.len());
+        for (i, p) in inner.iter().enumerate() {
+            assert!((p.x - ridge_x).abs() > 1500.0, "{p} is near the ridge");
+            assert!(inner[i + 1..].iter().all(|q| q.distance(*p) >= 3000.0 - 1e-9));
+        }
+        // The border: every 3 km (15 λ) at most, corners included (2.5 km apart here).
+        assert!(border_points(extent(), 3000.0).iter().all(|p| sites.contains(p)));
+        assert!(sites.contains(&DVec2::new(2500.0, 0.0)) && sites.contains(&DVec2::splat(10_000.0)));
+    }
+
+    #[test]
+    fn drainage_follows_the_lowest_river_and_emit_draws_it_through_the_shared_edge() {
+        // Triangle nodes A (0) and B (1), an outlet O (2): O–A and A–B 100 m, O–B 150 m. B is
+        // steeper than A: through A it reaches 0 + 0.1·100 = 10 m, straight to O 15 m.
+        let graph = Graph {
+            points: vec![DVec2::new(100.0, 0.0), DVec2::new(100.0, 100.0), DVec2::ZERO],
+            bound: vec![f64::INFINITY, f64::INFINITY, 0.0],
+            area: vec![1.5e6, 2.5e6, 0.0],
+            links: vec![
+                (2, 0, DVec2::new(50.0, 0.0), 100.0),
+                (0, 1, DVec2::new(100.0, 50.0), 100.0),
+                (2, 1, DVec2::new(50.0, 50.0), 150.0),
+            ],
+            adjacent: vec![vec![0, 1], vec![1, 2], vec![0, 2]],
+            first_outlet: 2,
+        };
+        let slope = |n: usize| [0.0, 0.1, 0.0][n];
+        let (order, receiver) = drain(&graph, 0.0, slope);
+        assert_eq!(order, [2, 0, 1]);
+        assert_eq!(receiver, [Some((2, 0)), Some((0, 1)), None]);
+        let height = profile(&graph, 0.0, &order, &receiver, |n| [0.02, 0.1, 0.0][n]);
+        assert_eq!(height, [2.0, 12.0, 0.0]);
+        // Emitted with a 2 km² threshold: B's link only (A drains 1.5 km² of its own but 4 km²
+        // with B's; B 2.5 km²), through the midpoint of the edge it crosses, mid-way in height.
+        let mut area = graph.area.clone();
+        area[0] = 1.9e6;
+        let options = TerrainOptions { river_area_km2: 2.0, ..TerrainOptions::default() };
+        let mut rng = ChaCha8Rng::seed_from_u64(0);
+        let rivers = emit(&graph, &order, &receiver, &height, &area, &options, &mut rng);
+        assert_eq!(rivers.points, [DVec2::new(100.0, 100.0), DVec2::new(100.0, 0.0), DVec2::new(100.0, 50.0)]);
+        assert_eq!(rivers.heights, [12.0, 2.0, 7.0]);
+        assert_eq!(rivers.segments, [[0, 2], [2, 1]]);
+        let width = 40.0 * 2.5f64.powf(0.4);
+        assert_eq!(rivers.widths, [width, width]);
     }
 }
