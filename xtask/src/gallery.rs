@@ -103,17 +103,21 @@ fn render(entries: &[Entry]) -> String {
                 let f = t["features"].as_array().and_then(|fs| fs.iter().find(|f| f[0] == name));
                 100.0 * f.and_then(|f| f[2].as_f64()).unwrap_or(f64::NAN)
             };
+            let types = o["types"].as_u64().unwrap_or(1);
+            let target =
+                if types > 1 { format!("the first of the type map's {types} types") } else { "the target".into() };
+            let target_short = if types > 1 { "the first type" } else { "the target" };
             format!(
-                "`relief generate {scene}`: a divide tree of {peaks} peaks (prominence EMD {emd:.3} against the \
-                 target); the terrain analysed again has {tpeaks} peaks at least {min} m prominent (the target \
-                 {target}), with largest histogram errors of {p:.1} % (prominence), {d:.1} % (dominance) and \
+                "`relief generate {scene}`: a divide tree of {peaks} peaks (prominence EMD {emd:.3} against \
+                 {target}); the terrain analysed again has {tpeaks} peaks at least {min} m prominent ({target_short} \
+                 {target_peaks}), with largest histogram errors of {p:.1} % (prominence), {d:.1} % (dominance) and \
                  {i:.1} % (isolation) against the paper's 2–3, 2–3 and 8 %; ",
                 scene = e.scene,
                 peaks = o["peaks"],
                 emd = o["prominence_emd"].as_f64().unwrap_or(f64::NAN),
                 tpeaks = t["peaks"],
                 min = t["min_prominence"],
-                target = t["target_peaks"],
+                target_peaks = t["target_peaks"],
                 p = error("prominence"),
                 d = error("dominance"),
                 i = error("isolation_distance"),
