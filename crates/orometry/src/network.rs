@@ -6,6 +6,9 @@ use glam::DVec2;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use relief_heightfield::{Extent, GridSpec, Heightfield, distance_transform_seeded};
+use relief_tin::poisson_sampling::{PoissonDisc, Rect};
+
+use crate::OrometryError;
 
 /// A network of refined nodes and segments with linear heights.
 #[derive(Default)]
@@ -160,6 +163,21 @@ pub(crate) fn dedup(
     let c2 =
         constraints.into_iter().map(|[a, b]| [remap[a as usize], remap[b as usize]]).filter(|[a, b]| a != b).collect();
     (p2, v2, c2)
+}
+
+/// Poisson-disc samples over `extent`, `radius` apart (the meshing distance λ or a multiple of it,
+/// named `lambda_m` in the error of a bad one), from `seed`.
+pub(crate) fn poisson_samples(extent: Extent, radius: f64, seed: u64) -> Result<Vec<DVec2>, OrometryError> {
+    PoissonDisc::new(radius)
+        .map_err(|_| OrometryError::InvalidOption {
+            name: "lambda_m",
+            value: radius,
+            reason: "must be finite and > 0",
+        })?
+        .with_seed(seed)
+        .with_max_points(50_000_000)
+        .sample(&Rect::new(extent.min, extent.max))
+        .map_err(|e| OrometryError::InvalidTree(format!("sampling the domain failed: {e}")))
 }
 
 #[cfg(test)]

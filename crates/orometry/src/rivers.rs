@@ -25,11 +25,10 @@ use glam::DVec2;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use relief_heightfield::Extent;
-use relief_tin::poisson_sampling::{PoissonDisc, Rect};
 use relief_tin::{NO_TRIANGLE, Tin};
 
 use crate::OrometryError;
-use crate::network::{Network, border_points, dedup, jittered_leg};
+use crate::network::{Network, border_points, dedup, jittered_leg, poisson_samples};
 use crate::terrain::TerrainOptions;
 
 /// How far below the lowest ridge node around it a river node stays at most, metres.
@@ -108,20 +107,8 @@ fn open_sites(
 ) -> Result<Vec<DVec2>, OrometryError> {
     let spacing = OPEN_STEP * lambda;
     let mut open = border_points(extent, spacing);
-    open.extend(
-        PoissonDisc::new(spacing)
-            .map_err(|_| OrometryError::InvalidOption {
-                name: "lambda_m",
-                value: lambda,
-                reason: "must be finite and > 0",
-            })?
-            .with_seed(rng.random())
-            .with_max_points(50_000_000)
-            .sample(&Rect::new(extent.min, extent.max))
-            .map_err(|e| OrometryError::InvalidTree(format!("sampling the domain failed: {e}")))?
-            .into_iter()
-            .filter(|&p| ridge_distance(p) > 0.5 * spacing),
-    );
+    let inner = poisson_samples(extent, spacing, rng.random())?;
+    open.extend(inner.into_iter().filter(|&p| ridge_distance(p) > 0.5 * spacing));
     Ok(open)
 }
 

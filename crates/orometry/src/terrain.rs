@@ -43,11 +43,10 @@ use relief_heightfield::noise::Fbm;
 use relief_heightfield::{Extent, GridSpec, Heightfield, distance_transform_seeded};
 use relief_hydrology::{Field, Outlets, StreamPower, fill};
 use relief_tin::Tin;
-use relief_tin::poisson_sampling::{PoissonDisc, Rect};
 use serde::{Deserialize, Serialize};
 
 use crate::OrometryError;
-use crate::network::{Network, border_points, dedup, jittered_leg};
+use crate::network::{Network, border_points, dedup, jittered_leg, poisson_samples};
 use crate::tree::DivideTree;
 
 /// How to turn a divide tree into a heightfield.
@@ -357,16 +356,7 @@ impl<'a> Networks<'a> {
     /// those within λ/2 of a ridge or river (the corners always stay).
     fn fill_samples(&self, rng: &mut ChaCha8Rng) -> Result<Vec<DVec2>, OrometryError> {
         let (extent, lambda) = (self.extent, self.options.lambda_m);
-        let mut samples = PoissonDisc::new(lambda)
-            .map_err(|_| OrometryError::InvalidOption {
-                name: "lambda_m",
-                value: lambda,
-                reason: "must be finite and > 0",
-            })?
-            .with_seed(rng.random())
-            .with_max_points(50_000_000)
-            .sample(&Rect::new(extent.min, extent.max))
-            .map_err(|e| OrometryError::InvalidTree(format!("sampling the domain failed: {e}")))?;
+        let mut samples = poisson_samples(extent, lambda, rng.random())?;
         samples.extend(border_points(extent, lambda));
         let corners =
             [extent.min, extent.max, DVec2::new(extent.min.x, extent.max.y), DVec2::new(extent.max.x, extent.min.y)];
