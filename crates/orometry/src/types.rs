@@ -168,6 +168,12 @@ fn check_inputs(
         }
         None => weights.iter().zip(&pinned_per_type).map(|(w, &p)| (w.round() as usize).saturating_sub(p)).collect(),
     };
+    if free.iter().zip(&types.descriptors).any(|(&k, d)| k > 0 && d.normalized_elevation.is_empty()) {
+        return Err(OrometryError::InvalidDescriptor {
+            feature: "normalized_elevation",
+            reason: "is empty for a type with peaks to place, so there are no peak elevations to sample",
+        });
+    }
     let n = free.iter().sum::<usize>() + pinned.len();
     if n > MAX_PEAKS {
         return Err(OrometryError::TooManyPeaks { peaks: n, limit: MAX_PEAKS });
@@ -256,5 +262,11 @@ mod tests {
         let shifted = TypeMap { map: halves(elsewhere), descriptors: vec![hills] };
         let err = generate_typed_tree(&shifted, extent, &ControlMaps::default(), &[], &options).unwrap_err();
         assert!(matches!(err, OrometryError::ControlMapExtent { name: "types", .. }), "{err}");
+        // A type with peaks to place but no elevations to draw them from.
+        let mut flat = egg_box(100.0, 40.0, 2500.0);
+        flat.normalized_elevation.fractions.iter_mut().for_each(|f| *f = 0.0);
+        let types = TypeMap { map: halves(extent), descriptors: vec![egg_box(100.0, 40.0, 2500.0), flat] };
+        let err = generate_typed_tree(&types, extent, &ControlMaps::default(), &[], &options).unwrap_err();
+        assert!(matches!(err, OrometryError::InvalidDescriptor { feature: "normalized_elevation", .. }), "{err}");
     }
 }
