@@ -43,7 +43,7 @@ const OPEN_STEP: f64 = 15.0;
 struct Graph {
     /// Node positions: one per triangle, then one per outlet.
     points: Vec<DVec2>,
-    /// Highest elevation per node (outlets: the base).
+    /// Highest elevation per node (outlets: their height).
     bound: Vec<f64>,
     /// Catchment area per node, m² (the triangle's own; outlets: 0).
     area: Vec<f64>,
@@ -71,21 +71,29 @@ impl Ord for Key {
 }
 
 /// The dual river network of `ridges` over `extent` (see the module's docs), or an empty one
-/// when there are no ridges.
+/// when there are no ridges. `ridge_at(p)` gives the distance from `p` to the nearest ridge and
+/// that ridge point's height: open sites keep away from the ridges, and rivers leave the map at
+/// the flank surface's height there, `h − s·d` (the flank slope `s`), never above the col their
+/// banks share nor below `base`. (Leaving at the base everywhere would pull the land down to it
+/// along the whole border, a rim of steep slopes around the map.)
 pub(crate) fn dual_rivers(
     ridges: &Network,
     extent: Extent,
     base: f64,
     options: &TerrainOptions,
     rng: &mut ChaCha8Rng,
-    ridge_distance: impl Fn(DVec2) -> f64,
+    ridge_at: impl Fn(DVec2) -> (f64, f64),
 ) -> Result<Network, OrometryError> {
     if ridges.segments.is_empty() {
         return Ok(Network::default());
     }
-    let open = open_sites(extent, options.lambda_m, rng, ridge_distance)?;
-    let graph = dual_graph(ridges, open, base)?;
-    let (order, receiver) = drain(&graph, base, |_| options.river_slope);
+    let open = open_sites(extent, options.lambda_m, rng, |p| ridge_at(p).0)?;
+    let flank = |p: DVec2| {
+        let (d, h) = ridge_at(p);
+        h - options.flank_slope * d
+    };
+    let graph = dual_graph(ridges, open, base, flank)?;
+    let (order, receiver) = drain(&graph, |_| options.river_slope);
     let mut area = graph.area.clone();
     for &n in order.iter().rev() {
         if let Some((r, _)) = receiver[n as usize] {
@@ -93,7 +101,7 @@ pub(crate) fn dual_rivers(
         }
     }
     let slope = |n: usize| flint_slope(area[n], options);
-    let height = profile(&graph, base, &order, &receiver, slope);
+    let height = profile(&graph, &order, &receiver, slope);
     Ok(emit(&graph, &order, &receiver, &height, &area, options, rng))
 }
 
@@ -119,8 +127,14 @@ fn flint_slope(area: f64, options: &TerrainOptions) -> f64 {
 }
 
 /// Triangulates the ridge nodes and the `open` sites (the border's and those in open country;
-/// ridges kept as edges), and builds its dual graph without the links across ridges.
-fn dual_graph(ridges: &Network, open: Vec<DVec2>, base: f64) -> Result<Graph, OrometryError> {
+/// ridges kept as edges), and builds its dual graph without the links across ridges. An outlet
+/// at `p` on the border has the height `outlet(p)`, kept between `base` and its triangle's bound.
+fn dual_graph(
+    ridges: &Network,
+    open: Vec<DVec2>,
+    base: f64,
+    outlet: impl Fn(DVec2) -> f64,
+) -> Result<Graph, OrometryError> {
     let mut points = ridges.points.clone();
     let border = open;
     // Each vertex's index among the ridge nodes as its value, to find it again after `dedup`.
@@ -157,7 +171,7 @@ fn dual_graph(ridges: &Network, open: Vec<DVec2>, base: f64) -> Result<Graph, Or
             let mid = 0.5 * (pts[a as usize] + pts[b as usize]);
             let other = if u == NO_TRIANGLE {
                 graph.points.push(mid);
-                graph.bound.push(base);
+                graph.bound.push(outlet(mid).min(graph.bound[t]).max(base));
                 graph.area.push(0.0);
                 graph.adjacent.push(Vec::new());
                 graph.points.len() - 1
@@ -309,11 +323,11 @@ fn voronoi_vertex(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
 /// Per node, its receiver and the link to it (`None` for outlets and nodes no river reaches).
 type Receivers = Vec<Option<(u32, u32)>>;
 
-/// The priority flood from the outlets (at `base`): a node reached over a link of length `len`
+/// The priority flood from the outlets (at their heights): a node reached over a link of length `len`
 /// from a node at `h` gets `max(h, min(bound, h + slope(node)·len))`, the lowest such value over
-/// its links; nodes settle lowest first (ties in the order they were reached). Returns the nodes
+/// its links (outlets only drain); nodes settle lowest first (ties in the order they were reached). Returns the nodes
 /// in settling order (receivers before their donors) and each node's receiver.
-fn drain(graph: &Graph, base: f64, slope: impl Fn(usize) -> f64) -> (Vec<u32>, Receivers) {
+fn drain(graph: &Graph, slope: impl Fn(usize) -> f64) -> (Vec<u32>, Receivers) {
     let n = graph.points.len();
     let mut height = vec![f64::INFINITY; n];
     let mut receiver: Receivers = vec![None; n];
@@ -321,8 +335,8 @@ fn drain(graph: &Graph, base: f64, slope: impl Fn(usize) -> f64) -> (Vec<u32>, R
     let mut heap = BinaryHeap::new();
     let mut seq = 0u64;
     for (o, h) in height.iter_mut().enumerate().skip(graph.first_outlet) {
-        *h = base;
-        heap.push(Reverse((Key(base), seq, o as u32)));
+        *h = graph.bound[o];
+        heap.push(Reverse((Key(*h), seq, o as u32)));
         seq += 1;
     }
     let mut order = Vec::with_capacity(n);
@@ -336,7 +350,7 @@ fn drain(graph: &Graph, base: f64, slope: impl Fn(usize) -> f64) -> (Vec<u32>, R
             let (a, b, _, len) = graph.links[l as usize];
             let m = if a as usize == node { b } else { a } as usize;
             let rise = h.max(graph.bound[m].min(h + slope(m) * len));
-            if !settled[m] && rise < height[m] {
+            if !settled[m] && m < graph.first_outlet && rise < height[m] {
                 height[m] = rise;
                 receiver[m] = Some((node as u32, l));
                 heap.push(Reverse((Key(rise), seq, m as u32)));
@@ -347,10 +361,10 @@ fn drain(graph: &Graph, base: f64, slope: impl Fn(usize) -> f64) -> (Vec<u32>, R
     (order, receiver)
 }
 
-/// River elevations along the drainage tree, downstream first: outlets at `base`, every other
-/// node `max(h_r, min(bound, h_r + slope(node)·len))` above its receiver `r`.
-fn profile(graph: &Graph, base: f64, order: &[u32], receiver: &Receivers, slope: impl Fn(usize) -> f64) -> Vec<f64> {
-    let mut height = vec![base; graph.points.len()];
+/// River elevations along the drainage tree, downstream first: outlets at their heights, every
+/// other node `max(h_r, min(bound, h_r + slope(node)·len))` above its receiver `r`.
+fn profile(graph: &Graph, order: &[u32], receiver: &Receivers, slope: impl Fn(usize) -> f64) -> Vec<f64> {
+    let mut height = graph.bound.clone();
     for &n in order {
         let n = n as usize;
         if let Some((r, l)) = receiver[n] {
@@ -435,7 +449,10 @@ mod tests {
         let ridges = ridge();
         let options = TerrainOptions { jitter: 0.0, river_area_km2: 0.0, ..TerrainOptions::default() };
         let mut rng = ChaCha8Rng::seed_from_u64(1);
-        let rivers = dual_rivers(&ridges, extent(), 100.0, &options, &mut rng, |_| 0.0).unwrap();
+        let ridge_at = |p: DVec2| {
+            (0..ridges.segments.len() as u32).map(|s| ridges.project(s, p)).min_by(|a, b| a.0.total_cmp(&b.0)).unwrap()
+        };
+        let rivers = dual_rivers(&ridges, extent(), 100.0, &options, &mut rng, ridge_at).unwrap();
         assert!(!rivers.segments.is_empty());
         for &[a, b] in &rivers.segments {
             let (p, q) = (rivers.points[a as usize], rivers.points[b as usize]);
@@ -454,18 +471,57 @@ mod tests {
         let top = rivers.heights.iter().copied().fold(f64::MIN, f64::max);
         assert!(top <= 300.0 - BELOW_RIDGE_M, "{top}");
         assert!(top > 120.0, "the highest river node is at {top}");
-        // Outlets sit on the border at the base.
+        // Outlets sit on the border at the flank surface's height, `h − 0.4·d` for the ridge
+        // point nearest them, never below the base (the east and west ends, 2 km from the ridge,
+        // 300 − 800 < 100; the north and south edges at the base too, 5 km away).
         let on_border = |p: DVec2| p.x == 0.0 || p.y == 0.0 || p.x == 10_000.0 || p.y == 10_000.0;
-        let outlets: Vec<f64> =
-            rivers.points.iter().zip(&rivers.heights).filter(|(p, _)| on_border(**p)).map(|(_, &h)| h).collect();
-        assert!(!outlets.is_empty() && outlets.iter().all(|&h| h == 100.0));
+        let outlets: Vec<(DVec2, f64)> =
+            rivers.points.iter().zip(&rivers.heights).filter(|(p, _)| on_border(**p)).map(|(&p, &h)| (p, h)).collect();
+        assert!(!outlets.is_empty());
+        for (p, h) in outlets {
+            let (d, top) = ridge_at(p);
+            assert_eq!(h, (top - 0.4 * d).max(100.0), "{p}");
+        }
+    }
+
+    #[test]
+    fn rivers_leave_the_map_at_the_flank_surface_not_at_the_base() {
+        // A ridge ending 500 m from the west edge at 600 m: the rivers leaving beside it start
+        // near 600 − 0.4·500 = 400 m, under their triangles' bounds; far from it, at the base.
+        let mut ridges = Network::default();
+        let a = ridges.push(DVec2::new(500.0, 5000.0), 600.0);
+        let b = ridges.push(DVec2::new(5000.0, 5000.0), 300.0);
+        ridges.segments.push([a, b]);
+        let ridge_at = |p: DVec2| ridges.project(0, p);
+        let graph = dual_graph(&ridges, border_points(extent(), 1000.0), 0.0, |p| {
+            let (d, h) = ridge_at(p);
+            h - 0.4 * d
+        })
+        .unwrap();
+        let outlet = |x: f64, y: f64| {
+            (graph.first_outlet..graph.points.len()).find(|&o| graph.points[o] == DVec2::new(x, y)).unwrap()
+        };
+        // The west edge's outlets beside the ridge's end, at (0, 4500) and (0, 5500).
+        for y in [4500.0, 5500.0] {
+            let o = outlet(0.0, y);
+            let (d, h) = ridge_at(graph.points[o]);
+            let expected = h - 0.4 * d;
+            assert!(expected > 300.0);
+            assert!(graph.bound[o] <= expected, "{}", graph.bound[o]);
+            assert!(graph.bound[o] > 250.0, "{}", graph.bound[o]);
+        }
+        assert_eq!(graph.bound[outlet(9500.0, 0.0)], 0.0);
+        // The flood starts from them.
+        let (order, receiver) = drain(&graph, |_| 0.03);
+        let height = profile(&graph, &order, &receiver, |_| 0.03);
+        assert!((graph.first_outlet..graph.points.len()).all(|o| height[o] == graph.bound[o]));
     }
 
     #[test]
     fn rivers_descend_along_their_flow_and_steepen_towards_their_heads() {
         let options = TerrainOptions::default();
-        let graph = dual_graph(&ridge(), border_points(extent(), 1000.0), 100.0).unwrap();
-        let (order, receiver) = drain(&graph, 100.0, |_| options.river_slope);
+        let graph = dual_graph(&ridge(), border_points(extent(), 1000.0), 100.0, |_| 0.0).unwrap();
+        let (order, receiver) = drain(&graph, |_| options.river_slope);
         assert_eq!(order.len(), graph.points.len(), "every node drains to the border");
         // One link per pair, each through the midpoint of the edge it crosses; outlets on the
         // map's edge.
@@ -488,7 +544,7 @@ mod tests {
         // All the catchments together cover the map.
         let outlets: f64 = (graph.first_outlet..graph.points.len()).map(|o| area[o]).sum();
         assert!((outlets - 1e8).abs() < 1.0, "{outlets}");
-        let height = profile(&graph, 100.0, &order, &receiver, |n| flint_slope(area[n], &options));
+        let height = profile(&graph, &order, &receiver, |n| flint_slope(area[n], &options));
         for (n, r) in receiver.iter().enumerate() {
             if let Some((r, _)) = r {
                 assert!(height[n] >= height[*r as usize]);
@@ -525,7 +581,9 @@ mod tests {
         // would join them above 300 m; bounded by the tree's path between them it stays under.
         let options = TerrainOptions { jitter: 0.0, river_area_km2: 0.0, ..TerrainOptions::default() };
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let rivers = dual_rivers(&u_range(), extent(), 250.0, &options, &mut rng, |_| 0.0).unwrap();
+        // No open sites (every point on a ridge), outlets at the base.
+        let rivers =
+            dual_rivers(&u_range(), extent(), 250.0, &options, &mut rng, |_| (0.0, f64::NEG_INFINITY)).unwrap();
         let inside = |p: DVec2| p.x > 2000.0 && p.x < 8000.0 && p.y > 4000.0 && p.y < 6000.0;
         let valley: Vec<f64> =
             rivers.points.iter().zip(&rivers.heights).filter(|(p, _)| inside(**p)).map(|(_, &h)| h).collect();
@@ -615,6 +673,8 @@ mod tests {
         let inner: Vec<DVec2> =
             sites.iter().copied().filter(|p| p.min_element() > 0.0 && p.max_element() < 10_000.0).collect();
         assert!(inner.len() >= 4, "{} inner sites", inner.len());
+        // Sites come as close as half the spacing, not only a whole spacing away.
+        assert!(inner.iter().any(|p| (p.x - ridge_x).abs() < 3000.0));
         for (i, p) in inner.iter().enumerate() {
             assert!((p.x - ridge_x).abs() > 1500.0, "{p} is near the ridge");
             assert!(inner[i + 1..].iter().all(|q| q.distance(*p) >= 3000.0 - 1e-9));
@@ -641,10 +701,10 @@ mod tests {
             first_outlet: 2,
         };
         let slope = |n: usize| [0.0, 0.1, 0.0][n];
-        let (order, receiver) = drain(&graph, 0.0, slope);
+        let (order, receiver) = drain(&graph, slope);
         assert_eq!(order, [2, 0, 1]);
         assert_eq!(receiver, [Some((2, 0)), Some((0, 1)), None]);
-        let height = profile(&graph, 0.0, &order, &receiver, |n| [0.02, 0.1, 0.0][n]);
+        let height = profile(&graph, &order, &receiver, |n| [0.02, 0.1, 0.0][n]);
         assert_eq!(height, [2.0, 12.0, 0.0]);
         // Emitted with a 2 km² threshold: B's link only (A drains 1.5 km² of its own but 4 km²
         // with B's; B 2.5 km²), through the midpoint of the edge it crosses, mid-way in height.

@@ -220,7 +220,7 @@ pub fn terrain_from_tree(
     let mut networks = Networks::new(ridges, grid.extent(), base, options)?;
     networks.rivers = match &networks.ridge_label {
         Some(label) => crate::rivers::dual_rivers(&networks.ridges, networks.extent, base, options, &mut rng, |p| {
-            networks.ridge_at(p, label).0
+            networks.ridge_at(p, label)
         })?,
         None => Network::default(),
     };
