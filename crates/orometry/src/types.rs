@@ -289,6 +289,21 @@ mod tests {
     }
 
     #[test]
+    fn an_asked_for_count_is_shared_by_density_times_area() {
+        let extent = Extent::new(DVec2::ZERO, DVec2::splat(20_000.0));
+        let (hills, mountains) = (egg_box(100.0, 40.0, 2500.0), egg_box(800.0, 300.0, 1250.0));
+        let share = mountains.density_per_km2 / (hills.density_per_km2 + mountains.density_per_km2);
+        let types = TypeMap { map: halves(extent), descriptors: vec![hills, mountains] };
+        let options = TreeOptions { peaks: Some(120), seed: 2, ..TreeOptions::default() };
+        let tree = generate_typed_tree(&types, extent, &ControlMaps::default(), &[], &options).unwrap();
+        assert!(tree.peaks.len().abs_diff(120) <= 1, "{}", tree.peaks.len());
+        // Both halves are half the map (the map's middle column goes east): the east's share is
+        // its density's.
+        let east = tree.peaks.iter().filter(|p| types.type_at(p.position) == 1).count() as f64;
+        assert!((east / 120.0 - share).abs() < 0.08, "{east} of 120 for a share of {share}");
+    }
+
+    #[test]
     fn bad_type_maps_are_refused() {
         let extent = Extent::new(DVec2::ZERO, DVec2::splat(20_000.0));
         let hills = egg_box(100.0, 40.0, 2500.0);
