@@ -1,10 +1,11 @@
 //! §6.1, the river network as the dual of the ridges.
 //!
-//! The refined ridge nodes and the map's border are triangulated (Delaunay, ridges kept as
-//! edges). Each triangle's Voronoi vertex (its circumcentre, pulled inside the triangle when it
+//! The refined ridge nodes, the map's border and sites in open country (every [`OPEN_STEP`]·λ,
+//! away from the ridges) are triangulated (Delaunay, ridges kept as edges). Each triangle's Voronoi vertex (its circumcentre, pulled inside the triangle when it
 //! falls outside) is a river node; two nodes are joined through the midpoint of their shared edge
 //! unless that edge is a ridge (the paper's pruning of Voronoi edges that cross the ridges), and
-//! triangles on the border drain out of the map there. Each node's elevation is bounded by the
+//! triangles on the border drain out of the map there, at the flank surface's height beside the
+//! ridges (never under the base). Each node's elevation is bounded by the
 //! ridges around it: [`BELOW_RIDGE_M`] under the lowest point of the divide tree's paths between
 //! its triangle's corners. A river runs between the ridges of its banks and joins them at its
 //! own height, so it must stay under the col that joins them in the tree (the corners' own
@@ -15,8 +16,9 @@
 //! river that can reach it). The drainage areas of that tree then set the final profile
 //! downstream to upstream with Flint's law, `s = s₁·(A / 1 km²)^(−θ)` (steep heads, gentle main
 //! stems, the river slope of Génevaux et al. 2013), each node still within its bound and never
-//! below its receiver. Segments are refined below λ with the ridges' sideways jitter, and each
-//! carries the valley width `c·A^exponent` of its drainage area.
+//! below its receiver. Channels draining at least [`TerrainOptions::river_area_km2`] become
+//! rivers: segments refined below λ with the ridges' sideways jitter, each with the valley width
+//! `c·A^exponent` of its drainage area.
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashSet};
