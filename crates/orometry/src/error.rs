@@ -75,7 +75,7 @@ pub enum OrometryError {
         /// Why.
         reason: &'static str,
     },
-    /// The meshing distance is too small for the domain: the routing raster and refined ridges
+    /// The meshing distance is too small for the domain: the label raster and refined ridges
     /// would exceed [`crate::MAX_MESH_SAMPLES`].
     #[error(
         "lambda_m = {lambda} m needs about {samples:.0} mesh and routing samples over this domain, more than {limit}: raise lambda_m"
@@ -83,7 +83,7 @@ pub enum OrometryError {
     MeshTooFine {
         /// The meshing distance λ.
         lambda: f64,
-        /// Samples the domain would take at λ (the routing raster at λ/2 and the refined ridges).
+        /// Samples the domain would take at λ (the label raster at λ/2 and the refined ridges).
         samples: f64,
         /// The cap, [`crate::MAX_MESH_SAMPLES`].
         limit: u64,

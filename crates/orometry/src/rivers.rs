@@ -96,12 +96,7 @@ pub(crate) fn dual_rivers(
     };
     let graph = dual_graph(ridges, open, base, flank)?;
     let (order, receiver) = drain(&graph, |_| options.river_slope);
-    let mut area = graph.area.clone();
-    for &n in order.iter().rev() {
-        if let Some((r, _)) = receiver[n as usize] {
-            area[r as usize] += area[n as usize];
-        }
-    }
+    let area = catchments(&graph, &order, &receiver);
     let slope = |n: usize| flint_slope(area[n], options);
     let height = profile(&graph, &order, &receiver, slope);
     Ok(emit(&graph, &order, &receiver, &height, &area, options, rng))
@@ -138,11 +133,10 @@ fn dual_graph(
     outlet: impl Fn(DVec2) -> f64,
 ) -> Result<Graph, OrometryError> {
     let mut points = ridges.points.clone();
-    let border = open;
     // Each vertex's index among the ridge nodes as its value, to find it again after `dedup`.
     let mut ids: Vec<f64> = (0..points.len()).map(|v| v as f64).collect();
-    ids.extend(std::iter::repeat_n(f64::INFINITY, border.len()));
-    points.extend(border);
+    ids.extend(std::iter::repeat_n(f64::INFINITY, open.len()));
+    points.extend(open);
     let (points, ids, constraints) = dedup(points, ids, ridges.segments.clone());
     let (tin, _skipped) = Tin::constrained(points, &constraints)?;
     let paths = PathMinima::new(ridges);
@@ -363,6 +357,17 @@ fn drain(graph: &Graph, slope: impl Fn(usize) -> f64) -> (Vec<u32>, Receivers) {
     (order, receiver)
 }
 
+/// Each node's catchment along the drainage tree: its triangle's area and all its donors'.
+fn catchments(graph: &Graph, order: &[u32], receiver: &Receivers) -> Vec<f64> {
+    let mut area = graph.area.clone();
+    for &n in order.iter().rev() {
+        if let Some((r, _)) = receiver[n as usize] {
+            area[r as usize] += area[n as usize];
+        }
+    }
+    area
+}
+
 /// River elevations along the drainage tree, downstream first: outlets at their heights, every
 /// other node `max(h_r, min(bound, h_r + slope(node)·len))` above its receiver `r`.
 fn profile(graph: &Graph, order: &[u32], receiver: &Receivers, slope: impl Fn(usize) -> f64) -> Vec<f64> {
@@ -537,12 +542,7 @@ mod tests {
             let p = graph.points[o];
             assert!(p.min_element() == 0.0 || p.max_element() == 10_000.0, "{p}");
         }
-        let mut area = graph.area.clone();
-        for &n in order.iter().rev() {
-            if let Some((r, _)) = receiver[n as usize] {
-                area[r as usize] += area[n as usize];
-            }
-        }
+        let area = catchments(&graph, &order, &receiver);
         // All the catchments together cover the map.
         let outlets: f64 = (graph.first_outlet..graph.points.len()).map(|o| area[o]).sum();
         assert!((outlets - 1e8).abs() < 1.0, "{outlets}");

@@ -30,8 +30,9 @@
 //! - Peaks and saddles are snapped to grid samples so the grid holds their exact heights, and the
 //!   result is filled (Priority-Flood+ε) so it has no endorheic basins.
 //! - **The tree kept.** Flanks of two branches can still meet above the col between them where
-//!   no river runs between them (channels draining less than the river area), raising the col. A last descending sweep (`carve`) lowers every sample that would join land the tree
-//!   only joins lower down to just under the next saddle, then fills again.
+//!   no river runs between them (channels draining less than the river area), raising the col.
+//!   A last descending sweep (`carve`) lowers every sample that would join land the tree only
+//!   joins lower down to just under the next saddle, then fills again.
 
 use std::collections::HashSet;
 
@@ -123,14 +124,14 @@ fn check(name: &'static str, v: f64, ok: bool, reason: &'static str) -> Result<(
     if ok && v.is_finite() { Ok(()) } else { Err(OrometryError::InvalidOption { name, value: v, reason }) }
 }
 
-/// Most samples [`terrain_from_tree`] meshes and routes at λ: 2^25, the routing raster of a domain
+/// Most samples [`terrain_from_tree`] meshes and labels at λ: 2^25, the label raster of a domain
 /// about 570 km across at the default λ = 200 m. Finer meshes fail with
 /// [`OrometryError::MeshTooFine`] before anything is allocated.
 pub const MAX_MESH_SAMPLES: u64 = 1 << 25;
 
 impl TerrainOptions {
     /// About how many samples [`terrain_from_tree`] works with over `extent` for `tree`: the
-    /// routing raster at λ/2 plus the ridge nodes refined every λ (the Poisson fill at λ is a
+    /// label raster at λ/2 plus the ridge nodes refined every λ (the Poisson fill at λ is a
     /// quarter of the raster). In f64, so absurd domains cannot overflow it.
     pub fn mesh_samples(&self, tree: &DivideTree, extent: Extent) -> f64 {
         let size = extent.size();
@@ -311,15 +312,15 @@ fn refine_ridges(
     }
 }
 
-/// The refined ridge and river networks with their nearest-segment labels on the routing raster
-/// (spacing λ/2): what the river routing, the fill and the valley-width interpolation consult.
+/// The refined ridge and river networks with their nearest-segment labels on the label raster
+/// (spacing λ/2): what the open river sites, the fill and the valley-width interpolation consult.
 struct Networks<'a> {
     options: &'a TerrainOptions,
     /// The lowest elevation.
     base: f64,
     /// The output grid's extent.
     extent: Extent,
-    /// The routing raster, at λ/2 over `extent`.
+    /// The label raster, at λ/2 over `extent`.
     coarse: GridSpec,
     ridges: Network,
     /// The nearest ridge segment per `coarse` sample; `None` without ridges.
@@ -330,7 +331,7 @@ struct Networks<'a> {
 }
 
 impl<'a> Networks<'a> {
-    /// The refined `ridges` on the routing raster over `extent`, without rivers yet.
+    /// The refined `ridges` on the label raster over `extent`, without rivers yet.
     fn new(ridges: Network, extent: Extent, base: f64, options: &'a TerrainOptions) -> Result<Self, OrometryError> {
         let size = extent.size();
         let cell = options.lambda_m * 0.5;

@@ -149,7 +149,7 @@ fn divide_tree_peaks_are_capped_asked_for_or_from_the_descriptor() {
 
 #[test]
 fn the_orometric_mesh_counts_as_cells() {
-    // λ = 1 m over the fixture's ~30 km domain: a routing raster of billions of cells at λ/2.
+    // λ = 1 m over the fixture's ~30 km domain: a label raster of billions of cells at λ/2.
     let mut v = fixture("orometry-jacksboro.json");
     v["generator"]["orometry"]["terrain"] = json!({ "lambda_m": 1.0 });
     match &refused(&v, Budget::default()) {

@@ -33,7 +33,7 @@ pub(super) fn generate(
     let tree = timer.step("divide tree", || divide_tree(scene, g, &target, real_tree, extent, env))?;
     let base = target.domain.min_elevation;
     let options = TerrainOptions { seed: growth_seed(scene.seed), ..g.terrain.clone() };
-    // The routing raster at λ/2 and the refined ridges count as cells (an invalid λ is left to the
+    // The label raster at λ/2 and the refined ridges count as cells (an invalid λ is left to the
     // synthesis's own check, which names it).
     let lambda = options.lambda_m;
     if lambda.is_finite() && lambda > 0.0 {
