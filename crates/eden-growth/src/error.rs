@@ -108,13 +108,19 @@ pub enum EdenError {
     },
     /// A level of a label map holds no graph node at this sampling radius.
     #[error(
-        "label level {level} holds no graph node at sampling radius {radius}: thicken it in the image or raise the particle count"
+        "label level {level} holds no graph node at sampling radius {radius}: its widest part is {:.3} across, so use \
+         `radius` ≤ {needed_radius:.4} (about {particles} particles) or thicken it in the image",
+        2.0 * needed_radius / 0.8
     )]
     LevelTooSmall {
         /// The level (depth) in the label map.
         level: u16,
         /// The sampling radius.
         radius: f64,
+        /// A radius at which the level surely holds a node (0.8 × its widest inscribed disc).
+        needed_radius: f64,
+        /// The particle count that gives that radius over the whole map.
+        particles: u64,
     },
     /// A label map is malformed.
     #[error("invalid label map: {reason}")]
@@ -247,7 +253,7 @@ mod tests {
             (EdenError::InvalidProbabilityParameters { reason: String::new() }, "probability"),
             (EdenError::InvalidParticleCount { count: 0 }, "particles"),
             (EdenError::TooManyParticles { requested: 9, limit: 1 }, ""),
-            (EdenError::LevelTooSmall { level: 2, radius: 1.0 }, ""),
+            (EdenError::LevelTooSmall { level: 2, radius: 1.0, needed_radius: 0.5, particles: 9 }, ""),
         ];
         for (e, path) in cases {
             assert_eq!(e.location(), path, "{e:?}");

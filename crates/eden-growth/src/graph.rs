@@ -110,9 +110,9 @@ impl Graph {
             .with_max_points(max_points(requested))
             .sample_tagged(&domain, |_| false)?;
         let tin = Tin::new(points)?;
-        let level: Vec<u16> = tin.points().par_iter().map(|&p| labels.level_at(p)).collect();
-        let depression = vec![false; level.len()];
-        let heights = vec![None; labels.max_level() as usize + 1];
+        let level: Vec<u16> = tin.points().par_iter().map(|&p| labels.depth_at(p)).collect();
+        let depression: Vec<bool> = tin.points().par_iter().map(|&p| labels.depression_at(p)).collect();
+        let heights = labels.level_heights().to_vec();
         let graph = Self::assemble(tin, level, depression, r, heights, labels.allows_depressions());
         // Every level the image has must keep a node, as every region must in `from_regions`: a
         // level thinner than the sampling radius (a one-pixel line, say) may catch none.
@@ -125,7 +125,11 @@ impl Graph {
             present[d as usize] = true;
         }
         if let Some(level) = (1..nodes.len()).find(|&l| present[l] && nodes[l] == 0) {
-            return Err(EdenError::LevelTooSmall { level: level as u16, radius: r });
+            // A disc of the sampling radius inside the level surely holds a node.
+            let widest = labels.inscribed_radius(level as u16);
+            let needed = 0.8 * widest;
+            let particles = (DENSITY * labels.omega_area() / (needed * needed)).ceil().min(u64::MAX as f64) as u64;
+            return Err(EdenError::LevelTooSmall { level: level as u16, radius: r, needed_radius: needed, particles });
         }
         Ok(graph)
     }
@@ -203,6 +207,15 @@ impl Graph {
 /// is vast at its sampling radius fails fast instead of allocating a background grid for it.
 fn max_points(requested: u64) -> u64 {
     requested.saturating_mul(8).saturating_add(1 << 20)
+}
+
+/// The Poisson radius a sampling of `area` uses.
+pub(crate) fn sampling_radius(area: f64, sampling: Sampling) -> Result<f64, EdenError> {
+    Ok(match sampling {
+        Sampling::Particles(0) => return Err(EdenError::InvalidParticleCount { count: 0 }),
+        Sampling::Particles(n) => radius_for_count(area, n)?,
+        Sampling::Radius(r) => r,
+    })
 }
 
 /// The Poisson radius for the requested density and the particle count it implies in Ω (area

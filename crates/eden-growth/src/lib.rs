@@ -4,7 +4,8 @@
 //! terrain has no endorheic basin unless the user marks a depression.
 //!
 //! Main types: [`RegionTree`] (nested user contours, [`Region`]) or [`LabelMap`] (the paper's input
-//! images) → [`Graph`] (Poisson sampling of Ω ⊕ B(4r), Delaunay TIN, levels, ∂G) → [`grow`] with a
+//! images; [`LabelMap::from_mask`] reads masks as paint programs save them, see [`MaskOptions`]) →
+//! [`Graph`] (Poisson sampling of Ω ⊕ B(4r), Delaunay TIN, levels, ∂G) → [`grow`] with a
 //! [`ProbabilityMap`] ([`Uniform`], [`FbmProbability`], [`RasterProbability`] or any closure) →
 //! [`Growth`] (rank per node, contiguous per level).
 //!
@@ -38,12 +39,14 @@ mod error;
 mod fenwick;
 mod graph;
 mod growth;
+mod masks;
 mod probability;
 mod regions;
 
 pub use error::EdenError;
 pub use graph::{Graph, GraphOptions, Sampling};
 pub use growth::{Growth, UNRANKED, grow};
+pub use masks::{COLOR_TOLERANCE, LabelLevel, MaskCleaning, MaskOptions, MergedPatch, hex};
 pub use probability::{FbmProbability, ProbabilityMap, RasterProbability, Uniform};
 pub use regions::{LabelMap, MAX_LABEL_LEVELS, Region, RegionTree};
 

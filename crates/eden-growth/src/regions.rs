@@ -4,6 +4,7 @@ use relief_tin::poisson_sampling::{Polygon, PolygonSet, Rect};
 use serde::{Deserialize, Serialize};
 
 use crate::EdenError;
+use crate::masks::{MaskCleaning, MaskOptions, clean_mask};
 
 /// One user-drawn region: a closed contour enclosing higher ground (or, with `depression`, lower
 /// ground: a crater or a lake basin).
@@ -237,6 +238,12 @@ pub struct LabelMap {
     grid: GridSpec,
     depth: Vec<u16>,
     allow_depressions: bool,
+    /// Per pixel, whether it lies in a depression a colour table marks (empty when none does).
+    depression: Vec<bool>,
+    /// Contour height per depth, from a colour table (index 0 unused).
+    level_heights: Vec<Option<f64>>,
+    /// What cleaning a drawn mask changed, for maps built by [`LabelMap::from_mask`].
+    cleaning: Option<MaskCleaning>,
     /// Distance from every pixel to the nearest pixel of Ω (depth ≥ 1), world units.
     distance: Vec<f64>,
     max_level: u16,
@@ -262,7 +269,17 @@ impl LabelMap {
         }
         let distance = distance_transform(&grid, &inside);
         let max_level = depth.iter().copied().max().unwrap_or(0);
-        Ok(Self { grid, depth, allow_depressions: false, distance, max_level })
+        let level_heights = vec![None; max_level as usize + 1];
+        Ok(Self {
+            grid,
+            depth,
+            allow_depressions: false,
+            depression: Vec::new(),
+            level_heights,
+            cleaning: None,
+            distance,
+            max_level,
+        })
     }
 
     /// A label map from gray values (e.g. an image read as `[0, 1]`): the distinct values, sorted,
@@ -292,6 +309,36 @@ impl LabelMap {
         let depth =
             values.iter().map(|v| if v.is_nan() { 0 } else { distinct.partition_point(|d| d < v) as u16 }).collect();
         Self::new(grid, depth)
+    }
+
+    /// A label map from a mask drawn in a paint program: RGBA pixels in [0, 1] (row 0 south), with
+    /// edge blends snapped, specks merged and an optional colour table giving heights and
+    /// depressions (see [`MaskOptions`] for the steps). [`LabelMap::cleaning`] tells what
+    /// changed.
+    ///
+    /// # Errors
+    /// [`EdenError::InvalidLabelMap`] naming the problem (no region, a colour the table lacks, a
+    /// misplaced depression, heights not increasing), or a sampling error.
+    pub fn from_mask(grid: GridSpec, rgba: &[[f32; 4]], options: &MaskOptions) -> Result<Self, EdenError> {
+        let clean = clean_mask(&grid, rgba, options)?;
+        let mut map = Self::new(grid, clean.depth)?;
+        if clean.depression.iter().any(|&d| d) {
+            map.depression = clean.depression;
+        }
+        map.level_heights = clean.level_heights;
+        map.level_heights.resize(map.max_level as usize + 1, None);
+        map.cleaning = Some(clean.cleaning);
+        Ok(map)
+    }
+
+    /// What cleaning the mask changed (for maps from [`LabelMap::from_mask`]).
+    pub fn cleaning(&self) -> Option<&MaskCleaning> {
+        self.cleaning.as_ref()
+    }
+
+    /// Contour height per depth a colour table gave (index 0 unused).
+    pub fn level_heights(&self) -> &[Option<f64>] {
+        &self.level_heights
     }
 
     /// The same map with enclosed areas of lower depth (craters drawn as a lower label inside a
@@ -349,10 +396,24 @@ impl LabelMap {
         (k, p.distance(q))
     }
 
-    /// Depth at `p` (0 outside the raster).
-    pub(crate) fn level_at(&self, p: DVec2) -> u16 {
+    /// Depth at `p`: that of its nearest pixel, 0 outside the raster.
+    pub fn depth_at(&self, p: DVec2) -> u16 {
         let (k, outside) = self.pixel(p);
         if outside > 0.0 { 0 } else { self.depth[k] }
+    }
+
+    /// Whether `p` falls in a depression a colour table marks.
+    pub(crate) fn depression_at(&self, p: DVec2) -> bool {
+        let (k, outside) = self.pixel(p);
+        outside == 0.0 && self.depression.get(k).copied().unwrap_or(false)
+    }
+
+    /// The widest disc inside level `l`'s pixels: the largest distance from one of them to a pixel
+    /// of another level (0 when the map has none).
+    pub(crate) fn inscribed_radius(&self, l: u16) -> f64 {
+        let other: Vec<bool> = self.depth.iter().map(|&d| d != l).collect();
+        let distance = distance_transform(&self.grid, &other);
+        self.depth.iter().zip(&distance).filter(|(d, _)| **d == l).map(|(_, &r)| r).fold(0.0, f64::max)
     }
 
     /// Whether `p` lies within `margin` of Ω (by the pixel distance transform, so to within half a

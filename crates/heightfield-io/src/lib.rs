@@ -688,6 +688,42 @@ pub fn read_gray_image(path: impl AsRef<Path>, options: &ReadOptions) -> Result<
     }
 }
 
+/// An image's colours: RGBA in [0, 1] per pixel, row-major with row 0 south, on a plain grid
+/// (origin 0, cell 1), as [`read_color_image`] returns it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColorImage {
+    /// The pixel grid (origin 0, cell 1).
+    pub grid: GridSpec,
+    /// Red, green, blue and alpha of each pixel, south row first.
+    pub pixels: Vec<[f32; 4]>,
+}
+
+/// The colours of an image file, for label masks whose regions are told apart by colour: any PNG
+/// colour type (16-bit precision kept) and anything else the `image` crate decodes. Other formats
+/// (and builds without the `images` feature) read as [`read_gray_image`] does, each value as a gray
+/// pixel and no-data as transparent.
+///
+/// # Errors
+/// As [`read`].
+pub fn read_color_image(path: impl AsRef<Path>, options: &ReadOptions) -> Result<ColorImage, IoError> {
+    let path = path.as_ref();
+    #[cfg(feature = "images")]
+    {
+        let bytes = read_input(path, options.limits)?;
+        if let Some(Format::Png8 | Format::Png16 | Format::Image) =
+            options.format.or_else(|| Format::detect(path, &bytes))
+        {
+            let at = |kind| IoError::new(path, kind);
+            let decoded = pixels::decode(&bytes, options.limits).map_err(at)?;
+            let (grid, pixels) = decoded.into_south_up().map_err(at)?;
+            return Ok(ColorImage { grid, pixels });
+        }
+    }
+    let gray = read_gray_image(path, options)?;
+    let pixels = gray.samples().iter().map(|&v| if v.is_nan() { [0.0; 4] } else { [v, v, v, 1.0] }).collect();
+    Ok(ColorImage { grid: *gray.grid(), pixels })
+}
+
 /// How a `GeoTIFF` is read: limits, band, and what a colour image becomes (`lenient`: luma, for
 /// masks; else gray-equal channels, for heightmaps).
 #[cfg(feature = "geotiff")]

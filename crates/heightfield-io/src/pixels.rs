@@ -8,7 +8,7 @@
 use std::io::Cursor;
 
 use image::ImageReader;
-use relief_heightfield::Heightfield;
+use relief_heightfield::{GridSpec, Heightfield};
 
 use crate::meta::{flip_rows, plain_grid};
 use crate::{IoErrorKind, Limits};
@@ -124,6 +124,13 @@ impl Pixels {
         }
         flip_rows(&mut values, self.width);
         Heightfield::from_samples(plain_grid(self.width, self.height)?, values).map_err(IoErrorKind::InvalidData)
+    }
+    /// The RGBA pixels south row first, on a plain grid.
+    pub(crate) fn into_south_up(self) -> Result<(GridSpec, Vec<[f32; 4]>), IoErrorKind> {
+        let grid = plain_grid(self.width, self.height)?;
+        let mut rgba = self.rgba;
+        flip_rows(&mut rgba, self.width);
+        Ok((grid, rgba))
     }
 }
 

@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 
-use crate::eden_growth::{EdenError, Graph, GraphOptions, LabelMap, Region, RegionTree};
+use crate::eden_growth::{EdenError, Graph, GraphOptions, LabelMap, MaskOptions, Region, RegionTree, Sampling};
 use crate::heightfield::{GridSpec, Heightfield};
 use crate::io::{Format, IoError, Limits, ReadOptions};
 use crate::poisson_sampling::Polygon;
@@ -35,7 +35,7 @@ pub fn scene_json(bytes: &[u8]) -> Result<Scene, ReliefError> {
 }
 
 /// A small label image (bytes 0 and 1 give the size, 1 to 48 pixels a side; the rest the gray
-/// values, 0 past the end) and its growth graph at 64 particles.
+/// values, 0 past the end), cleaned as a drawn mask, and its growth graph at 64 particles.
 ///
 /// # Errors
 /// [`ReliefError::Scene`] at `label_image` wrapping the [`EdenError`]: a map that is not a label
@@ -47,9 +47,16 @@ pub fn label_image(bytes: &[u8]) -> Result<Graph, ReliefError> {
         _ => (1, 1, &[][..]),
     };
     let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).map_err(|e| ReliefError::at("label_image", e))?;
-    let values: Vec<f32> = (0..nx * ny).map(|k| f32::from(rest.get(k).copied().unwrap_or(0)) / 255.0).collect();
-    let labels =
-        LabelMap::from_values(grid, &values).map_err(fail)?.with_depressions(rest.first().is_some_and(|v| v & 1 == 1));
+    let pixels: Vec<[f32; 4]> = (0..nx * ny)
+        .map(|k| {
+            let v = f32::from(rest.get(k).copied().unwrap_or(0)) / 255.0;
+            [v, v, v, 1.0]
+        })
+        .collect();
+    let options = MaskOptions { levels: None, sampling: Sampling::Particles(64) };
+    let labels = LabelMap::from_mask(grid, &pixels, &options)
+        .map_err(fail)?
+        .with_depressions(rest.first().is_some_and(|v| v & 1 == 1));
     Graph::from_labels(&labels, &GraphOptions::particles(64)).map_err(fail)
 }
 

@@ -14,7 +14,8 @@ use crate::contours::{
     reconstruct_interpolated, reconstruct_stairs,
 };
 use crate::eden_growth::{
-    EdenError, Graph, GraphOptions, LabelMap, ProbabilityMap, RasterProbability, RegionTree, Sampling, Uniform, grow,
+    EdenError, Graph, GraphOptions, LabelLevel, LabelMap, MaskOptions, ProbabilityMap, RasterProbability, RegionTree,
+    Sampling, Uniform, grow, hex,
 };
 use crate::error::SceneError;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
@@ -91,7 +92,15 @@ pub(super) fn generate(
     let heightfield = timer.step("reconstruction", || inputs.reconstruct(scene, &surface, &contours, sea_level))?;
     let inside: Vec<f64> = growth.order().iter().map(|&v| heights.heights[v as usize]).collect();
     let nodes_ks = histogram.ks_distance(&inside);
-    let warnings = fit_warning(&histogram, &ranking, nodes_ks).into_iter().collect();
+    let mask = match &inputs.source {
+        Source::Labels(labels) => labels.cleaning().cloned(),
+        Source::Regions(_) => None,
+    };
+    let warnings = match &inputs.source {
+        Source::Labels(labels) => merge_warning(labels),
+        Source::Regions(_) => None,
+    };
+    let warnings = warnings.into_iter().chain(fit_warning(&histogram, &ranking, nodes_ks)).collect();
     let report = Report::Contours {
         graph: GraphSummary {
             nodes: graph.tin().num_points(),
@@ -102,6 +111,7 @@ pub(super) fn generate(
         },
         nodes_ks,
         histogram,
+        mask,
     };
     Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report, warnings })
 }
@@ -138,7 +148,7 @@ impl Inputs {
                 return Err(E::at(format!("{GENERATOR}.regions"), missing));
             }
             (None, false) => Source::Regions(RegionTree::new(g.regions.clone()).map_err(|e| E::located(GENERATOR, e))?),
-            (Some(label), true) => Source::Labels(label_map(label, env)?),
+            (Some(label), true) => Source::Labels(label_map(label, env, sampling)?),
         };
         let target = match &g.histogram {
             Some(source) => Target::Given(histogram(source, env)?),
@@ -262,14 +272,54 @@ fn sampling(g: &ContoursGenerator) -> Result<Sampling, ReliefError> {
     }
 }
 
-/// A label image read, placed and turned into a label map.
-fn label_map(label: &LabelImage, env: &Env<'_>) -> Result<LabelMap, ReliefError> {
+/// A label image read, placed, cleaned (edge blends snapped, specks merged) and turned into a
+/// label map.
+fn label_map(label: &LabelImage, env: &Env<'_>, sampling: Sampling) -> Result<LabelMap, ReliefError> {
     let at = format!("{GENERATOR}.label_image");
-    let image = env.read_gray(&label.path).map_err(|e| E::at(format!("{at}.path"), e))?;
-    let grid =
-        GridSpec::from_extent(image.nx(), image.ny(), label.extent).map_err(|e| E::at(format!("{at}.extent"), e))?;
-    let labels = LabelMap::from_values(grid, image.samples()).map_err(|e| E::at(format!("{at}.path"), e))?;
+    let levels = match &label.levels {
+        None => None,
+        Some(rows) => Some(
+            rows.iter()
+                .enumerate()
+                .map(|(k, row)| {
+                    let color = row.value.rgb().map_err(|reason| {
+                        E::at(
+                            format!("{at}.levels[{k}].value"),
+                            SceneError::OutOfRange { value: reason, rule: "a colour" },
+                        )
+                    })?;
+                    Ok(LabelLevel { color, height: row.height, depression: row.depression })
+                })
+                .collect::<Result<Vec<_>, ReliefError>>()?,
+        ),
+    };
+    let image = env.read_color(&label.path).map_err(|e| E::at(format!("{at}.path"), e))?;
+    let grid = GridSpec::from_extent(image.grid.nx(), image.grid.ny(), label.extent)
+        .map_err(|e| E::at(format!("{at}.extent"), e))?;
+    let place = if label.levels.is_some() { format!("{at}.levels") } else { format!("{at}.path") };
+    let labels =
+        LabelMap::from_mask(grid, &image.pixels, &MaskOptions { levels, sampling }).map_err(|e| E::at(place, e))?;
     Ok(labels.with_depressions(label.depressions))
+}
+
+/// The warning for patches of a label image merged into their surroundings.
+fn merge_warning(labels: &LabelMap) -> Option<String> {
+    let cleaning = labels.cleaning()?;
+    let first = cleaning.merged.first()?;
+    Some(format!(
+        "label image: {} patch{} smaller than the sampling holds ({} pixels) merged into the level around {}, e.g. {} \
+         pixel{} of {} at ({:.0}, {:.0}) into {}; summary.json lists them",
+        cleaning.merged_count,
+        if cleaning.merged_count == 1 { "" } else { "es" },
+        cleaning.min_patch_pixels,
+        if cleaning.merged_count == 1 { "it" } else { "them" },
+        first.pixels,
+        if first.pixels == 1 { "" } else { "s" },
+        hex(first.color),
+        first.at.x,
+        first.at.y,
+        hex(first.into)
+    ))
 }
 
 impl Target {
@@ -278,12 +328,14 @@ impl Target {
     fn from_heights(source: &Source) -> Result<Self, ReliefError> {
         let heights = match source {
             Source::Regions(tree) => tree.level_heights(),
-            Source::Labels(_) => &[],
+            Source::Labels(labels) => labels.level_heights(),
         };
         let anchors: Vec<(usize, f64)> =
             heights.iter().enumerate().skip(1).filter_map(|(l, h)| h.map(|h| (l, h))).collect();
         match anchors.as_slice() {
-            [(1, _), .., (_, below), (_, last)] => Ok(Self::FromHeights { top: last + (last - below), anchors }),
+            [(1, _), .., (_, below), (_, last)] | [(1, below), (_, last)] => {
+                Ok(Self::FromHeights { top: last + (last - below), anchors })
+            }
             _ => Err(E::at(
                 format!("{GENERATOR}.histogram"),
                 SceneError::Missing(

@@ -43,6 +43,11 @@ impl Env<'_> {
         crate::io::read_gray_image(self.join(path), &self.options())
     }
 
+    /// Reads an image's colours (see [`crate::io::read_color_image`]) under the cell budget.
+    pub(crate) fn read_color(&self, path: &Path) -> Result<crate::io::ColorImage, IoError> {
+        crate::io::read_color_image(self.join(path), &self.options())
+    }
+
     /// Reads a JSON input of the scene (a vector terrain, atlas or descriptor, which validate
     /// themselves as they deserialize); errors name the scene value `at` and the file.
     pub(crate) fn read_json<T: serde::de::DeserializeOwned>(&self, path: &Path, at: &str) -> Result<T, ReliefError> {

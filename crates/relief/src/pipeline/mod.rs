@@ -38,6 +38,7 @@ pub use summary::{
 use crate::budget::{Budget, read_json_text};
 use crate::contours::{ContourSet, Histogram, extract_dem};
 use crate::diffusion::SolveReport;
+use crate::eden_growth::MaskCleaning;
 use crate::heightfield::Heightfield;
 use crate::scene::{Generator, Scene};
 use crate::{ReliefError, ReliefError as E};
@@ -58,7 +59,7 @@ pub(crate) struct Generated {
 /// The part of the summary only one generator knows.
 pub(crate) enum Report {
     /// The growth graph, the target histogram and the KS distance of the node heights to it.
-    Contours { graph: GraphSummary, histogram: Histogram, nodes_ks: f64 },
+    Contours { graph: GraphSummary, histogram: Histogram, nodes_ks: f64, mask: Option<MaskCleaning> },
     /// How the diffusion solve went.
     Diffusion(SolveReport),
     /// The island's final shape.

@@ -7,6 +7,7 @@ use super::Report;
 use super::progress::Timing;
 use crate::contours::{ContourSet, Histogram};
 use crate::diffusion::SolveReport;
+use crate::eden_growth::{MaskCleaning, hex};
 use crate::heightfield::{Extent, Heightfield};
 use crate::orometry::DivideTree;
 use crate::scene::Scene;
@@ -21,6 +22,9 @@ pub struct Summary {
     /// Graph statistics (contour generator only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub graph: Option<GraphSummary>,
+    /// What reading the label image changed (contour generator from a label image only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub label_image: Option<MaskSummary>,
     /// Contour statistics.
     pub contours: ContourSummary,
     /// Raster statistics.
@@ -68,6 +72,61 @@ pub struct GraphSummary {
     pub filled_nodes: usize,
     /// Nesting levels of the input (1 = the coastline alone).
     pub levels: u16,
+}
+
+/// What reading a drawn label image changed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MaskSummary {
+    /// The colour of each level, outside first (`#rrggbb`, or `transparent`).
+    pub levels: Vec<String>,
+    /// Pixels of no level's colour (anti-aliased edges, specks) that took a neighbouring level.
+    pub snapped_pixels: usize,
+    /// Patches smaller than this many pixels were merged into their surroundings.
+    pub min_patch_pixels: usize,
+    /// How many patches were merged.
+    pub merged_count: usize,
+    /// The first 100 merged patches, smallest first.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub merged: Vec<MergedSummary>,
+}
+
+/// A patch of a label image merged into the level around it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MergedSummary {
+    /// Its centroid, world units.
+    pub at: [f64; 2],
+    /// Its size, pixels.
+    pub pixels: usize,
+    /// Its colour.
+    pub color: String,
+    /// The colour of the level it joined.
+    pub into: String,
+}
+
+impl From<&MaskCleaning> for MaskSummary {
+    fn from(c: &MaskCleaning) -> Self {
+        Self {
+            levels: c
+                .colors
+                .iter()
+                .enumerate()
+                .map(|(l, &k)| if l == 0 && c.transparent_outside { "transparent".to_owned() } else { hex(k) })
+                .collect(),
+            snapped_pixels: c.snapped_pixels,
+            min_patch_pixels: c.min_patch_pixels,
+            merged_count: c.merged_count,
+            merged: c
+                .merged
+                .iter()
+                .map(|m| MergedSummary {
+                    at: m.at.to_array(),
+                    pixels: m.pixels,
+                    color: hex(m.color),
+                    into: hex(m.into),
+                })
+                .collect(),
+        }
+    }
 }
 
 /// Contour statistics of a run.
@@ -210,6 +269,7 @@ impl Summary {
             relief_version: env!("CARGO_PKG_VERSION"),
             scene: scene.clone(),
             graph: None,
+            label_image: None,
             contours: ContourSummary {
                 levels: contours.levels().len(),
                 contours: contours.len(),
@@ -234,8 +294,9 @@ impl Summary {
             timings_ms,
         };
         match report {
-            Report::Contours { graph, histogram, nodes_ks } => {
+            Report::Contours { graph, histogram, nodes_ks, mask } => {
                 summary.graph = Some(graph);
+                summary.label_image = mask.as_ref().map(MaskSummary::from);
                 summary.histogram_match =
                     Some(HistogramMatch { nodes: nodes_ks, raster: land_ks(&histogram, heightfield, sea_level) });
             }

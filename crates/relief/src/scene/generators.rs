@@ -115,6 +115,68 @@ pub struct LabelImage {
     /// Keep enclosed lower areas as depressions (craters) instead of filling them.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub depressions: bool,
+    /// What each colour means, outside first: without it the colours that form regions are the
+    /// levels, darkest outside. Other colours (anti-aliased edges, specks) always snap to the
+    /// nearest level around them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub levels: Option<Vec<LabelLevelSpec>>,
+}
+
+/// One row of a label image's colour table: a colour, and the level it marks. Rows go from the
+/// outside (row 0) inward and upward.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LabelLevelSpec {
+    /// The colour: `"#rrggbb"` (or `"#rgb"`), or a gray value in [0, 1] as the image reads
+    /// (8-bit 128 is 0.502, 16-bit values keep their precision). Matches within 4 8-bit steps.
+    pub value: LabelValue,
+    /// Height of this level's contour, in metres; rows with heights must increase.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    /// This colour marks depressions (craters, lake basins) inside the level around them.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub depression: bool,
+}
+
+/// A colour of a label image: a `"#rrggbb"` string or a gray value in [0, 1].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum LabelValue {
+    /// A gray value in [0, 1].
+    Gray(f64),
+    /// `"#rrggbb"` or `"#rgb"`.
+    Color(String),
+}
+
+impl LabelValue {
+    /// RGB in [0, 1].
+    ///
+    /// # Errors
+    /// Why the value is not a colour: a gray outside [0, 1], a string not `#rrggbb` or `#rgb`.
+    pub fn rgb(&self) -> Result<[f32; 3], String> {
+        match self {
+            Self::Gray(v) if (0.0..=1.0).contains(v) => Ok([*v as f32; 3]),
+            Self::Gray(v) => Err(format!("gray value {v} is outside [0, 1]")),
+            Self::Color(s) => parse_hex(s).ok_or_else(|| format!("{s:?} is not a colour: use \"#rrggbb\" or \"#rgb\"")),
+        }
+    }
+}
+
+fn parse_hex(s: &str) -> Option<[f32; 3]> {
+    let digits = s.strip_prefix('#')?;
+    if !digits.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    let channel = |k: usize, width: usize| {
+        let v = u8::from_str_radix(&digits[k * width..(k + 1) * width], 16).ok()?;
+        Some(f32::from(if width == 1 { v * 17 } else { v }) / 255.0)
+    };
+    let width = match digits.len() {
+        3 => 1,
+        6 => 2,
+        _ => return None,
+    };
+    Some([channel(0, width)?, channel(1, width)?, channel(2, width)?])
 }
 
 /// Where the growth advances first (= lower ground).

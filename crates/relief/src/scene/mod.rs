@@ -28,7 +28,7 @@ use crate::warp::{PathWarp, SlopeModulation};
 
 pub use generators::{
     Border, ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource, Generator, IslandGenerator,
-    LabelImage, OrometryGenerator, OrometrySource, OrometryTypes, Probability,
+    LabelImage, LabelLevelSpec, LabelValue, OrometryGenerator, OrometrySource, OrometryTypes, Probability,
 };
 pub use histogram::HistogramSource;
 pub use inputs::InputOptions;
