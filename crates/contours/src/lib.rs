@@ -69,7 +69,7 @@ pub use heights::{Heights, Ranking, assign_heights};
 pub use histogram::{Histogram, HistogramSpec};
 pub use levels::{Levels, MAX_LEVELS, evenly_spaced_levels, interval_levels};
 pub use reconstruct::{Interpolation, Summit, reconstruct_interpolated, reconstruct_stairs};
-pub use smooth::Smoothing;
+pub use smooth::{Smoothing, smooth_heights};
 pub use squares::extract_dem;
 
 /// The crate README's example, compiled and run as a doc test.

@@ -18,6 +18,14 @@ pub struct Smoothing {
     pub k: usize,
     /// Number of passes (default 4).
     pub iterations: u32,
+    /// A brush: smooth only around this point, full strength at it and fading to none at
+    /// `radius` (weight `(1 − (d/radius)²)²`). Give both or neither.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "schemars", schemars(with = "Option<[f64; 2]>"))]
+    pub centre: Option<DVec2>,
+    /// The brush radius, in world units.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
 }
 
 impl Smoothing {
@@ -36,13 +44,37 @@ impl Smoothing {
         if self.k == 0 {
             return Err(ContoursError::InvalidSmoothing { field: "k", value: 0.0, reason: "must be at least 1" });
         }
+        match (self.centre, self.radius) {
+            (Some(_), None) => {
+                return Err(ContoursError::InvalidSmoothing {
+                    field: "radius",
+                    value: f64::NAN,
+                    reason: "a brush needs a radius with its centre",
+                });
+            }
+            (None, Some(r)) => {
+                return Err(ContoursError::InvalidSmoothing {
+                    field: "centre",
+                    value: r,
+                    reason: "a brush needs a centre with its radius",
+                });
+            }
+            (Some(c), Some(r)) if !(c.is_finite() && r.is_finite() && r > 0.0) => {
+                return Err(ContoursError::InvalidSmoothing {
+                    field: "radius",
+                    value: r,
+                    reason: "must be finite and > 0, at a finite centre",
+                });
+            }
+            (None, None) | (Some(_), Some(_)) => {}
+        }
         Ok(())
     }
 }
 
 impl Default for Smoothing {
     fn default() -> Self {
-        Self { alpha: 0.5, k: 2, iterations: 4 }
+        Self { alpha: 0.5, k: 2, iterations: 4, centre: None, radius: None }
     }
 }
 
@@ -95,8 +127,87 @@ fn target(p: &[DVec2], closed: bool, i: usize, params: &Smoothing) -> Option<DVe
     if k == 0 {
         return None;
     }
+    let alpha = params.alpha * params.weight(p[i]);
+    if alpha == 0.0 {
+        return None;
+    }
     let sum: DVec2 = (1..=k).map(|j| p[(i + n - j) % n] + p[(i + j) % n]).sum();
-    Some((1.0 - params.alpha) * p[i] + params.alpha / (2.0 * k as f64) * sum)
+    Some((1.0 - alpha) * p[i] + alpha / (2.0 * k as f64) * sum)
+}
+
+impl Smoothing {
+    /// The brush's weight at `p`: 1 without a brush, else `(1 − (d/radius)²)²` inside it and 0
+    /// beyond.
+    pub fn weight(&self, p: DVec2) -> f64 {
+        match (self.centre, self.radius) {
+            (Some(c), Some(r)) => {
+                let t = p.distance_squared(c) / (r * r);
+                if t >= 1.0 { 0.0 } else { (1.0 - t) * (1.0 - t) }
+            }
+            _ => 1.0,
+        }
+    }
+}
+
+/// Smooths the heights of a TIN's nodes as [`ContourSet::smoothed`] smooths contour vertices:
+/// `hᵢ ← (1 − α)·hᵢ + α·mean(h over the nodes within k edges)`, brush-weighted, `iterations`
+/// times, each height then kept inside `bounds(i)` (its level's slice, so every input contour
+/// stays where it is). For the TIN reconstruction, whose terrain is the nodes' surface.
+///
+/// # Errors
+/// [`ContoursError::InvalidSmoothing`] for invalid parameters.
+pub fn smooth_heights(
+    tin: &relief_tin::Tin,
+    heights: &mut [f64],
+    params: &Smoothing,
+    bounds: impl Fn(usize) -> (f64, f64) + Sync,
+) -> Result<(), ContoursError> {
+    use rayon::prelude::*;
+    params.validate()?;
+    let rings = ring_neighbours(tin, params.k);
+    let weights: Vec<f64> = tin.points().par_iter().map(|&p| params.alpha * params.weight(p)).collect();
+    for _ in 0..params.iterations {
+        let next: Vec<f64> = (0..heights.len())
+            .into_par_iter()
+            .map(|i| {
+                let (h, a) = (heights[i], weights[i]);
+                if a == 0.0 || rings[i].is_empty() {
+                    return h;
+                }
+                let mean = rings[i].iter().map(|&j| heights[j as usize]).sum::<f64>() / rings[i].len() as f64;
+                let (lo, hi) = bounds(i);
+                ((1.0 - a) * h + a * mean).clamp(lo, hi)
+            })
+            .collect();
+        heights.copy_from_slice(&next);
+    }
+    Ok(())
+}
+
+/// The nodes within `k` edges of each node (itself excluded).
+fn ring_neighbours(tin: &relief_tin::Tin, k: usize) -> Vec<Vec<u32>> {
+    use rayon::prelude::*;
+    (0..tin.num_points() as u32)
+        .into_par_iter()
+        .map(|v| {
+            let mut seen = vec![v];
+            let mut frontier = vec![v];
+            for _ in 0..k {
+                let mut next = Vec::new();
+                for &u in &frontier {
+                    for &w in tin.neighbors(u) {
+                        if !seen.contains(&w) {
+                            seen.push(w);
+                            next.push(w);
+                        }
+                    }
+                }
+                frontier = next;
+            }
+            seen.remove(0);
+            seen
+        })
+        .collect()
 }
 
 fn pass(pts: &mut [Vec<DVec2>], closed: &[bool], params: &Smoothing, clearance: f64) {
@@ -237,7 +348,7 @@ mod tests {
     #[test]
     fn smoothing_parameters_are_checked_and_located() {
         assert_eq!(Smoothing::default().validate(), Ok(()));
-        assert_eq!(Smoothing { alpha: 1.0, k: 1, iterations: 0 }.validate(), Ok(()));
+        assert_eq!(Smoothing { alpha: 1.0, k: 1, iterations: 0, ..Smoothing::default() }.validate(), Ok(()));
         for alpha in [0.0, -0.5, 1.5, f64::NAN] {
             let e = Smoothing { alpha, ..Smoothing::default() }.validate().unwrap_err();
             assert!(matches!(e, ContoursError::InvalidSmoothing { field: "alpha", .. }), "{e:?}");

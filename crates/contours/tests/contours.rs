@@ -7,7 +7,7 @@ use glam::DVec2;
 use proptest::prelude::*;
 use relief_contours::{
     Contour, ContourSet, ContoursError, Histogram, Interpolation, Ranking, Smoothing, Summit, assign_heights,
-    evenly_spaced_levels, extract_dem, extract_tin, reconstruct_interpolated, reconstruct_stairs,
+    evenly_spaced_levels, extract_dem, extract_tin, reconstruct_interpolated, reconstruct_stairs, smooth_heights,
 };
 use relief_eden_growth::{Graph, GraphOptions, Growth, Region, RegionTree, Uniform, grow};
 use relief_fixtures::star;
@@ -125,7 +125,7 @@ proptest! {
         set.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(set.nests_by_level(), Ok(()));
         // Smoothing keeps every invariant.
-        let smooth = set.smoothed(&Smoothing { alpha: 0.8, k: 3, iterations: 5 }).unwrap();
+        let smooth = set.smoothed(&Smoothing { alpha: 0.8, k: 3, iterations: 5, ..Smoothing::default() }).unwrap();
         smooth.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(smooth.nests_by_level(), Ok(()));
         // The interpolated reconstruction drains: no endorheic cell. Draining only fixes the
@@ -336,16 +336,16 @@ fn smoothing_never_lets_close_contours_cross() {
     ];
     let set = ContourSet::new(vec![1.0, 2.0], contours).unwrap();
     set.check_invariants().unwrap();
-    let smooth = set.smoothed(&Smoothing { alpha: 1.0, k: 5, iterations: 20 }).unwrap();
+    let smooth = set.smoothed(&Smoothing { alpha: 1.0, k: 5, iterations: 20, ..Smoothing::default() }).unwrap();
     smooth.check_invariants().unwrap();
     assert_eq!(smooth.nests_by_level(), Ok(()));
     assert_ne!(smooth.contours()[0].points, set.contours()[0].points, "smoothing moved the vertices");
     assert!(matches!(
-        set.smoothed(&Smoothing { alpha: 0.0, k: 1, iterations: 1 }),
+        set.smoothed(&Smoothing { alpha: 0.0, k: 1, iterations: 1, ..Smoothing::default() }),
         Err(ContoursError::InvalidSmoothing { .. })
     ));
     assert!(matches!(
-        set.smoothed(&Smoothing { alpha: 0.5, k: 0, iterations: 1 }),
+        set.smoothed(&Smoothing { alpha: 0.5, k: 0, iterations: 1, ..Smoothing::default() }),
         Err(ContoursError::InvalidSmoothing { .. })
     ));
 }
@@ -547,4 +547,77 @@ fn tall_dems_give_the_same_closed_rings_for_any_thread_count() {
     assert!(lowest[0].closed && lowest[0].is_counter_clockwise());
     let bounds = lowest[0].bounds();
     assert!(bounds.min.y < 5.0 && bounds.max.y > 65.0, "the ring spans the bands: {bounds:?}");
+}
+
+#[test]
+fn a_smoothing_brush_moves_only_what_lies_under_it() {
+    // A jagged ring of radius 10; the brush covers its east side only.
+    let ring: Vec<DVec2> = (0..200)
+        .map(|k| {
+            let t = std::f64::consts::TAU * f64::from(k) / 200.0;
+            let r = 10.0 + if k % 2 == 0 { 0.3 } else { -0.3 };
+            DVec2::new(r * t.cos(), r * t.sin())
+        })
+        .collect();
+    let set = ContourSet::new(vec![1.0], vec![Contour { level: 0, height: 1.0, points: ring.clone(), closed: true }])
+        .unwrap();
+    let brush = Smoothing { centre: Some(DVec2::new(10.0, 0.0)), radius: Some(6.0), ..Smoothing::default() };
+    let smooth = set.smoothed(&brush).unwrap();
+    smooth.check_invariants().unwrap();
+    let moved =
+        |p: DVec2| smooth.contours()[0].points.iter().zip(&ring).find(|(_, r)| **r == p).map(|(q, r)| q.distance(*r));
+    let (mut inside, mut outside) = (0, 0);
+    for &p in &ring {
+        let d = p.distance(DVec2::new(10.0, 0.0));
+        let m = moved(p).unwrap();
+        if d > 6.5 {
+            // Beyond the brush (plus the neighbours' reach) nothing moves.
+            assert_eq!(m, 0.0, "{p} moved by {m}");
+            outside += 1;
+        } else if d < 3.0 {
+            assert!(m > 0.1, "{p} under the brush moved only {m}");
+            inside += 1;
+        }
+    }
+    assert!(inside > 10 && outside > 100, "{inside} {outside}");
+    // The brush's weight: 1 at the centre, (1 − ¼)² half-way, 0 at the rim.
+    assert_eq!(brush.weight(DVec2::new(10.0, 0.0)), 1.0);
+    assert!((brush.weight(DVec2::new(13.0, 0.0)) - 0.5625).abs() < 1e-12);
+    assert_eq!(brush.weight(DVec2::new(16.0, 0.0)), 0.0);
+    // A centre without a radius, or a radius ≤ 0, is refused.
+    for bad in [
+        Smoothing { centre: Some(DVec2::ZERO), ..Smoothing::default() },
+        Smoothing { radius: Some(3.0), ..Smoothing::default() },
+        Smoothing { centre: Some(DVec2::ZERO), radius: Some(0.0), ..Smoothing::default() },
+    ] {
+        assert!(matches!(set.smoothed(&bad), Err(ContoursError::InvalidSmoothing { .. })), "{bad:?}");
+    }
+}
+
+#[test]
+fn node_heights_smooth_within_their_bounds() {
+    // A spiky TIN surface: heights alternate 0 / 10 on a grid of nodes.
+    let points: Vec<DVec2> =
+        (0..400).map(|k| DVec2::new(f64::from(k % 20) + 0.01 * f64::from(k / 20 % 3), f64::from(k / 20))).collect();
+    let tin = relief_tin::Tin::new(points).unwrap();
+    let spiky: Vec<f64> = (0..400).map(|k| if (k % 20 + k / 20) % 2 == 0 { 10.0 } else { 0.0 }).collect();
+    let roughness = |h: &[f64]| -> f64 {
+        (0..h.len() as u32)
+            .map(|v| tin.neighbors(v).iter().map(|&w| (h[v as usize] - h[w as usize]).abs()).sum::<f64>())
+            .sum()
+    };
+    let mut h = spiky.clone();
+    smooth_heights(&tin, &mut h, &Smoothing::default(), |_| (2.0, 9.0)).unwrap();
+    assert!(roughness(&h) < 0.2 * roughness(&spiky), "{} vs {}", roughness(&h), roughness(&spiky));
+    assert!(h.iter().all(|&v| (2.0..=9.0).contains(&v)), "bounds hold");
+    // With a brush, nodes beyond it keep their heights exactly.
+    let mut h = spiky.clone();
+    let brush = Smoothing { centre: Some(DVec2::new(5.0, 5.0)), radius: Some(4.0), ..Smoothing::default() };
+    smooth_heights(&tin, &mut h, &brush, |_| (f64::NEG_INFINITY, f64::INFINITY)).unwrap();
+    for (k, p) in tin.points().iter().enumerate() {
+        if p.distance(DVec2::new(5.0, 5.0)) >= 4.0 {
+            assert_eq!(h[k], spiky[k]);
+        }
+    }
+    assert_ne!(h, spiky);
 }

@@ -5,6 +5,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use relief_tin::Tin;
+use serde::{Deserialize, Serialize};
 
 use crate::fenwick::Frontier;
 use crate::{EdenError, Graph, ProbabilityMap};
@@ -183,6 +184,21 @@ impl Growth {
     }
 }
 
+/// How the levels of a multi-region graph grow (contours paper §4.5, Fig. 12).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+pub enum Fronts {
+    /// The paper's method: a level with higher ground inside it grows from its lower and upper
+    /// boundaries at once and orders its nodes by `n⁻ / (n⁻ + n⁺)`, so its contours follow the
+    /// ranges and valleys inside it.
+    #[default]
+    Double,
+    /// Fig. 12's baseline: Algorithm 1 applied to each level alone, from its lower boundary,
+    /// blind to what lies above it (cliffs where a level meets a higher one).
+    PerRegion,
+}
+
 /// Inward Open Eden Growth over `graph` (Algorithm 1 of the contours paper), by depth level with
 /// the double-front scoring of §4.5 when a level has higher ground inside it.
 ///
@@ -194,6 +210,19 @@ impl Growth {
 /// [`EdenError::InvalidProbability`] for a negative or non-finite value at a node,
 /// [`EdenError::ZeroProbability`] when the map is zero on every inside node.
 pub fn grow(graph: &Graph, probability: &(impl ProbabilityMap + ?Sized), seed: u64) -> Result<Growth, EdenError> {
+    grow_with(graph, probability, seed, Fronts::Double)
+}
+
+/// [`grow`] with the choice of [`Fronts`].
+///
+/// # Errors
+/// As [`grow`].
+pub fn grow_with(
+    graph: &Graph,
+    probability: &(impl ProbabilityMap + ?Sized),
+    seed: u64,
+    fronts: Fronts,
+) -> Result<Growth, EdenError> {
     let tin = graph.tin();
     let n = tin.num_points();
     let levels = graph.levels();
@@ -206,6 +235,7 @@ pub fn grow(graph: &Graph, probability: &(impl ProbabilityMap + ?Sized), seed: u
         run: 0,
         rng: ChaCha8Rng::seed_from_u64(seed),
         free: Vec::with_capacity(16),
+        fronts,
     };
     let mut order = Vec::with_capacity(graph.inside_count());
     let mut level_offsets = vec![0u32];
@@ -244,6 +274,20 @@ fn weights(graph: &Graph, probability: &(impl ProbabilityMap + ?Sized)) -> Resul
     Ok(raw.iter().map(|&v| if v > 0.0 { ((v / top * WEIGHT_SCALE) as u64).max(1) } else { 0 }).collect())
 }
 
+/// A node's double-front score (§4.5) from the steps `n⁻` and `n⁺` at which the lower and upper
+/// fronts reached it (0: never) in a level of `m` nodes: `n⁻ / (n⁻ + n⁺)`; `n⁻ / m` where the
+/// upper front never arrives (a local maximum); `(m − n⁺) / m` where the lower never does (a
+/// depression); ½ for a node neither reaches.
+fn score(n_minus: u32, n_plus: u32, m: usize) -> f64 {
+    let (a, b, m) = (f64::from(n_minus), f64::from(n_plus), m as f64);
+    match (n_minus, n_plus) {
+        (0, 0) => 0.5,
+        (_, 0) => a / m,
+        (0, _) => (m - b) / m,
+        _ => a / (a + b),
+    }
+}
+
 struct State<'a> {
     tin: &'a Tin,
     levels: &'a [u16],
@@ -252,6 +296,7 @@ struct State<'a> {
     run: u32,
     rng: ChaCha8Rng,
     free: Vec<u32>,
+    fronts: Fronts,
 }
 
 impl State<'_> {
@@ -323,7 +368,10 @@ impl State<'_> {
         } else {
             (self.adjacent(members, |lw| lw < l), false)
         };
-        let upper = self.adjacent(members, |lw| lw > l);
+        let upper = match self.fronts {
+            Fronts::Double => self.adjacent(members, |lw| lw > l),
+            Fronts::PerRegion => Vec::new(),
+        };
         let mut step = 0u32;
         let mut minus_order = Vec::with_capacity(m);
         for &v in members {
@@ -348,15 +396,8 @@ impl State<'_> {
             step += 1;
             n_plus[v as usize] = step;
         });
-        let mf = m as f64;
-        let score = |v: u32| -> f64 {
-            match (f64::from(n_minus[v as usize]), f64::from(n_plus[v as usize])) {
-                (a, b) if a > 0.0 && b > 0.0 => a / (a + b),
-                (a, _) if a > 0.0 => a / mf, // unreachable from above: a local maximum
-                (_, b) if b > 0.0 => (mf - b) / mf, // unreachable from below: a depression
-                _ => 0.5,
-            }
-        };
+        let (n_minus, n_plus) = (&*n_minus, &*n_plus);
+        let score = |v: u32| score(n_minus[v as usize], n_plus[v as usize], m);
         self.final_pass(l, members, &lower, pre_assign, score)
     }
 
@@ -450,6 +491,18 @@ mod tests {
             }
             other => panic!("expected node {node} ({needle}), got {other:?}"),
         }
+    }
+
+    #[test]
+    fn double_front_scores() {
+        // Both fronts: the share of the way from the lower boundary.
+        assert_eq!(score(3, 1, 10), 0.75);
+        assert_eq!(score(1, 3, 10), 0.25);
+        // Only the lower front (a local maximum): its step over the level's size.
+        assert_eq!(score(4, 0, 10), 0.4);
+        // Only the upper front (a depression): ordered downward from the upper boundary.
+        assert_eq!(score(0, 4, 10), 0.6);
+        assert_eq!(score(0, 0, 10), 0.5);
     }
 
     #[test]

@@ -3,12 +3,13 @@
 use glam::DVec2;
 use proptest::prelude::*;
 use relief_eden_growth::{
-    EdenError, FbmProbability, Graph, GraphOptions, Growth, LabelMap, Region, RegionTree, UNRANKED, Uniform, grow,
+    EdenError, FbmProbability, Fronts, Graph, GraphOptions, Growth, LabelMap, Region, RegionTree, UNRANKED, Uniform,
+    grow, grow_with,
 };
 use relief_fixtures::star;
 use relief_tin::heightfield::GridSpec;
 use relief_tin::heightfield::noise::Fbm;
-use relief_tin::poisson_sampling::Polygon;
+use relief_tin::poisson_sampling::{Polygon, Rect};
 
 /// Checks the invariants every growth must satisfy ([`Growth::check_invariants`]).
 #[track_caller]
@@ -286,4 +287,67 @@ fn siblings_grow_together_so_the_larger_range_reaches_higher() {
     check_growth(&graph, &growth);
     let top = growth.order()[growth.level_range(2)].last().copied().unwrap();
     assert!(graph.tin().points()[top as usize].x < 0.0, "the highest node should be in the larger range");
+    // The small range tops out in the lower part of level 2's ranks, whichever order the regions
+    // come in (a growth taking siblings one after the other would put the second one on top).
+    for regions in [tree.regions().to_vec(), tree.regions().iter().rev().cloned().collect()] {
+        let tree = RegionTree::new(regions).unwrap();
+        let graph = Graph::from_regions(&tree, &GraphOptions::particles(8_000).with_seed(1)).unwrap();
+        let growth = grow(&graph, &Uniform, 3).unwrap();
+        let range = growth.level_range(2);
+        let small_top =
+            growth.order()[range.clone()].iter().rposition(|&v| graph.tin().points()[v as usize].x > 0.0).unwrap();
+        let share = small_top as f64 / range.len() as f64;
+        assert!(share < 0.6, "the small range reaches {share:.2} of level 2's ranks");
+    }
+}
+
+/// Fig. 12: a lowland (level 1) with a high range (level 2) near one end. Mean rank, as a share
+/// of level 1's ranks, of the level-1 nodes near `at`.
+fn lowland_rank_near(fronts: Fronts, at: DVec2) -> f64 {
+    let rect = Rect::new(DVec2::ZERO, DVec2::new(2000.0, 1000.0));
+    let coast = Region::new(Polygon::rectangle(rect).unwrap());
+    let range = Region::new(Polygon::circle(DVec2::new(500.0, 500.0), 150.0, 48).unwrap());
+    let tree = RegionTree::new(vec![coast, range]).unwrap();
+    let graph = Graph::from_regions(&tree, &GraphOptions::particles(20_000).with_seed(2)).unwrap();
+    let growth = grow_with(&graph, &Uniform, 5, fronts).unwrap();
+    check_growth(&graph, &growth);
+    let l1 = growth.level_range(1);
+    let near: Vec<f64> = growth.order()[l1.clone()]
+        .iter()
+        .enumerate()
+        .filter(|&(_, &v)| graph.tin().points()[v as usize].distance(at) < 25.0)
+        .map(|(k, _)| k as f64 / l1.len() as f64)
+        .collect();
+    assert!(near.len() >= 5);
+    near.iter().sum::<f64>() / near.len() as f64
+}
+
+#[test]
+fn the_double_front_raises_the_lowland_toward_the_range_inside_it() {
+    // Two lowland spots 320 m from the coast: one just below the range, one far from it.
+    let (by_range, far) = (DVec2::new(500.0, 320.0), DVec2::new(1500.0, 320.0));
+    let double = lowland_rank_near(Fronts::Double, by_range) - lowland_rank_near(Fronts::Double, far);
+    let single = lowland_rank_near(Fronts::PerRegion, by_range) - lowland_rank_near(Fronts::PerRegion, far);
+    // Double front: the ground rises toward the range (n⁺ is small there); per region, both spots
+    // are just as far from the coast and rank alike, leaving a cliff at the range's foot.
+    assert!(double > 0.3, "double front: {double:.3}");
+    assert!(single.abs() < 0.1, "per region: {single:.3}");
+}
+
+#[test]
+fn a_hundred_thousand_node_growth_keeps_every_invariant() {
+    // Three levels, two sibling ranges, a summit and a marked crater, fBm probability.
+    let coast = Region::new(star(DVec2::ZERO, 5000.0, &[0.3, 0.9, 0.5, 0.7, 0.2, 0.8, 0.6, 0.4, 1.0, 0.5]));
+    let west = Region::new(Polygon::circle(DVec2::new(-1500.0, 0.0), 1000.0, 64).unwrap());
+    let east = Region::new(Polygon::circle(DVec2::new(1600.0, 300.0), 700.0, 64).unwrap());
+    let summit = Region::new(Polygon::circle(DVec2::new(-1500.0, 200.0), 300.0, 32).unwrap());
+    let crater = Region::new(Polygon::circle(DVec2::new(1600.0, 300.0), 200.0, 32).unwrap()).as_depression();
+    let tree = RegionTree::new(vec![coast, west, east, summit, crater]).unwrap();
+    let graph = Graph::from_regions(&tree, &GraphOptions::particles(100_000).with_seed(7)).unwrap();
+    assert!(graph.inside_count() > 95_000, "{}", graph.inside_count());
+    let fbm = FbmProbability::new(Fbm { frequency: 1.0 / 2000.0, ..Fbm::default() }, 3.0).unwrap();
+    for fronts in [Fronts::Double, Fronts::PerRegion] {
+        let growth = grow_with(&graph, &fbm.with_seed(3), 11, fronts).unwrap();
+        check_growth(&graph, &growth);
+    }
 }

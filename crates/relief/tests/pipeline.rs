@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec2;
 use proptest::prelude::*;
 use relief::contours::{Contour, ContourSet, Histogram, Levels, Smoothing};
-use relief::eden_growth::{FbmProbability, Region};
+use relief::eden_growth::{FbmProbability, Fronts, Region};
 use relief::heightfield::Heightfield;
 use relief::heightfield::noise::Fbm;
 use relief::hydrology::{Field, Outlets, StreamPower, Thermal, depressions};
@@ -34,7 +34,7 @@ fn region(exterior: Vec<[f64; 2]>, height: Option<f64>, depression: bool) -> Reg
 }
 
 fn smooth(alpha: f64, k: usize, iterations: u32) -> Edit {
-    Edit::Smooth(Smoothing { alpha, k, iterations })
+    Edit::Smooth(Smoothing { alpha, k, iterations, ..Smoothing::default() })
 }
 
 fn warp(stroke: &[[f64; 2]], radius: f64, strength: f64) -> Edit {
@@ -76,6 +76,7 @@ fn scene(seed: u64, regions: Vec<Region>, edits: Vec<Edit>, mode: Reconstruction
                     .unwrap(),
             ),
             levels: Levels::Count(12),
+            fronts: Fronts::Double,
         }),
         edits,
         reconstruction: Reconstruction { mode, resolution: [size, size], drain: true },
@@ -170,6 +171,53 @@ fn every_reconstruction_mode_keeps_the_crater_and_drains_elsewhere() {
             assert!(terrain.summary.drainage.closed_basins >= 1, "{mode:?}: the crater is a closed basin");
         }
     }
+}
+
+#[test]
+fn a_hundred_thousand_node_scene_keeps_its_invariants_with_either_front() {
+    for fronts in [Fronts::Double, Fronts::PerRegion] {
+        let mut scene = full_scene(ReconstructionMode::Interpolated);
+        let Generator::Contours(g) = &mut scene.generator else { unreachable!() };
+        g.particles = Some(100_000);
+        g.fronts = fronts;
+        let terrain = generate(&scene, &root(), &mut ()).unwrap();
+        assert!(terrain.summary.graph.as_ref().unwrap().inside > 95_000);
+        // Nesting and no crossings of the extracted and edited contours.
+        terrain.contours.check_invariants().unwrap();
+        // No endorheic basin but the marked crater.
+        let crater = |p: DVec2| p.distance(DVec2::new(-1500.0, 0.0)) < 500.0;
+        assert_eq!(closed_basins(&terrain.heightfield, terrain.sea_level.unwrap() as f32, crater), 0, "{fronts:?}");
+    }
+}
+
+#[test]
+fn the_tin_reconstruction_applies_smoothing() {
+    let wobble: Vec<f64> = (0..30).map(|k| (f64::from(k) * 1.7).sin().abs()).collect();
+    let regions = vec![
+        region(star([0.0, 0.0], 4000.0, &wobble), Some(0.0), false),
+        region(star([-1500.0, 0.0], 1200.0, &wobble[..12]), Some(400.0), false),
+    ];
+    // Mean absolute discrete Laplacian of the land: what smoothing lowers.
+    let roughness = |hf: &Heightfield| {
+        let (nx, ny, v) = (hf.nx(), hf.ny(), hf.samples());
+        let mut sum = 0.0;
+        for j in 1..ny - 1 {
+            for i in 1..nx - 1 {
+                let k = j * nx + i;
+                sum += f64::from((4.0 * v[k] - v[k - 1] - v[k + 1] - v[k - nx] - v[k + nx]).abs());
+            }
+        }
+        sum / ((nx - 2) * (ny - 2)) as f64
+    };
+    let plain =
+        generate(&scene(9, regions.clone(), Vec::new(), ReconstructionMode::Tin, 128), &root(), &mut ()).unwrap();
+    let smoothed =
+        generate(&scene(9, regions, vec![smooth(1.0, 2, 6)], ReconstructionMode::Tin, 128), &root(), &mut ()).unwrap();
+    let (a, b) = (roughness(&plain.heightfield), roughness(&smoothed.heightfield));
+    assert!(b < 0.8 * a, "smoothing left the TIN terrain as rough: {b} vs {a}");
+    // The range's 400 m contour stays where it was drawn: its inside stays above it.
+    let summit = smoothed.heightfield.sample_bilinear(DVec2::new(-1500.0, 0.0)).unwrap();
+    assert!(summit > 400.0, "{summit}");
 }
 
 /// Runs `f` on a pool of `threads` threads.

@@ -10,12 +10,12 @@ use super::progress::Timer;
 use super::summary::GraphSummary;
 use super::{Generated, Report};
 use crate::contours::{
-    ContourSet, Histogram, HistogramSpec, Interpolation, Ranking, Summit, assign_heights, extract_tin,
-    reconstruct_interpolated, reconstruct_stairs,
+    ContourSet, Heights, Histogram, HistogramSpec, Interpolation, Ranking, Summit, assign_heights, extract_tin,
+    reconstruct_interpolated, reconstruct_stairs, smooth_heights,
 };
 use crate::eden_growth::{
     EdenError, Graph, GraphOptions, LabelLevel, LabelMap, MaskOptions, ProbabilityMap, RasterProbability, RegionTree,
-    Sampling, Uniform, grow, hex,
+    Sampling, Uniform, grow_with, hex,
 };
 use crate::error::SceneError;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
@@ -69,7 +69,8 @@ pub(super) fn generate(
     let inputs = timer.step("inputs", || Inputs::prepare(scene, g, env))?;
     let graph = timer.step("graph", || inputs.graph(scene.seed))?;
     let growth = timer.step("growth", || {
-        grow(&graph, inputs.probability.as_ref(), growth_seed(scene.seed)).map_err(|e| E::located(GENERATOR, e))
+        grow_with(&graph, inputs.probability.as_ref(), growth_seed(scene.seed), g.fronts)
+            .map_err(|e| E::located(GENERATOR, e))
     })?;
     let level_ends: Vec<usize> = (1..=growth.levels()).map(|l| growth.level_range(l).end).collect();
     let histogram = inputs.target.histogram(&level_ends)?;
@@ -88,7 +89,7 @@ pub(super) fn generate(
     let tolerance = graph.radius() / 20.0;
     let edit_count = inputs.edits.len() as u64;
     let contours = timer.counted("edits", edit_count, |tick| apply_edits(contours, &inputs.edits, tolerance, tick))?;
-    let surface = Surface { graph: &graph, heights: &heights.heights, outside: heights.outside };
+    let surface = Surface { graph: &graph, heights: &heights };
     let heightfield = timer.step("reconstruction", || inputs.reconstruct(scene, &surface, &contours, sea_level))?;
     let inside: Vec<f64> = growth.order().iter().map(|&v| heights.heights[v as usize]).collect();
     let nodes_ks = histogram.ks_distance(&inside);
@@ -134,8 +135,7 @@ fn merge_levels(mut levels: Vec<f64>) -> Vec<f64> {
 /// The generated TIN with its node heights: the surface the reconstruction interpolates.
 struct Surface<'a> {
     graph: &'a Graph,
-    heights: &'a [f64],
-    outside: f64,
+    heights: &'a Heights,
 }
 
 impl Inputs {
@@ -189,6 +189,29 @@ impl Inputs {
         })
     }
 
+    /// The node heights of the TIN reconstruction, smoothed by the scene's smoothing edits (the
+    /// other modes smooth the contours): each node kept inside its level's slice, so the input
+    /// contours stay put.
+    fn smoothed_nodes(&self, surface: &Surface<'_>) -> Result<Vec<f64>, ReliefError> {
+        let (levels, heights) = (surface.graph.levels(), surface.heights);
+        let mut out = heights.heights.clone();
+        let bounds = |i: usize| {
+            let h = heights.heights[i];
+            match usize::from(levels[i]) {
+                0 => (h, h),
+                l => {
+                    let lo = heights.level_boundaries[l - 1];
+                    let hi = heights.level_boundaries.get(l).copied().unwrap_or(f64::INFINITY);
+                    (lo.min(h), hi.max(h))
+                }
+            }
+        };
+        for s in self.edits.smoothings() {
+            smooth_heights(surface.graph.tin(), &mut out, s, bounds).map_err(|e| E::step("reconstruction", e))?;
+        }
+        Ok(out)
+    }
+
     /// The heightfield: terraces, Hormann's interpolation with the TIN as summit surface, or the
     /// TIN itself; warps reach the raster through the contours or by backward mapping.
     fn reconstruct(
@@ -198,7 +221,7 @@ impl Inputs {
         contours: &ContourSet,
         sea_level: f64,
     ) -> Result<Heightfield, ReliefError> {
-        let (grid, drain, outside) = (&self.grid, scene.reconstruction.drain, surface.outside);
+        let (grid, drain, outside) = (&self.grid, scene.reconstruction.drain, surface.heights.outside);
         let hf = match scene.reconstruction.mode {
             ReconstructionMode::Stairs => reconstruct_stairs(contours, grid, outside),
             ReconstructionMode::Interpolated => {
@@ -206,7 +229,7 @@ impl Inputs {
                 let warps = &self.edits.warps;
                 let at = |p: DVec2| {
                     let q = if warps.is_empty() { p } else { warps.inverse(p) };
-                    locator.interpolate(q, surface.heights).ok().flatten().unwrap_or(outside)
+                    locator.interpolate(q, &surface.heights.heights).ok().flatten().unwrap_or(outside)
                 };
                 let options = Interpolation { summit: Summit::Surface(&at), drain };
                 reconstruct_interpolated(contours, grid, outside, &options)
@@ -226,9 +249,10 @@ impl Inputs {
         drain: bool,
         sea_level: f64,
     ) -> Result<Heightfield, ReliefError> {
-        let (grid, outside) = (&self.grid, surface.outside);
+        let (grid, outside) = (&self.grid, surface.heights.outside);
         let fail = |e| E::step("reconstruction", e);
-        let mut hf = surface.graph.tin().rasterize(surface.heights, grid).map_err(|e| E::step("reconstruction", e))?;
+        let heights = self.smoothed_nodes(surface)?;
+        let mut hf = surface.graph.tin().rasterize(&heights, grid).map_err(|e| E::step("reconstruction", e))?;
         hf.fill_no_data(outside as f32).map_err(fail)?;
         if !self.edits.warps.is_empty() {
             let source = hf;

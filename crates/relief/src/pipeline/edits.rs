@@ -42,6 +42,14 @@ impl Edits {
         Ok(out)
     }
 
+    /// The smoothing edits, in order.
+    pub(super) fn smoothings(&self) -> impl Iterator<Item = &Smoothing> {
+        self.steps.iter().filter_map(|s| match s {
+            Step::Smooth(s) => Some(s),
+            Step::Warp(_) => None,
+        })
+    }
+
     /// How many edits there are: the units of work [`apply_edits`] ticks.
     pub(super) fn len(&self) -> usize {
         self.steps.len()

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::HistogramSource;
 use crate::contours::Levels;
 use crate::diffusion::{FeatureCurve, SolveOptions, Solver, TerrainOptions as DiffusionOptions};
-use crate::eden_growth::{FbmProbability, Region};
+use crate::eden_growth::{FbmProbability, Fronts, Region};
 use crate::gaussian_terrain::{SkeletonOptions, Tool, VectorTerrain};
 use crate::heightfield::Extent;
 use crate::island::{IslandSettings, Operation};
@@ -94,10 +94,19 @@ pub struct ContoursGenerator {
     /// How readily the growth advances where (default uniform).
     #[serde(default)]
     pub probability: Probability,
+    /// How nested levels grow: `"double"` (the paper's double front, default) or `"per_region"`
+    /// (Fig. 12's baseline: each level from its lower boundary alone).
+    #[serde(default, skip_serializing_if = "is_double")]
+    pub fronts: Fronts,
     /// Which contours to extract, besides the input contours' own levels (default 30 evenly
     /// spaced levels).
     #[serde(default = "contour_levels")]
     pub levels: Levels,
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref, reason = "serde's skip_serializing_if passes a reference")]
+fn is_double(fronts: &Fronts) -> bool {
+    *fronts == Fronts::Double
 }
 
 fn contour_levels() -> Levels {
