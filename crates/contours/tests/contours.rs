@@ -621,3 +621,94 @@ fn node_heights_smooth_within_their_bounds() {
     }
     assert_ne!(h, spiky);
 }
+
+/// A DEM of small integers (ties with the levels, saddles everywhere), no no-data.
+fn full_dem() -> impl Strategy<Value = Heightfield> {
+    (3usize..20, 3usize..20).prop_flat_map(|(nx, ny)| {
+        proptest::collection::vec((0u8..6).prop_map(f32::from), nx * ny).prop_map(move |v| {
+            let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap();
+            Heightfield::from_samples(grid, v).unwrap()
+        })
+    })
+}
+
+/// The rectangle a DEM's contours reach: its samples' extent and half a cell.
+fn outer_edge(dem: &Heightfield) -> relief_tin::poisson_sampling::Rect {
+    let e = dem.grid().extent();
+    let half = 0.5 * dem.grid().cell_size();
+    relief_tin::poisson_sampling::Rect::new(e.min - half, e.max + half)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// Closing a DEM's contours along its border gives closed, counter-clockwise rings around
+    /// higher ground (clockwise around pits) that never touch: each sample above a level lies in
+    /// an odd number of that level's rings... exactly: inside one more raised ring than pit ring.
+    #[test]
+    fn contours_closed_at_the_border_nest_and_enclose_the_higher_ground(dem in full_dem()) {
+        let levels = [0.5, 1.5, 2.0, 2.5, 3.5, 4.5];
+        let set = extract_dem(&dem, &levels).unwrap();
+        let border_min = (0..dem.nx() * dem.ny())
+            .filter(|k| { let (i, j) = (k % dem.nx(), k / dem.nx()); i == 0 || j == 0 || i + 1 == dem.nx() || j + 1 == dem.ny() })
+            .map(|k| f64::from(dem.samples()[k]))
+            .fold(f64::INFINITY, f64::min);
+        let closed = set.closed_at_border(outer_edge(&dem), Some(border_min)).unwrap();
+        closed.check_invariants().map_err(|e| TestCaseError::fail(e.to_string()))?;
+        prop_assert!(closed.contours().iter().all(|c| c.closed));
+        for (l, &h) in levels.iter().enumerate() {
+            for j in 0..dem.ny() {
+                for i in 0..dem.nx() {
+                    let p = dem.grid().position(i, j);
+                    let z = f64::from(dem.get(i, j).unwrap());
+                    // Winding: raised rings count +1, pits −1; a sample on the level counts above.
+                    let winding: i32 = closed
+                        .contours()
+                        .iter()
+                        .filter(|c| c.level as usize == l && inside_ring(p, &c.points))
+                        .map(|c| if c.is_counter_clockwise() { 1 } else { -1 })
+                        .sum();
+                    prop_assert_eq!(winding, i32::from(z >= h), "sample ({}, {}) at {} against level {}", i, j, z, h);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn closing_a_tilted_plane_along_its_border() {
+    // h = x over 0..=9: every level's contour is a vertical line cut at the bottom and top edges.
+    let grid = GridSpec::new(10, 6, DVec2::ZERO, DVec2::ONE).unwrap();
+    let dem = Heightfield::from_fn(grid, |p| p.x as f32).unwrap();
+    let set = extract_dem(&dem, &[-1.0, 2.5, 6.5]).unwrap();
+    assert!(set.contours().iter().all(|c| !c.closed));
+    let closed = set.closed_at_border(outer_edge(&dem), Some(0.0)).unwrap();
+    closed.check_invariants().unwrap();
+    assert_eq!(closed.len(), 3);
+    for c in closed.contours() {
+        assert!(c.is_counter_clockwise(), "{} m: higher ground inside", c.height);
+        // The ring spans from its level eastward to just beyond the east edge.
+        let b = c.bounds();
+        if c.height > 0.0 {
+            assert!((b.min.x - c.height).abs() < 1e-5, "{} m ring starts at x = {}", c.height, b.min.x);
+        }
+        assert!(b.max.x > 9.5 && b.max.x < 9.6, "{}", b.max.x);
+    }
+    // The level under the whole border is the rectangle itself, farthest out.
+    let outer = closed.contours().iter().find(|c| c.height == -1.0).unwrap();
+    assert_eq!(outer.points.len(), 4);
+    assert!(outer.bounds().min.x < closed.contours()[1].bounds().min.x.min(-0.5));
+    // An open line that ends inside the map cannot be closed along the border.
+    let cut = ContourSet::new(
+        vec![1.0],
+        vec![Contour {
+            level: 0,
+            height: 1.0,
+            points: vec![DVec2::new(1.0, -0.5), DVec2::new(1.0, 3.0)],
+            closed: false,
+        }],
+    )
+    .unwrap();
+    let err = cut.closed_at_border(outer_edge(&dem), None).unwrap_err();
+    assert!(err.to_string().contains("inside the map"), "{err}");
+}

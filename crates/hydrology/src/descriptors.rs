@@ -1,7 +1,7 @@
 //! Terrain descriptors (contours paper §6.5): histograms of elevation, slope and drainage area,
 //! the maximum Strahler order, and a distance between two descriptor sets.
 
-use relief_heightfield::Heightfield;
+use relief_heightfield::{GridSpec, Heightfield, Units, metres_per_degree};
 use serde::{Deserialize, Serialize};
 
 use crate::emd::{CdfShape, earth_movers_distance};
@@ -156,6 +156,15 @@ impl Descriptors {
     /// negative stream threshold.
     pub fn of(hf: &Heightfield, options: &DescriptorOptions) -> Result<Self, HydrologyError> {
         check_param("bins", options.bins as f64, |b| (1.0..=MAX_BINS as f64).contains(&b), "must lie in 1..=65536")?;
+        // Slopes and areas in metres: a geographic grid is measured at its middle latitude.
+        let metric;
+        let hf = match metric_copy(hf) {
+            Some(copy) => {
+                metric = copy;
+                &metric
+            }
+            None => hf,
+        };
         let filled = fill(hf, options.outlets)?;
         let z = hf.samples();
         let cells = z.iter().filter(|v| !v.is_nan()).count();
@@ -164,7 +173,7 @@ impl Descriptors {
         let slopes: Vec<f64> = (0..ny)
             .flat_map(|j| (0..nx).map(move |i| (i, j)))
             .filter_map(|(i, j)| hf.slope(i, j))
-            .map(|s| s.atan().to_degrees())
+            .map(f64::to_degrees)
             .collect();
         let slope_deg = CountHistogram::of(slopes.iter().copied(), options.bins);
         let area = mfd_drainage_area(&filled, options.routing)?;
@@ -189,4 +198,17 @@ impl Descriptors {
             strahler: i32::from(other.max_strahler) - i32::from(self.max_strahler),
         }
     }
+}
+
+/// A geographic heightfield on a metric grid of the same samples (cells measured at the middle
+/// latitude); `None` for a planar one.
+fn metric_copy(hf: &Heightfield) -> Option<Heightfield> {
+    let grid = hf.grid();
+    if grid.units() != Units::Degrees {
+        return None;
+    }
+    let extent = grid.extent();
+    let scale = metres_per_degree(0.5 * (extent.min.y + extent.max.y));
+    let metric = GridSpec::new(grid.nx(), grid.ny(), extent.min, grid.cell_size() * scale).ok()?;
+    Heightfield::from_samples(metric, hf.samples().to_vec()).ok()
 }

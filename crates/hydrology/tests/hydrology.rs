@@ -5,7 +5,7 @@
 use glam::DVec2;
 use proptest::prelude::*;
 use relief_heightfield::noise::Fbm;
-use relief_heightfield::{GridSpec, Heightfield};
+use relief_heightfield::{GridSpec, Heightfield, metres_per_degree};
 use relief_hydrology::{
     CountHistogram, D8, DescriptorOptions, Descriptors, Field, HydrologyError, Mfd, NO_RECEIVER, NoData, Outlets,
     StreamPower, Thermal, depressions, fill, has_endorheic_basins, mfd_drainage_area, strahler,
@@ -315,4 +315,21 @@ fn geographic_grids_measure_area_in_square_metres() {
     let expected: f64 = (0..8).map(|_| grid.cell_area_m2(0)).sum();
     assert!((a - expected).abs() < 1e-6 * expected);
     assert!(grid.cell_area_m2(0) > 4.0e5 && grid.cell_area_m2(0) < 4.6e5, "{}", grid.cell_area_m2(0));
+}
+
+#[test]
+fn descriptor_slopes_are_angles_in_metres_even_on_geographic_grids() {
+    // A plane rising 1 m per metre eastward: every slope is 45°.
+    let grid = GridSpec::new(32, 32, DVec2::ZERO, DVec2::splat(10.0)).unwrap();
+    let plane = Heightfield::from_fn(grid, |p| p.x as f32).unwrap();
+    let d = Descriptors::of(&plane, &DescriptorOptions::default()).unwrap();
+    let below = |h: &relief_hydrology::CountHistogram, x: f64| h.cdf(x);
+    assert!(below(&d.slope_deg, 44.0) < 0.01 && below(&d.slope_deg, 46.0) > 0.99, "{:?}", d.slope_deg);
+    // The same plane on a geographic grid at 60° N: 0.001° cells are 55.8 m east, 111.4 m north,
+    // and the ground rises 55.8 m per cell eastward, so the slope is 45° again.
+    let east = metres_per_degree(60.0).x * 0.001;
+    let geo = GridSpec::geographic(32, 32, DVec2::new(10.0, 60.0), DVec2::splat(0.001)).unwrap();
+    let tilted = Heightfield::from_fn(geo, |p| ((p.x - 10.0) / 0.001 * east) as f32).unwrap();
+    let g = Descriptors::of(&tilted, &DescriptorOptions::default()).unwrap();
+    assert!(below(&g.slope_deg, 44.0) < 0.01 && below(&g.slope_deg, 46.0) > 0.99, "{:?}", g.slope_deg);
 }

@@ -66,6 +66,7 @@ fn scene(seed: u64, regions: Vec<Region>, edits: Vec<Edit>, mode: Reconstruction
         generator: Generator::Contours(ContoursGenerator {
             regions,
             label_image: None,
+            contours: None,
             particles: Some(3_000),
             radius: None,
             histogram: Some(HistogramSource::Histogram(

@@ -4,6 +4,7 @@
 
 use glam::DVec2;
 
+use super::contour_input::{self, Regrowth};
 use super::edits::{Edits, apply_edits};
 use super::inputs::{Env, default_domain, raster_grid};
 use super::progress::Timer;
@@ -14,8 +15,8 @@ use crate::contours::{
     reconstruct_interpolated, reconstruct_stairs, smooth_heights,
 };
 use crate::eden_growth::{
-    EdenError, Graph, GraphOptions, LabelLevel, LabelMap, MaskOptions, ProbabilityMap, RasterProbability, RegionTree,
-    Sampling, Uniform, grow_with, hex,
+    EdenError, Graph, GraphOptions, LabelLevel, LabelMap, MaskOptions, ProbabilityMap, RasterProbability, Region,
+    RegionTree, Sampling, Uniform, grow_with, hex,
 };
 use crate::error::SceneError;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
@@ -46,6 +47,8 @@ struct Inputs {
 enum Source {
     Regions(RegionTree),
     Labels(LabelMap),
+    /// Regions made from contour input, with what the input reported.
+    Contours(RegionTree, Box<Regrowth>),
 }
 
 /// The histogram the heights follow: the scene's, or one derived from the regions' heights once
@@ -66,7 +69,7 @@ pub(super) fn generate(
     env: &Env<'_>,
     timer: &mut Timer<'_>,
 ) -> Result<Generated, ReliefError> {
-    let inputs = timer.step("inputs", || Inputs::prepare(scene, g, env))?;
+    let mut inputs = timer.step("inputs", || Inputs::prepare(scene, g, env))?;
     let graph = timer.step("graph", || inputs.graph(scene.seed))?;
     let growth = timer.step("growth", || {
         grow_with(&graph, inputs.probability.as_ref(), growth_seed(scene.seed), g.fronts)
@@ -95,11 +98,15 @@ pub(super) fn generate(
     let nodes_ks = histogram.ks_distance(&inside);
     let mask = match &inputs.source {
         Source::Labels(labels) => labels.cleaning().cloned(),
-        Source::Regions(_) => None,
+        Source::Regions(_) | Source::Contours(..) => None,
     };
     let warnings = match &inputs.source {
         Source::Labels(labels) => merge_warning(labels),
-        Source::Regions(_) => None,
+        Source::Regions(_) | Source::Contours(..) => None,
+    };
+    let (contour_input, reference) = match inputs.source {
+        Source::Contours(_, regrowth) => (Some(regrowth.summary), regrowth.reference.map(Box::new)),
+        Source::Regions(_) | Source::Labels(_) => (None, None),
     };
     let warnings = warnings.into_iter().chain(fit_warning(&histogram, &ranking, nodes_ks)).collect();
     let report = Report::Contours {
@@ -113,6 +120,8 @@ pub(super) fn generate(
         nodes_ks,
         histogram,
         mask,
+        contour_input,
+        reference,
     };
     Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report, warnings })
 }
@@ -141,14 +150,22 @@ struct Surface<'a> {
 impl Inputs {
     fn prepare(scene: &Scene, g: &ContoursGenerator, env: &Env<'_>) -> Result<Self, ReliefError> {
         let sampling = sampling(g)?;
-        let source = match (&g.label_image, g.regions.is_empty()) {
-            (Some(_), false) => return Err(E::at(GENERATOR, SceneError::Conflict("regions", "label_image"))),
-            (None, true) => {
-                let missing = SceneError::Missing("at least one region (or `label_image`)");
+        let source = match (&g.label_image, g.regions.is_empty(), &g.contours) {
+            (Some(_), false, _) => return Err(E::at(GENERATOR, SceneError::Conflict("regions", "label_image"))),
+            (_, false, Some(_)) => return Err(E::at(GENERATOR, SceneError::Conflict("regions", "contours"))),
+            (Some(_), _, Some(_)) => return Err(E::at(GENERATOR, SceneError::Conflict("label_image", "contours"))),
+            (None, true, None) => {
+                let missing = SceneError::Missing("at least one region (or `label_image`, or `contours`)");
                 return Err(E::at(format!("{GENERATOR}.regions"), missing));
             }
-            (None, false) => Source::Regions(RegionTree::new(g.regions.clone()).map_err(|e| E::located(GENERATOR, e))?),
-            (Some(label), true) => Source::Labels(label_map(label, env, sampling)?),
+            (None, false, None) => {
+                Source::Regions(RegionTree::new(g.regions.clone()).map_err(|e| E::located(GENERATOR, e))?)
+            }
+            (Some(label), true, None) => Source::Labels(label_map(label, env, sampling)?),
+            (None, true, Some(spec)) => {
+                let regrowth = contour_input::read(spec, env, sampling)?;
+                Source::Contours(contour_input::tree(&regrowth.regions)?, Box::new(regrowth))
+            }
         };
         let target = match &g.histogram {
             Some(source) => Target::Given(histogram(source, env)?),
@@ -159,6 +176,7 @@ impl Inputs {
         let extent = scene.domain.unwrap_or_else(|| match &source {
             Source::Labels(l) => l.grid().extent(),
             Source::Regions(t) => default_domain(t.omega().bounds(), scene.reconstruction.resolution),
+            Source::Contours(_, regrowth) => regrowth.extent,
         });
         let grid = raster_grid(scene, extent)?;
         let probability = probability(&g.probability, env, &extent, scene.seed)?;
@@ -166,15 +184,16 @@ impl Inputs {
         Ok(Self { source, sampling, target, probability, levels, edits, grid, max_particles: env.budget.max_particles })
     }
 
-    fn graph(&self, seed: u64) -> Result<Graph, ReliefError> {
+    fn graph(&mut self, seed: u64) -> Result<Graph, ReliefError> {
         let options = GraphOptions {
             sampling: self.sampling,
             max_particles: self.max_particles,
             ..GraphOptions::particles(1).with_seed(seed)
         };
-        let graph = match &self.source {
+        let graph = match &mut self.source {
             Source::Regions(tree) => Graph::from_regions(tree, &options),
             Source::Labels(labels) => Graph::from_labels(labels, &options),
+            Source::Contours(tree, regrowth) => return contour_graph(tree, regrowth, &options),
         };
         // The two errors whose place depends on how the scene gave its inputs.
         graph.map_err(|e| match (&e, self.sampling) {
@@ -279,6 +298,35 @@ impl Inputs {
     }
 }
 
+/// The graph over regions made from contour input: a region the sampling misses (a ring just
+/// over the size cut, but thin) is dropped with what it encloses, and the graph built again.
+fn contour_graph(tree: &mut RegionTree, regrowth: &mut Regrowth, options: &GraphOptions) -> Result<Graph, ReliefError> {
+    const RETRIES: usize = 8;
+    for _ in 0..RETRIES {
+        match Graph::from_regions(tree, options) {
+            Err(EdenError::RegionTooSmall { region, .. }) => {
+                let inside = |mut i: usize| loop {
+                    if i == region {
+                        return true;
+                    }
+                    match tree.parent(i) {
+                        Some(p) => i = p,
+                        None => return false,
+                    }
+                };
+                let kept: Vec<Region> =
+                    tree.regions().iter().enumerate().filter(|&(i, _)| !inside(i)).map(|(_, r)| r.clone()).collect();
+                regrowth.summary.dropped_small += tree.regions().len() - kept.len();
+                regrowth.summary.regions = kept.len();
+                regrowth.summary.depressions = kept.iter().filter(|r| r.depression).count();
+                *tree = contour_input::tree(&kept)?;
+            }
+            other => return other.map_err(|e| E::at("generator.contours.contours", e)),
+        }
+    }
+    Err(E::at("generator.contours.contours", "too many contour rings hold no graph node: raise the particle count"))
+}
+
 /// How densely the graph samples Ω: `particles` or `radius`.
 fn sampling(g: &ContoursGenerator) -> Result<Sampling, ReliefError> {
     let out_of_range = |field: &str, value: String, rule| {
@@ -351,7 +399,7 @@ impl Target {
     /// inside it are needed.
     fn from_heights(source: &Source) -> Result<Self, ReliefError> {
         let heights = match source {
-            Source::Regions(tree) => tree.level_heights(),
+            Source::Regions(tree) | Source::Contours(tree, _) => tree.level_heights(),
             Source::Labels(labels) => labels.level_heights(),
         };
         let anchors: Vec<(usize, f64)> =

@@ -12,6 +12,7 @@
 //! starts, and a bad one fails with a [`ReliefError::Scene`] naming its JSON path
 //! (`generator.contours.regions[2].polygon`, `edits[1].warp.radius`, …), whichever step finds it.
 
+mod contour_input;
 mod contours;
 mod diffusion;
 mod edits;
@@ -42,6 +43,7 @@ use crate::eden_growth::MaskCleaning;
 use crate::heightfield::Heightfield;
 use crate::scene::{Generator, Scene};
 use crate::{ReliefError, ReliefError as E};
+use contour_input::ContourInputSummary;
 use inputs::Env;
 use progress::Timer;
 
@@ -59,7 +61,15 @@ pub(crate) struct Generated {
 /// The part of the summary only one generator knows.
 pub(crate) enum Report {
     /// The growth graph, the target histogram and the KS distance of the node heights to it.
-    Contours { graph: GraphSummary, histogram: Histogram, nodes_ks: f64, mask: Option<MaskCleaning> },
+    Contours {
+        graph: GraphSummary,
+        histogram: Histogram,
+        nodes_ks: f64,
+        mask: Option<MaskCleaning>,
+        contour_input: Option<ContourInputSummary>,
+        /// The DEM contour input came from (its name and grid), to compare the result with.
+        reference: Option<Box<(String, Heightfield)>>,
+    },
     /// How the diffusion solve went.
     Diffusion(SolveReport),
     /// The island's final shape.
@@ -154,8 +164,16 @@ fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<
             (contours, histogram)
         }
     };
+    let comparison = match &report {
+        Report::Contours { reference: Some(reference), .. } => {
+            let (name, dem) = reference.as_ref();
+            Some(timer.step("comparison", || contour_input::compare(&heightfield, name, dem))?)
+        }
+        _ => None,
+    };
     let timings = std::mem::take(&mut timer.timings);
     let mut summary = Summary::new(scene, report, &heightfield, &contours, sea_level, drainage, timings);
+    summary.comparison = comparison;
     summary.warnings = warnings;
     Ok(Terrain { heightfield, contours, histogram, sea_level, summary })
 }

@@ -4,6 +4,7 @@
 use serde::Serialize;
 
 use super::Report;
+use super::contour_input::{Comparison, ContourInputSummary};
 use super::progress::Timing;
 use crate::contours::{ContourSet, Histogram};
 use crate::diffusion::SolveReport;
@@ -22,6 +23,12 @@ pub struct Summary {
     /// Graph statistics (contour generator only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub graph: Option<GraphSummary>,
+    /// What reading contour input did (contour generator from `contours` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contour_input: Option<ContourInputSummary>,
+    /// The terrain against the DEM its contours came from (§6.5 of the contours paper).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub comparison: Option<Comparison>,
     /// What reading the label image changed (contour generator from a label image only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub label_image: Option<MaskSummary>,
@@ -270,6 +277,8 @@ impl Summary {
             scene: scene.clone(),
             graph: None,
             label_image: None,
+            contour_input: None,
+            comparison: None,
             contours: ContourSummary {
                 levels: contours.levels().len(),
                 contours: contours.len(),
@@ -294,8 +303,9 @@ impl Summary {
             timings_ms,
         };
         match report {
-            Report::Contours { graph, histogram, nodes_ks, mask } => {
+            Report::Contours { graph, histogram, nodes_ks, mask, contour_input, reference: _ } => {
                 summary.graph = Some(graph);
+                summary.contour_input = contour_input;
                 summary.label_image = mask.as_ref().map(MaskSummary::from);
                 summary.histogram_match =
                     Some(HistogramMatch { nodes: nodes_ks, raster: land_ks(&histogram, heightfield, sea_level) });

@@ -79,6 +79,10 @@ pub struct ContoursGenerator {
     /// A label image: each gray level one nested region, the darkest outside (give this or `regions`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub label_image: Option<LabelImage>,
+    /// Contours to regrow from, instead of `regions` or `label_image`: a DEM's (closed along its
+    /// border) or a GeoJSON's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contours: Option<ContourInput>,
     /// About this many graph nodes inside the domain (default 50 000 when `radius` is absent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub particles: Option<usize>,
@@ -129,6 +133,31 @@ pub struct LabelImage {
     /// nearest level around them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub levels: Option<Vec<LabelLevelSpec>>,
+}
+
+/// Contours a scene regrows terrain from (the contours paper's Fig. 24): every closed contour a
+/// nested region at its height, pits as depressions.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ContourInput {
+    /// A DEM (any heightfield format) whose contours to take; they are closed along its border,
+    /// its lowest elevation is the coast, and the summary compares the result with it (§6.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dem: Option<PathBuf>,
+    /// A GeoJSON of contour lines (closed rings, or lines cut by the map's edge) or polygons with
+    /// an elevation property; a previous run's `contours.geojson` works as it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geojson: Option<PathBuf>,
+    /// DEM: contour spacing (default: 10 intervals over its range, rounded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interval: Option<f64>,
+    /// DEM: these contour heights instead of an interval.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heights: Option<Vec<f64>>,
+    /// GeoJSON: the property holding each feature's elevation (default: the first present of
+    /// `elevation`, `ELEV`, `elev`, `height`, `z`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub property: Option<String>,
 }
 
 /// One row of a label image's colour table: a colour, and the level it marks. Rows go from the

@@ -27,8 +27,9 @@ use crate::hydrology::{StreamPower, Thermal};
 use crate::warp::{PathWarp, SlopeModulation};
 
 pub use generators::{
-    Border, ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource, Generator, IslandGenerator,
-    LabelImage, LabelLevelSpec, LabelValue, OrometryGenerator, OrometrySource, OrometryTypes, Probability,
+    Border, ContourInput, ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource, Generator,
+    IslandGenerator, LabelImage, LabelLevelSpec, LabelValue, OrometryGenerator, OrometrySource, OrometryTypes,
+    Probability,
 };
 pub use histogram::HistogramSource;
 pub use inputs::InputOptions;

@@ -1,0 +1,100 @@
+//! Contours as a scene's input: a real DEM's, closed along its border and regrown with the DEM's
+//! histogram (the contours paper's Fig. 24, with its §6.5 comparison), and a previous run's
+//! GeoJSON fed back in (the loop of Fig. 2).
+
+use std::path::{Path, PathBuf};
+
+use relief::pipeline::{generate, run};
+use relief::scene::Scene;
+use serde_json::json;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+#[allow(clippy::needless_pass_by_value, reason = "called with json! literals")]
+fn scene(contours: serde_json::Value, histogram: Option<serde_json::Value>) -> Scene {
+    let mut generator = json!({ "contours": contours, "particles": 20000 });
+    if let Some(h) = histogram {
+        generator["histogram"] = h;
+    }
+    let value = json!({
+        "version": 1,
+        "seed": 5,
+        "generator": { "contours": generator },
+        "reconstruction": { "resolution": [160, 140] }
+    });
+    Scene::from_json(&value.to_string()).unwrap()
+}
+
+#[test]
+fn jacksboro_regrown_from_its_own_contours_matches_it() {
+    let dem = "fixtures/dem/jacksboro.asc";
+    let scene = scene(json!({ "dem": dem, "interval": 100 }), Some(json!({ "dem": dem })));
+    let terrain = generate(&scene, &root(), &mut ()).unwrap();
+    let input = terrain.summary.contour_input.as_ref().unwrap();
+    assert_eq!(input.heights[1..], [300.0, 400.0, 500.0, 600.0, 700.0, 800.0, 900.0, 1000.0]);
+    assert!(input.closed_at_border > 20, "{input:?}");
+    assert!(input.regions > 50, "{input:?}");
+    terrain.contours.check_invariants().unwrap();
+    // The given contours are iso-contours of the result: a sample inside a region lies above it.
+    // And the §6.5 comparison with the DEM: the elevation distributions match (the histogram is
+    // the DEM's), the river networks have the same order.
+    let c = terrain.summary.comparison.as_ref().unwrap();
+    assert!(c.distance.elevation < 10.0, "{c:?}");
+    assert!(c.distance.strahler.abs() <= 1, "{c:?}");
+    assert!(c.mean_slope_deg[1] > 5.0 && c.mean_slope_deg[1] < 30.0, "slopes in metres: {c:?}");
+    assert!(c.mean_slope_deg[0] > 0.4 * c.mean_slope_deg[1], "{c:?}");
+    assert!(c.peaks.iter().all(|p| p.peaks[1] > 0), "{c:?}");
+}
+
+#[test]
+fn a_previous_runs_geojson_regrows_with_the_same_levels() {
+    let dir = tempfile::tempdir().unwrap();
+    let source = relief::pipeline::load_scene(root().join("fixtures/scenes/coastline-island.json")).unwrap();
+    run(&source, &root().join("fixtures/scenes"), dir.path(), &mut ()).unwrap();
+    let geojson = dir.path().join("contours.geojson");
+    let again = scene(json!({ "geojson": geojson }), None);
+    let terrain = generate(&again, dir.path(), &mut ()).unwrap();
+    let input = terrain.summary.contour_input.as_ref().unwrap();
+    assert_eq!(input.closed_at_border, 0, "a contour run writes closed rings");
+    assert!(input.regions >= 5, "{input:?}");
+    // Heights derive the histogram; the regrown contours include every input height.
+    let heights: Vec<f64> = terrain.contours.levels().to_vec();
+    for h in &input.heights {
+        assert!(heights.iter().any(|l| (l - h).abs() < 1e-9), "{h} missing from {heights:?}");
+    }
+}
+
+#[test]
+fn gdal_style_lines_with_an_elev_property_are_closed_along_their_extent() {
+    // Two lines of a tilted plane as gdal_contour writes them (`-a ELEV`), cut at the map's edge,
+    // higher ground to their left, and a closed hilltop ring.
+    let dir = tempfile::tempdir().unwrap();
+    let line = |x: f64, elev: f64| {
+        json!({ "type": "Feature", "properties": { "ELEV": elev },
+                "geometry": { "type": "LineString", "coordinates": [[x, 1000.0], [x + 50.0, 500.0], [x, 0.0]] } })
+    };
+    let ring = json!({ "type": "Feature", "properties": { "ELEV": 300.0 },
+        "geometry": { "type": "Polygon", "coordinates": [[[700.0, 400.0], [900.0, 400.0], [900.0, 600.0], [700.0, 600.0], [700.0, 400.0]]] } });
+    let doc = json!({ "type": "FeatureCollection", "features": [line(200.0, 100.0), line(500.0, 200.0), ring] });
+    std::fs::write(dir.path().join("lines.geojson"), doc.to_string()).unwrap();
+    let terrain = generate(&scene(json!({ "geojson": "lines.geojson" }), None), dir.path(), &mut ()).unwrap();
+    let input = terrain.summary.contour_input.as_ref().unwrap();
+    assert_eq!((input.closed_at_border, input.regions), (2, 3), "{input:?}");
+    let hf = &terrain.heightfield;
+    let at = |x: f64, y: f64| f64::from(hf.sample_bilinear_clamped(glam::DVec2::new(x, y)).unwrap());
+    // The lines' extent is the map: west of the 100 m line is outside the land, east of it
+    // higher, the hilltop highest.
+    assert!(at(210.0, 500.0) < 150.0 && at(400.0, 500.0) > 100.0 && at(400.0, 500.0) < 200.0, "west is lower");
+    assert!(at(800.0, 500.0) > 300.0, "the hilltop");
+    // Without the property the file is refused, naming what is missing.
+    let err =
+        generate(&scene(json!({ "geojson": "lines.geojson", "property": "height_m" }), None), dir.path(), &mut ())
+            .unwrap_err();
+    assert!(err.to_string().contains("height_m"), "{err}");
+    // Both a DEM and a GeoJSON: refused.
+    let err =
+        generate(&scene(json!({ "geojson": "lines.geojson", "dem": "x.asc" }), None), dir.path(), &mut ()).unwrap_err();
+    assert!(err.to_string().contains("not both"), "{err}");
+}
