@@ -47,6 +47,19 @@ pub(crate) fn run(root: &Path) -> Result<()> {
             .with_context(|| format!("copying the preview of {name}"))?;
         let text = fs::read_to_string(scene)?;
         let json: serde_json::Value = serde_json::from_str(&text)?;
+        // A scene regrown from a DEM's contours shows the DEM beside it (Fig. 24).
+        if let Some(dem) = json["generator"]["contours"]["contours"]["dem"].as_str() {
+            let dem = scene.parent().context("scene without a folder")?.join(dem);
+            crate::run(
+                Command::new(&relief)
+                    .current_dir(root)
+                    .args(["-q", "--force", "preview"])
+                    .arg(&dem)
+                    .arg("-o")
+                    .arg(images.join(format!("{name}-dem.png")))
+                    .args(["--contours", "50", "--max-size", "512"]),
+            )?;
+        }
         let summary: serde_json::Value = serde_json::from_str(&fs::read_to_string(out.join("summary.json"))?)?;
         entries.push(Entry {
             scene: scene.strip_prefix(root).unwrap_or(scene).display().to_string(),
@@ -130,10 +143,11 @@ fn render(entries: &[Entry]) -> String {
                 ks = s["histogram_match"]["raster"].as_f64().unwrap_or(f64::NAN),
             )
         };
+        let comparison = comparison(&s["comparison"], &e.name);
         let _ = write!(
             md,
             "\n## {name}\n\n{description}\n\n{source}{contours} contours on {levels} levels, {nx} × {ny} \
-             heightfield, {total_ms:.0} ms.\n\n![{name}](gallery/{name}.png)\n",
+             heightfield, {total_ms:.0} ms.\n\n![{name}](gallery/{name}.png){comparison}\n",
             name = e.name,
             description = e.description,
             contours = s["contours"]["contours"],
@@ -143,4 +157,30 @@ fn render(entries: &[Entry]) -> String {
         );
     }
     md
+}
+
+/// The §6.5 comparison of a terrain regrown from a DEM's contours, as a table, and the DEM's
+/// preview to set beside ours; empty without one.
+fn comparison(c: &serde_json::Value, name: &str) -> String {
+    if !c.is_object() {
+        return String::new();
+    }
+    let pair = |v: &serde_json::Value, digits: usize| {
+        format!("{:.digits$} | {:.digits$}", v[0].as_f64().unwrap_or(f64::NAN), v[1].as_f64().unwrap_or(f64::NAN))
+    };
+    let d = &c["distance"];
+    let mut out = format!(
+        " ![{name}: the DEM](gallery/{name}-dem.png)\n\nOurs (left) against the DEM (right), as the paper's §6.5: \
+         earth mover's distances of {e:.1} m (elevation), {s:.2}° (slope) and {a:.3} decades (MFD drainage area).\n\n\
+         | | ours | DEM |\n|---|---|---|\n| max Strahler order | {st} |\n| mean slope (°) | {sl} |\n",
+        e = d["elevation"].as_f64().unwrap_or(f64::NAN),
+        s = d["slope_deg"].as_f64().unwrap_or(f64::NAN),
+        a = d["log10_drainage_area"].as_f64().unwrap_or(f64::NAN),
+        st = pair(&c["max_strahler"], 0),
+        sl = pair(&c["mean_slope_deg"], 1),
+    );
+    for p in c["peaks"].as_array().into_iter().flatten() {
+        let _ = writeln!(out, "| peaks ≥ {} m prominent | {} |", p["min_prominence"], pair(&p["peaks"], 0));
+    }
+    out
 }

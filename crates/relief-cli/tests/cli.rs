@@ -160,7 +160,14 @@ fn every_fixture_scene_generates_checked_outputs() {
         // Contour scenes nest unless they have a depression; contours drawn from a diffused
         // terrain may enclose local minima, so only crossing is checked there.
         let (command, depressions) = match &scene.generator {
-            Generator::Contours(g) => ("generate", g.regions.iter().any(|r| r.depression)),
+            // A DEM's contours may hold pits, which become depressions.
+            Generator::Contours(g) => {
+                let label_pits = g
+                    .label_image
+                    .as_ref()
+                    .is_some_and(|l| l.depressions || l.levels.iter().flatten().any(|r| r.depression));
+                ("generate", g.regions.iter().any(|r| r.depression) || g.contours.is_some() || label_pits)
+            }
             Generator::Diffusion(_) => ("diffuse", true),
             // Hills and perturbations leave hollows (a crater, dents) on an island; sums of
             // Gaussians have hollows between primitives. Orometric terrain is filled (no closed

@@ -1,0 +1,60 @@
+//! The contours paper's figures as scenes behave as the paper describes: the Fig. 27 editing
+//! session step by step, the teaser's label map.
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec2;
+use relief::pipeline::{generate, load_scene};
+use relief::scene::Scene;
+
+fn scenes() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes")
+}
+
+/// A fixture scene at a smaller raster.
+fn scene(name: &str) -> Scene {
+    let mut scene = load_scene(scenes().join(format!("{name}.json"))).unwrap();
+    scene.reconstruction.resolution = [160, 160];
+    scene
+}
+
+/// Where the highest sample lies.
+fn summit(name: &str) -> DVec2 {
+    let terrain = generate(&scene(name), &scenes(), &mut ()).unwrap();
+    let hf = &terrain.heightfield;
+    let (k, _) = hf.samples().iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)).unwrap();
+    hf.grid().position(k % hf.nx(), k / hf.nx())
+}
+
+#[test]
+fn fig_27_the_larger_range_rises_higher_until_a_contour_lifts_the_other() {
+    // (2): two ranges without heights; the larger, bottom-left one reaches higher ground.
+    let top = summit("editing-session-2-ranges");
+    assert!(top.x < 0.0 && top.y < 0.0, "the summit should be in the bottom-left range, not at {top}");
+    // (3): a 1400 m contour inside the right-hand range lifts it above the left one.
+    let top = summit("editing-session-3-summit-and-crater");
+    assert!(top.distance(DVec2::new(1950.0, 2050.0)) < 800.0, "the summit should be inside the 1400 m contour: {top}");
+}
+
+#[test]
+fn fig_27_the_histogram_step_raises_the_coastal_land() {
+    // (4) keeps the contours of (3) and takes fewer low elevations: the land near the coast rises.
+    let share_low = |name: &str| {
+        let terrain = generate(&scene(name), &scenes(), &mut ()).unwrap();
+        let land: Vec<f32> = terrain.heightfield.samples().iter().copied().filter(|&v| v > 0.0).collect();
+        land.iter().filter(|&&v| v < 250.0).count() as f64 / land.len() as f64
+    };
+    let (before, after) = (share_low("editing-session-3-summit-and-crater"), share_low("editing-session-4-histogram"));
+    assert!(after < 0.75 * before, "land under 250 m: {before:.2} before, {after:.2} after");
+}
+
+#[test]
+fn the_teaser_mask_gives_its_three_levels_at_their_heights() {
+    let terrain = generate(&scene("teaser"), &scenes(), &mut ()).unwrap();
+    assert_eq!(terrain.summary.graph.as_ref().unwrap().levels, 3);
+    let mask = terrain.summary.label_image.as_ref().unwrap();
+    assert_eq!(mask.levels, ["#000000", "#424242", "#9d9d9d", "#ffffff"]);
+    for h in [0.0, 300.0, 600.0] {
+        assert!(terrain.contours.levels().contains(&h), "the {h} m contour");
+    }
+}
