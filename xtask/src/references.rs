@@ -19,6 +19,9 @@ pub(crate) enum Reference {
     },
 }
 
+/// The Fig. 26 baseline: the ratio is the slowdown the paper plots (at most 2 up to six regions).
+const FIG_26: &str = "one region, same run (Fig. 26: the paper's ratio stays ≤ 2)";
+
 /// `(criterion id, reference)`; a benchmark may have several references.
 pub(crate) const REFERENCES: &[(&str, Reference)] = &[
     (
@@ -80,6 +83,10 @@ pub(crate) const REFERENCES: &[(&str, Reference)] = &[
     ("eden/growth/100000", Reference::Fixed { label: "authors' code, this machine class", seconds: 6.9 }),
     ("eden/growth/500000", Reference::Fixed { label: "paper, Table 1 (Ryzen 5 5600X)", seconds: 91.79 }),
     ("eden/graph/100000", Reference::Fixed { label: "authors' code, this machine class", seconds: 1.9 }),
+    ("eden/regions/2", Reference::SideBySide { label: FIG_26, bench: "eden/regions/1" }),
+    ("eden/regions/4", Reference::SideBySide { label: FIG_26, bench: "eden/regions/1" }),
+    ("eden/regions/16", Reference::SideBySide { label: FIG_26, bench: "eden/regions/1" }),
+    ("eden/regions/64", Reference::SideBySide { label: FIG_26, bench: "eden/regions/1" }),
     ("relief_table1/growth/10000", Reference::Fixed { label: "paper, Table 1 (Ryzen 5 5600X)", seconds: 0.086 }),
     ("relief_table1/growth/10000", Reference::Fixed { label: "authors' code, this machine class", seconds: 0.180 }),
     ("relief_table1/growth/20000", Reference::Fixed { label: "paper, Table 1 (Ryzen 5 5600X)", seconds: 0.297 }),
