@@ -258,14 +258,62 @@ pub fn grow_with(
     Ok(Growth { order, rank, level_offsets, seeds })
 }
 
+/// Open Eden Growth over part of a triangulation: the `members` nodes, from those beside a
+/// non-member inward (§4.2), weighted by `probability`. Returns the members in growth order;
+/// members no boundary node reaches (a part walled off by non-members) follow in id order.
+/// For tools that regrow a region of a generated terrain (filling a contour's inside).
+///
+/// # Errors
+/// [`EdenError::InvalidProbability`] and [`EdenError::ZeroProbability`] as [`grow`];
+/// [`EdenError::GrowthMismatch`] when `members` is not one flag per node.
+pub fn grow_within(
+    tin: &Tin,
+    members: &[bool],
+    probability: &(impl ProbabilityMap + ?Sized),
+    seed: u64,
+) -> Result<Vec<u32>, EdenError> {
+    let n = tin.num_points();
+    if members.len() != n {
+        return Err(EdenError::GrowthMismatch { reason: format!("{} member flags for {n} nodes", members.len()) });
+    }
+    let levels: Vec<u16> = members.iter().map(|&m| u16::from(m)).collect();
+    let weight = node_weights(tin.points(), &levels, probability)?;
+    let mut state = State {
+        tin,
+        levels: &levels,
+        frontier: Frontier::new(&weight),
+        stamp: vec![0; n],
+        run: 0,
+        rng: ChaCha8Rng::seed_from_u64(seed),
+        free: Vec::with_capacity(16),
+        fronts: Fronts::Double,
+    };
+    let seeds: Vec<u32> = (0..n as u32)
+        .filter(|&v| members[v as usize] && tin.neighbors(v).iter().any(|&w| !members[w as usize]))
+        .collect();
+    let mut order = Vec::with_capacity(levels.iter().filter(|&&l| l == 1).count());
+    state.run(1, &seeds, true, |v| order.push(v));
+    let run = state.run;
+    order.extend((0..n as u32).filter(|&v| members[v as usize] && state.stamp[v as usize] != run));
+    Ok(order)
+}
+
 /// P at every node, validated and quantised to integer weights.
 fn weights(graph: &Graph, probability: &(impl ProbabilityMap + ?Sized)) -> Result<Vec<u64>, EdenError> {
-    let points = graph.tin().points();
+    node_weights(graph.tin().points(), graph.levels(), probability)
+}
+
+/// P at `points`, validated (at least one node of level ≥ 1 positive) and quantised.
+fn node_weights(
+    points: &[glam::DVec2],
+    levels: &[u16],
+    probability: &(impl ProbabilityMap + ?Sized),
+) -> Result<Vec<u64>, EdenError> {
     let raw: Vec<f64> = points.par_iter().map(|&p| probability.probability(p)).collect();
     if let Some(k) = raw.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
         return Err(EdenError::InvalidProbability { x: points[k].x, y: points[k].y, value: raw[k] });
     }
-    let max = raw.iter().zip(graph.levels()).filter(|(_, l)| **l >= 1).map(|(v, _)| *v).fold(0.0, f64::max);
+    let max = raw.iter().zip(levels).filter(|(_, l)| **l >= 1).map(|(v, _)| *v).fold(0.0, f64::max);
     if max <= 0.0 {
         return Err(EdenError::ZeroProbability);
     }

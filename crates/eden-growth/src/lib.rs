@@ -45,7 +45,7 @@ mod regions;
 
 pub use error::EdenError;
 pub use graph::{Graph, GraphOptions, Sampling};
-pub use growth::{Fronts, Growth, UNRANKED, grow, grow_with};
+pub use growth::{Fronts, Growth, UNRANKED, grow, grow_with, grow_within};
 pub use masks::{COLOR_TOLERANCE, LabelLevel, MaskCleaning, MaskOptions, MergedPatch, hex};
 pub use probability::{FbmProbability, ProbabilityMap, RasterProbability, Uniform};
 pub use regions::{LabelMap, MAX_LABEL_LEVELS, Region, RegionTree};

@@ -80,6 +80,7 @@ pub mod harness;
 pub mod overlay;
 pub mod pipeline;
 pub mod scene;
+pub mod tools;
 pub mod vector;
 
 pub use budget::Budget;

@@ -5,9 +5,9 @@
 use glam::DVec2;
 
 use super::contour_input::{self, Regrowth};
-use super::edits::{Edits, apply_edits};
+use super::edits::{Edits, Tool, ToolKind, apply_edits};
 use super::inputs::{Env, default_domain, raster_grid};
-use super::progress::Timer;
+use super::progress::{Tick, Timer};
 use super::summary::GraphSummary;
 use super::{Generated, Report};
 use crate::contours::{
@@ -24,7 +24,7 @@ use crate::poisson_sampling::Polygon;
 use crate::scene::{ContoursGenerator, HistogramSource, LabelImage, Probability, ReconstructionMode, Scene};
 use crate::tin::PointLocator;
 use crate::warp::{Warp, warp_raster};
-use crate::{ReliefError, ReliefError as E};
+use crate::{ReliefError, ReliefError as E, tools};
 
 /// Default node count when a scene gives neither `particles` nor `radius`.
 pub const DEFAULT_PARTICLES: usize = 50_000;
@@ -79,16 +79,23 @@ pub(super) fn generate(
     let histogram = inputs.target.histogram(&level_ends)?;
     let ranking =
         Ranking { order: growth.order(), level_ends: &level_ends, level_heights: &graph.level_heights()[1..] };
-    let heights = timer.step("heights", || {
+    let mut heights = timer.step("heights", || {
         assign_heights(graph.tin().num_points(), &ranking, &histogram)
             .map_err(|e| E::located(&format!("{GENERATOR}.histogram"), e))
     })?;
     let sea_level = heights.level_boundaries[0];
-    let contours = timer.step("contours", || {
-        let mut levels = inputs.levels.clone();
-        levels.extend_from_slice(&heights.level_boundaries);
-        extract_tin(graph.tin(), &heights.heights, &merge_levels(levels)).map_err(|e| E::step("contours", e))
-    })?;
+    let mut levels = inputs.levels.clone();
+    levels.extend_from_slice(&heights.level_boundaries);
+    let levels = merge_levels(levels);
+    let extract = |heights: &[f64]| extract_tin(graph.tin(), heights, &levels).map_err(|e| E::step("contours", e));
+    if !inputs.edits.tools.is_empty() {
+        let tools = inputs.edits.tools.len() as u64;
+        timer.counted("tools", tools, |tick| {
+            let probability = inputs.probability.as_ref();
+            apply_tools(&graph, &mut heights.heights, &inputs.edits.tools, &extract, probability, scene.seed, tick)
+        })?;
+    }
+    let contours = timer.step("contours", || extract(&heights.heights))?;
     let tolerance = graph.radius() / 20.0;
     let edit_count = inputs.edits.len() as u64;
     let contours = timer.counted("edits", edit_count, |tick| apply_edits(contours, &inputs.edits, tolerance, tick))?;
@@ -124,6 +131,42 @@ pub(super) fn generate(
         reference,
     };
     Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report, warnings })
+}
+
+/// Applies the scene's contour tools to the node heights in order, each picking its contour on
+/// the contours of the heights as they are then.
+fn apply_tools(
+    graph: &Graph,
+    heights: &mut [f64],
+    tools: &[(usize, Tool)],
+    extract: &dyn Fn(&[f64]) -> Result<ContourSet, ReliefError>,
+    probability: &dyn ProbabilityMap,
+    seed: u64,
+    tick: &mut Tick<'_>,
+) -> Result<(), ReliefError> {
+    let tin = graph.tin();
+    for (k, &(i, tool)) in tools.iter().enumerate() {
+        let at = format!("edits[{i}].{}", tool.kind.name());
+        let set = extract(heights)?;
+        let Some(c) = tools::pick(&set, tool.at, tool.height) else {
+            let reason = format!("no closed contour around ({}, {})", tool.at.x, tool.at.y);
+            return Err(E::at(format!("{at}.at"), reason));
+        };
+        let seed = growth_seed(seed) ^ (k as u64 + 1).wrapping_mul(0xA24B_AED4_963E_E407);
+        let fail = |e| E::at(&at, e);
+        let source = heights.to_vec();
+        match tool.kind {
+            ToolKind::Fill => tools::fill(tin, heights, &set, c, probability, seed).map_err(fail)?,
+            ToolKind::Delete => tools::delete(tin, heights, &set, c, probability, seed).map_err(fail)?,
+            ToolKind::Paste => tools::paste(tin, heights, &source, &set, c, tool.to - tool.at),
+            ToolKind::Cut => {
+                tools::delete(tin, heights, &set, c, probability, seed).map_err(fail)?;
+                tools::paste(tin, heights, &source, &set, c, tool.to - tool.at)
+            }
+        };
+        tick.tick();
+    }
+    Ok(())
 }
 
 /// Seed of the growth, decorrelated from the sampling's.

@@ -4,7 +4,10 @@ use rayon::prelude::*;
 
 use super::progress::Tick;
 use crate::contours::{Contour, ContourSet, Smoothing};
-use crate::scene::Edit;
+use glam::DVec2;
+
+use crate::error::SceneError;
+use crate::scene::{ContourMove, ContourPick, Edit};
 use crate::warp::{Composition, Warp, warp_polyline};
 use crate::{ReliefError, ReliefError as E};
 
@@ -13,6 +16,37 @@ pub(super) struct Edits {
     steps: Vec<Step>,
     /// Every warp among the edits, in order: the map backward mapping inverts.
     pub(super) warps: Composition,
+    /// The contour tools, with their index among the scene's edits, in order.
+    pub(super) tools: Vec<(usize, Tool)>,
+}
+
+/// A contour tool of the scene: what it does, the contour it picks, and where it moves it.
+#[derive(Clone, Copy)]
+pub(super) struct Tool {
+    pub(super) kind: ToolKind,
+    pub(super) at: DVec2,
+    pub(super) height: Option<f64>,
+    pub(super) to: DVec2,
+}
+
+/// The contour tools.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum ToolKind {
+    Fill,
+    Delete,
+    Paste,
+    Cut,
+}
+
+impl ToolKind {
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            Self::Fill => "fill",
+            Self::Delete => "delete",
+            Self::Paste => "paste",
+            Self::Cut => "cut",
+        }
+    }
 }
 
 enum Step {
@@ -25,8 +59,29 @@ impl Edits {
     /// The edits in order; warps were built (and so checked) as the scene was read, smoothing
     /// parameters are checked here, before any heavy work.
     pub(super) fn prepare(edits: &[Edit]) -> Result<Self, ReliefError> {
-        let mut out = Self { steps: Vec::with_capacity(edits.len()), warps: Composition::new() };
+        let mut out = Self { steps: Vec::with_capacity(edits.len()), warps: Composition::new(), tools: Vec::new() };
         for (i, edit) in edits.iter().enumerate() {
+            let pick = |kind, p: &ContourPick| Tool { kind, at: p.at.into(), height: p.height, to: p.at.into() };
+            let moved = |kind, m: &ContourMove| Tool { kind, at: m.at.into(), height: m.height, to: m.to.into() };
+            let tool = match edit {
+                Edit::Fill(p) => Some(pick(ToolKind::Fill, p)),
+                Edit::Delete(p) => Some(pick(ToolKind::Delete, p)),
+                Edit::Paste(m) => Some(moved(ToolKind::Paste, m)),
+                Edit::Cut(m) => Some(moved(ToolKind::Cut, m)),
+                _ => None,
+            };
+            if let Some(tool) = tool {
+                let finite = tool.at.is_finite() && tool.to.is_finite() && tool.height.is_none_or(f64::is_finite);
+                if !finite {
+                    let at = format!("edits[{i}].{}", tool.kind.name());
+                    return Err(E::at(
+                        at,
+                        SceneError::OutOfRange { value: "a point or height".into(), rule: "must be finite" },
+                    ));
+                }
+                out.tools.push((i, tool));
+                continue;
+            }
             let warp: Box<dyn Warp> = match edit {
                 Edit::Smooth(s) => {
                     s.validate().map_err(|e| E::located(&format!("edits[{i}].smooth"), e))?;
@@ -35,6 +90,7 @@ impl Edits {
                 }
                 Edit::Warp(w) => Box::new(w.clone()),
                 Edit::Slope(s) => Box::new(s.clone()),
+                Edit::Fill(_) | Edit::Delete(_) | Edit::Paste(_) | Edit::Cut(_) => continue,
             };
             out.steps.push(Step::Warp(out.warps.len()));
             out.warps.push(warp);
@@ -50,7 +106,7 @@ impl Edits {
         })
     }
 
-    /// How many edits there are: the units of work [`apply_edits`] ticks.
+    /// How many contour edits there are: the units of work [`apply_edits`] ticks.
     pub(super) fn len(&self) -> usize {
         self.steps.len()
     }

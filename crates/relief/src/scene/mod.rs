@@ -73,7 +73,9 @@ pub struct Scene {
     pub outputs: Outputs,
 }
 
-/// An edit of the generated contours (the contours paper, §5).
+/// An edit of the generated contours (the contours paper, §5). The contour tools (`fill`,
+/// `delete`, `paste`, `cut`) act on the generated terrain first, in their order; smoothing, warps
+/// and slope modulation then act on its contours, in theirs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Edit {
@@ -83,6 +85,42 @@ pub enum Edit {
     Warp(PathWarp),
     /// Slope modulation around a point or a curve (§5.3).
     Slope(SlopeModulation),
+    /// Regrow the inside of the contour at `at` (§6.6's filling tool): its shape grows anew from
+    /// the contour inward, its elevations keep their distribution.
+    Fill(ContourPick),
+    /// Delete the contour at `at` with every contour inside it: its inside becomes a low dome
+    /// (or a shallow basin, for a pit) between the contour and the next level.
+    Delete(ContourPick),
+    /// Copy the relief inside the contour at `at` (its height above the contour) onto the
+    /// terrain at `to`.
+    Paste(ContourMove),
+    /// As `paste`, and delete the original.
+    Cut(ContourMove),
+}
+
+/// Which generated contour a tool takes: the innermost closed one around `at`, or, with `height`,
+/// the one around `at` whose height is nearest it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ContourPick {
+    /// A point inside the contour, world units.
+    pub at: [f64; 2],
+    /// Take the contour around `at` of height nearest this.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+}
+
+/// A contour picked and where its relief goes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ContourMove {
+    /// A point inside the contour, world units.
+    pub at: [f64; 2],
+    /// Take the contour around `at` of height nearest this.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    /// Where `at` goes: the relief moves by `to − at`.
+    pub to: [f64; 2],
 }
 
 /// A post-process of the heightfield (`relief-hydrology`). The sea (cells below the sea level)
