@@ -83,6 +83,13 @@ pub(crate) const REFERENCES: &[(&str, Reference)] = &[
     ("eden/growth/100000", Reference::Fixed { label: "authors' code, this machine class", seconds: 6.9 }),
     ("eden/growth/500000", Reference::Fixed { label: "paper, Table 1 (Ryzen 5 5600X)", seconds: 91.79 }),
     ("eden/graph/100000", Reference::Fixed { label: "authors' code, this machine class", seconds: 1.9 }),
+    (
+        "relief_contours/multilevel/3",
+        Reference::SideBySide {
+            label: "one pass at the same node count, same run",
+            bench: "relief_contours/multilevel/1",
+        },
+    ),
     ("eden/regions/2", Reference::SideBySide { label: FIG_26, bench: "eden/regions/1" }),
     ("eden/regions/4", Reference::SideBySide { label: FIG_26, bench: "eden/regions/1" }),
     ("eden/regions/16", Reference::SideBySide { label: FIG_26, bench: "eden/regions/1" }),

@@ -47,7 +47,7 @@ pub use error::EdenError;
 pub use graph::{Graph, GraphOptions, Sampling};
 pub use growth::{Fronts, Growth, UNRANKED, grow, grow_with, grow_within};
 pub use masks::{COLOR_TOLERANCE, LabelLevel, MaskCleaning, MaskOptions, MergedPatch, hex};
-pub use probability::{FbmProbability, ProbabilityMap, RasterProbability, Uniform};
+pub use probability::{CoarseOrder, FbmProbability, ProbabilityMap, RasterProbability, Uniform};
 pub use regions::{LabelMap, MAX_LABEL_LEVELS, Region, RegionTree};
 
 /// The crate README's example, compiled and run as a doc test.

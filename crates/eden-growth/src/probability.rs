@@ -3,7 +3,9 @@ use relief_tin::heightfield::Heightfield;
 use relief_tin::heightfield::noise::Fbm;
 use serde::{Deserialize, Serialize};
 
-use crate::EdenError;
+use relief_tin::PointLocator;
+
+use crate::{EdenError, Graph, Growth, UNRANKED};
 
 /// The probability map P of the contours paper (§4.2): how readily growth advances from a frontier
 /// node at `p`. Only ratios matter; values must be finite and ≥ 0, and a node with P = 0 is chosen
@@ -202,5 +204,48 @@ mod tests {
         ] {
             assert!(serde_json::from_str::<FbmProbability>(bad).is_err(), "{bad}");
         }
+    }
+}
+
+/// The order of a coarser growth as the probability map of a finer one: the multi-level
+/// generation of the contours paper's §6.6, where a large Poisson radius sets the large-scale
+/// structure and smaller ones refine it. At `p`, `exp(−contrast · u)` with `u` the share of the
+/// coarse growth's ranks below the coarse node ranks around `p` (interpolated over the coarse
+/// TIN; 0 outside Ω): what the coarse pass grew first, the fine pass prefers.
+#[derive(Debug, Clone)]
+pub struct CoarseOrder<'a> {
+    locator: PointLocator<'a>,
+    share: Vec<f64>,
+    contrast: f64,
+}
+
+impl<'a> CoarseOrder<'a> {
+    /// The order of `growth` over `graph`, with `contrast` ≥ 0 (0: no preference).
+    ///
+    /// # Errors
+    /// [`EdenError::InvalidProbabilityParameters`] for a negative or non-finite contrast,
+    /// [`EdenError::GrowthMismatch`] when `growth` is not of `graph`.
+    pub fn new(graph: &'a Graph, growth: &Growth, contrast: f64) -> Result<Self, EdenError> {
+        if !(contrast.is_finite() && contrast >= 0.0) {
+            return Err(EdenError::InvalidProbabilityParameters {
+                reason: format!("coarse-order contrast {contrast} must be finite and ≥ 0"),
+            });
+        }
+        let n = graph.tin().num_points();
+        if growth.ranks().len() != n {
+            let reason = format!("{} ranks for {n} nodes", growth.ranks().len());
+            return Err(EdenError::GrowthMismatch { reason });
+        }
+        let total = growth.order().len().max(1) as f64;
+        let share =
+            growth.ranks().iter().map(|&r| if r == UNRANKED { 0.0 } else { (f64::from(r) + 0.5) / total }).collect();
+        Ok(Self { locator: PointLocator::new(graph.tin()), share, contrast })
+    }
+}
+
+impl ProbabilityMap for CoarseOrder<'_> {
+    fn probability(&self, p: DVec2) -> f64 {
+        let u = self.locator.interpolate(p, &self.share).ok().flatten().unwrap_or(0.0);
+        (-self.contrast * u).exp()
     }
 }

@@ -3,8 +3,8 @@
 use glam::DVec2;
 use proptest::prelude::*;
 use relief_eden_growth::{
-    EdenError, FbmProbability, Fronts, Graph, GraphOptions, Growth, LabelMap, Region, RegionTree, UNRANKED, Uniform,
-    grow, grow_with,
+    CoarseOrder, EdenError, FbmProbability, Fronts, Graph, GraphOptions, Growth, LabelMap, ProbabilityMap, Region,
+    RegionTree, UNRANKED, Uniform, grow, grow_with,
 };
 use relief_fixtures::star;
 use relief_tin::heightfield::GridSpec;
@@ -350,4 +350,48 @@ fn a_hundred_thousand_node_growth_keeps_every_invariant() {
         let growth = grow_with(&graph, &fbm.with_seed(3), 11, fronts).unwrap();
         check_growth(&graph, &growth);
     }
+}
+
+/// Pearson correlation of two growths' ranks over the inside nodes.
+fn rank_correlation(a: &Growth, b: &Growth) -> f64 {
+    let pairs: Vec<(f64, f64)> = a
+        .ranks()
+        .iter()
+        .zip(b.ranks())
+        .filter(|(x, _)| **x != UNRANKED)
+        .map(|(&x, &y)| (f64::from(x), f64::from(y)))
+        .collect();
+    let n = pairs.len() as f64;
+    let (mx, my) = (pairs.iter().map(|p| p.0).sum::<f64>() / n, pairs.iter().map(|p| p.1).sum::<f64>() / n);
+    let cov: f64 = pairs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let (vx, vy): (f64, f64) =
+        (pairs.iter().map(|p| (p.0 - mx).powi(2)).sum(), pairs.iter().map(|p| (p.1 - my).powi(2)).sum());
+    cov / (vx * vy).sqrt()
+}
+
+#[test]
+fn a_coarse_order_fixes_the_large_scale_structure_of_a_finer_growth() {
+    // §6.6's multi-level generation: a coarse growth (2 000 nodes) steers fine ones (30 000).
+    let coast = Region::new(Polygon::circle(DVec2::ZERO, 5000.0, 96).unwrap());
+    let tree = RegionTree::new(vec![coast]).unwrap();
+    let coarse_graph = Graph::from_regions(&tree, &GraphOptions::particles(2_000).with_seed(1)).unwrap();
+    let fine = Graph::from_regions(&tree, &GraphOptions::particles(30_000).with_seed(2)).unwrap();
+    let fbm = |seed: u64| {
+        FbmProbability::new(Fbm { frequency: 1.0 / 3000.0, ..Fbm::default() }, 4.0).unwrap().with_seed(seed)
+    };
+    let coarse = grow(&coarse_graph, &fbm(7), 3).unwrap();
+    let order = CoarseOrder::new(&coarse_graph, &coarse, 6.0).unwrap();
+    let steered = |seed: u64| {
+        let p = fbm(seed);
+        grow(&fine, &|q: DVec2| p.probability(q) * order.probability(q), seed).unwrap()
+    };
+    let (a, b) = (steered(11), steered(12));
+    check_growth(&fine, &a);
+    let free = (grow(&fine, &fbm(11), 11).unwrap(), grow(&fine, &fbm(12), 12).unwrap());
+    let (with, without) = (rank_correlation(&a, &b), rank_correlation(&free.0, &free.1));
+    assert!(with > without + 0.1 && with > 0.8, "steered {with:.3}, free {without:.3}");
+    // Contrast 0 is no preference; a negative one is refused.
+    let flat = CoarseOrder::new(&coarse_graph, &coarse, 0.0).unwrap();
+    assert_eq!(flat.probability(DVec2::new(100.0, 0.0)), 1.0);
+    assert!(CoarseOrder::new(&coarse_graph, &coarse, -1.0).is_err());
 }

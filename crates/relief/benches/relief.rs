@@ -15,7 +15,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec2;
 use relief::Scene;
 use relief::contours::{Histogram, Ranking, assign_heights, evenly_spaced_levels, extract_tin};
-use relief::eden_growth::{Graph, GraphOptions, LabelMap, Uniform, grow};
+use relief::eden_growth::{Graph, GraphOptions, LabelMap, MaskOptions, Sampling, Uniform, grow};
 use relief::heightfield::noise::Fbm;
 use relief::heightfield::{Extent, GridSpec, Heightfield};
 use relief::io::ReadOptions;
@@ -88,5 +88,35 @@ fn demo(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, table1, demo);
+/// The contours issue's additions: multi-level generation against one pass, cleaning a drawn
+/// 2048² mask, regrowing the Jacksboro DEM from its contours with the §6.5 comparison.
+fn contours(c: &mut Criterion) {
+    let scenes = root().join("fixtures/scenes");
+    let mut group = c.benchmark_group("relief_contours");
+    group.sample_size(10);
+    let mut scene = relief::pipeline::load_scene(scenes.join("coastline-island.json")).expect("scene");
+    scene.reconstruction.resolution = [256, 192];
+    for passes in [1u32, 3] {
+        if let relief::scene::Generator::Contours(g) = &mut scene.generator {
+            g.particles = Some(100_000);
+            g.multilevel = (passes > 1).then_some(relief::scene::Multilevel { passes, factor: 4.0, contrast: 6.0 });
+        }
+        group.bench_with_input(BenchmarkId::new("multilevel", passes), &scene, |b, s| {
+            b.iter(|| black_box(relief::pipeline::generate(s, &scenes, &mut ())));
+        });
+    }
+    let image = relief::io::read_color_image(scenes.join("inputs/teaser-2-a.png"), &ReadOptions::default())
+        .expect("teaser mask");
+    let options = MaskOptions { levels: None, sampling: Sampling::Particles(50_000) };
+    group.bench_function("mask_clean/2048", |b| {
+        b.iter(|| black_box(LabelMap::from_mask(image.grid, &image.pixels, &options)));
+    });
+    let regrown = relief::pipeline::load_scene(scenes.join("jacksboro-regrown.json")).expect("scene");
+    group.bench_function("regrow_jacksboro", |b| {
+        b.iter(|| black_box(relief::pipeline::generate(&regrown, &scenes, &mut ())));
+    });
+    group.finish();
+}
+
+criterion_group!(benches, table1, demo, contours);
 criterion_main!(benches);

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec2;
 use relief::pipeline::{generate, load_scene};
-use relief::scene::Scene;
+use relief::scene::{Generator, Multilevel, Scene};
 
 fn scenes() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes")
@@ -56,5 +56,24 @@ fn the_teaser_mask_gives_its_three_levels_at_their_heights() {
     assert_eq!(mask.levels, ["#000000", "#424242", "#9d9d9d", "#ffffff"]);
     for h in [0.0, 300.0, 600.0] {
         assert!(terrain.contours.levels().contains(&h), "the {h} m contour");
+    }
+}
+
+#[test]
+fn multilevel_generation_runs_its_coarse_passes_first() {
+    let mut scene = scene("coastline-island");
+    let Generator::Contours(g) = &mut scene.generator else { unreachable!() };
+    g.multilevel = Some(Multilevel { passes: 3, factor: 4.0, contrast: 6.0 });
+    let terrain = generate(&scene, &scenes(), &mut ()).unwrap();
+    let steps: Vec<&str> = terrain.summary.timings_ms.iter().map(|t| t.step).collect();
+    assert_eq!(&steps[..3], ["inputs", "coarse passes", "graph"], "{steps:?}");
+    terrain.contours.check_invariants().unwrap();
+    // A single pass is refused, as is a factor that does not coarsen.
+    for bad in [r#"{ "passes": 1 }"#, r#"{ "passes": 3, "factor": 1 }"#] {
+        let text = std::fs::read_to_string(scenes().join("coastline-island.json")).unwrap();
+        let mut value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        value["generator"]["contours"]["multilevel"] = serde_json::from_str(bad).unwrap();
+        let err = Scene::from_json(&value.to_string()).unwrap_err();
+        assert!(err.to_string().contains("generator.contours.multilevel"), "{err}");
     }
 }

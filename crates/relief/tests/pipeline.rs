@@ -78,6 +78,7 @@ fn scene(seed: u64, regions: Vec<Region>, edits: Vec<Edit>, mode: Reconstruction
             ),
             levels: Levels::Count(12),
             fronts: Fronts::Double,
+            multilevel: None,
         }),
         edits,
         reconstruction: Reconstruction { mode, resolution: [size, size], drain: true },

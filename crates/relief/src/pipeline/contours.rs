@@ -15,13 +15,15 @@ use crate::contours::{
     reconstruct_interpolated, reconstruct_stairs, smooth_heights,
 };
 use crate::eden_growth::{
-    EdenError, Graph, GraphOptions, LabelLevel, LabelMap, MaskOptions, ProbabilityMap, RasterProbability, Region,
-    RegionTree, Sampling, Uniform, grow_with, hex,
+    CoarseOrder, EdenError, Fronts, Graph, GraphOptions, Growth, LabelLevel, LabelMap, MaskOptions, ProbabilityMap,
+    RasterProbability, Region, RegionTree, Sampling, Uniform, grow_with, hex,
 };
 use crate::error::SceneError;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
 use crate::poisson_sampling::Polygon;
-use crate::scene::{ContoursGenerator, HistogramSource, LabelImage, Probability, ReconstructionMode, Scene};
+use crate::scene::{
+    ContoursGenerator, HistogramSource, LabelImage, Multilevel, Probability, ReconstructionMode, Scene,
+};
 use crate::tin::PointLocator;
 use crate::warp::{Warp, warp_raster};
 use crate::{ReliefError, ReliefError as E, tools};
@@ -70,10 +72,22 @@ pub(super) fn generate(
     timer: &mut Timer<'_>,
 ) -> Result<Generated, ReliefError> {
     let mut inputs = timer.step("inputs", || Inputs::prepare(scene, g, env))?;
+    let coarse = match &g.multilevel {
+        Some(m) => Some(timer.step("coarse passes", || inputs.coarse_passes(scene.seed, m, g.fronts))?),
+        None => None,
+    };
     let graph = timer.step("graph", || inputs.graph(scene.seed))?;
     let growth = timer.step("growth", || {
-        grow_with(&graph, inputs.probability.as_ref(), growth_seed(scene.seed), g.fronts)
-            .map_err(|e| E::located(GENERATOR, e))
+        let seed = growth_seed(scene.seed);
+        let base = inputs.probability.as_ref();
+        let grown = match (&coarse, &g.multilevel) {
+            (Some((cg, cgrowth)), Some(m)) => {
+                let order = CoarseOrder::new(cg, cgrowth, m.contrast).map_err(|e| E::located(GENERATOR, e))?;
+                grow_with(&graph, &|p: DVec2| base.probability(p) * order.probability(p), seed, g.fronts)
+            }
+            _ => grow_with(&graph, base, seed, g.fronts),
+        };
+        grown.map_err(|e| E::located(GENERATOR, e))
     })?;
     let level_ends: Vec<usize> = (1..=growth.levels()).map(|l| growth.level_range(l).end).collect();
     let histogram = inputs.target.histogram(&level_ends)?;
@@ -225,6 +239,43 @@ impl Inputs {
         let probability = probability(&g.probability, env, &extent, scene.seed)?;
         let edits = Edits::prepare(&scene.edits)?;
         Ok(Self { source, sampling, target, probability, levels, edits, grid, max_particles: env.budget.max_particles })
+    }
+
+    /// The coarse passes of multi-level generation, coarsest first, each steered by the one
+    /// before; returns the last (finest coarse) graph and growth.
+    fn coarse_passes(&self, seed: u64, m: &Multilevel, fronts: Fronts) -> Result<(Graph, Growth), ReliefError> {
+        let at = format!("{GENERATOR}.multilevel");
+        let fail = |e: EdenError| E::at(&at, e);
+        let mut previous: Option<(Graph, Growth)> = None;
+        for k in (1..m.passes).rev() {
+            let scale = m.factor.powi(k as i32);
+            let sampling = match self.sampling {
+                Sampling::Particles(n) => Sampling::Particles(((n as f64 / scale).round() as usize).max(16)),
+                Sampling::Radius(r) => Sampling::Radius(r * scale.sqrt()),
+            };
+            let options = GraphOptions {
+                sampling,
+                max_particles: self.max_particles,
+                ..GraphOptions::particles(1).with_seed(seed ^ u64::from(k))
+            };
+            let graph = match &self.source {
+                Source::Regions(tree) | Source::Contours(tree, _) => Graph::from_regions(tree, &options),
+                Source::Labels(labels) => Graph::from_labels(labels, &options),
+            }
+            .map_err(fail)?;
+            let seed = growth_seed(seed) ^ u64::from(k).wrapping_mul(0x9E37_79B9);
+            let base = self.probability.as_ref();
+            let growth = match &previous {
+                None => grow_with(&graph, base, seed, fronts),
+                Some((pg, pgrowth)) => {
+                    let order = CoarseOrder::new(pg, pgrowth, m.contrast).map_err(fail)?;
+                    grow_with(&graph, &|p: DVec2| base.probability(p) * order.probability(p), seed, fronts)
+                }
+            }
+            .map_err(fail)?;
+            previous = Some((graph, growth));
+        }
+        previous.ok_or_else(|| E::at(format!("{at}.passes"), "at least 2 passes (one coarse, then the final)"))
     }
 
     fn graph(&mut self, seed: u64) -> Result<Graph, ReliefError> {

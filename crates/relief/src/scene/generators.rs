@@ -98,6 +98,10 @@ pub struct ContoursGenerator {
     /// How readily the growth advances where (default uniform).
     #[serde(default)]
     pub probability: Probability,
+    /// Coarse-to-fine generation (the contours paper's §6.6): coarser growths first, each with
+    /// `factor` times fewer nodes, whose order steers the next; the last runs at the full count.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub multilevel: Option<Multilevel>,
     /// How nested levels grow: `"double"` (the paper's double front, default) or `"per_region"`
     /// (Fig. 12's baseline: each level from its lower boundary alone).
     #[serde(default, skip_serializing_if = "is_double")]
@@ -133,6 +137,58 @@ pub struct LabelImage {
     /// nearest level around them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub levels: Option<Vec<LabelLevelSpec>>,
+}
+
+/// Multi-level generation: `passes − 1` coarse growths, then the final one.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, try_from = "MultilevelJson")]
+pub struct Multilevel {
+    /// Growths in all, 2 to 6 (the last at the scene's own node count).
+    pub passes: u32,
+    /// How many times fewer nodes each coarser pass has (default 4: twice the radius).
+    pub factor: f64,
+    /// How strongly a coarse order steers the next growth: `exp(−contrast · u)` for the coarse
+    /// rank share `u` (default 6).
+    pub contrast: f64,
+}
+
+/// Multi-level generation: `passes − 1` coarse growths, then the final one.
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(rename = "Multilevel")]
+struct MultilevelJson {
+    /// Growths in all, 2 to 6 (the last at the scene's own node count).
+    passes: u32,
+    /// How many times fewer nodes each coarser pass has (> 1; default 4: twice the radius).
+    #[serde(default = "default_factor")]
+    factor: f64,
+    /// How strongly a coarse order steers the next growth (≥ 0; default 6).
+    #[serde(default = "default_contrast")]
+    contrast: f64,
+}
+
+fn default_factor() -> f64 {
+    4.0
+}
+
+fn default_contrast() -> f64 {
+    6.0
+}
+
+impl TryFrom<MultilevelJson> for Multilevel {
+    type Error = String;
+    fn try_from(j: MultilevelJson) -> Result<Self, String> {
+        if !(2..=6).contains(&j.passes) {
+            return Err(format!("passes {} must be 2 to 6", j.passes));
+        }
+        if !(j.factor.is_finite() && j.factor > 1.0) {
+            return Err(format!("factor {} must be finite and > 1", j.factor));
+        }
+        if !(j.contrast.is_finite() && j.contrast >= 0.0) {
+            return Err(format!("contrast {} must be finite and ≥ 0", j.contrast));
+        }
+        Ok(Self { passes: j.passes, factor: j.factor, contrast: j.contrast })
+    }
 }
 
 /// Contours a scene regrows terrain from (the contours paper's Fig. 24): every closed contour a

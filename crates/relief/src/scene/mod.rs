@@ -28,8 +28,8 @@ use crate::warp::{PathWarp, SlopeModulation};
 
 pub use generators::{
     Border, ContourInput, ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource, Generator,
-    IslandGenerator, LabelImage, LabelLevelSpec, LabelValue, OrometryGenerator, OrometrySource, OrometryTypes,
-    Probability,
+    IslandGenerator, LabelImage, LabelLevelSpec, LabelValue, Multilevel, OrometryGenerator, OrometrySource,
+    OrometryTypes, Probability,
 };
 pub use histogram::HistogramSource;
 pub use inputs::InputOptions;
