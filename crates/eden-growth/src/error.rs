@@ -98,6 +98,16 @@ pub enum EdenError {
         /// Its height.
         lower_height: f64,
     },
+    /// A region's `depth` is invalid.
+    #[error("region {region}: depth {value} {reason}")]
+    InvalidDepth {
+        /// The region.
+        region: usize,
+        /// The depth given.
+        value: f64,
+        /// What is wrong.
+        reason: &'static str,
+    },
     /// A region holds no graph node at this sampling radius.
     #[error("region {region} holds no graph node at sampling radius {radius}: enlarge it or raise the particle count")]
     RegionTooSmall {
@@ -210,6 +220,7 @@ impl EdenError {
             | Self::InvalidHeight { region: i, .. }
             | Self::ConflictingHeights { b: i, .. } => region(i, ".height"),
             Self::RegionTooSmall { region: i, .. } => region(i, ".polygon"),
+            Self::InvalidDepth { region: i, .. } => region(i, ".depth"),
             Self::InvalidProbability { .. } | Self::ZeroProbability | Self::InvalidProbabilityParameters { .. } => {
                 "probability".to_owned()
             }

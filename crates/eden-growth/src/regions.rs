@@ -21,12 +21,16 @@ pub struct Region {
     /// only place an endorheic basin may appear.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub depression: bool,
+    /// For a depression: how far its floor lies below its rim (default: as deep as the
+    /// histogram's slice of the level around it takes it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<f64>,
 }
 
 impl Region {
     /// A raised region without explicit height.
     pub fn new(polygon: Polygon) -> Self {
-        Self { polygon, height: None, depression: false }
+        Self { polygon, height: None, depression: false, depth: None }
     }
 
     /// The same region with its contour at `height`.
@@ -40,6 +44,14 @@ impl Region {
     #[must_use]
     pub fn as_depression(mut self) -> Self {
         self.depression = true;
+        self
+    }
+
+    /// The same region as a depression whose floor lies `depth` below its rim.
+    #[must_use]
+    pub fn with_depth(mut self, depth: f64) -> Self {
+        self.depression = true;
+        self.depth = Some(depth);
         self
     }
 }
@@ -136,6 +148,16 @@ impl RegionTree {
                 && !h.is_finite()
             {
                 return Err(EdenError::InvalidHeight { region: i, value: h });
+            }
+            if let Some(d) = r.depth {
+                let reason = match (r.depression, d.is_finite() && d > 0.0) {
+                    (false, _) => Some("only a depression has a depth (set `depression: true`)"),
+                    (true, false) => Some("must be finite and > 0"),
+                    (true, true) => None,
+                };
+                if let Some(reason) = reason {
+                    return Err(EdenError::InvalidDepth { region: i, value: d, reason });
+                }
             }
         }
         let level_heights = level_heights(&regions, &depth)?;

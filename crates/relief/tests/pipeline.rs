@@ -30,7 +30,7 @@ fn star(c: [f64; 2], r: f64, wobble: &[f64]) -> Vec<[f64; 2]> {
 
 fn region(exterior: Vec<[f64; 2]>, height: Option<f64>, depression: bool) -> Region {
     let polygon = Polygon::from_exterior(exterior.into_iter().map(DVec2::from).collect()).unwrap();
-    Region { polygon, height, depression }
+    Region { polygon, height, depression, depth: None }
 }
 
 fn smooth(alpha: f64, k: usize, iterations: u32) -> Edit {
@@ -635,4 +635,28 @@ fn countable_steps_report_how_far_they_are() {
     let start = reports.0.iter().position(|r| *r == ("post-process", None)).unwrap();
     assert_eq!(reports.0[start + 1], ("post-process", Some((0, 6))));
     assert!(of("drainage").is_empty(), "a step that cannot count its work does not report");
+}
+
+#[test]
+fn a_craters_depth_sets_how_far_its_floor_lies_below_its_rim() {
+    let floor = |depth: f64| {
+        let mut scene = full_scene(ReconstructionMode::Tin);
+        scene.edits.clear();
+        let Generator::Contours(g) = &mut scene.generator else { unreachable!() };
+        g.regions[3].depth = Some(depth);
+        let terrain = generate(&scene, &root(), &mut ()).unwrap();
+        let hf = &terrain.heightfield;
+        (0..hf.samples().len())
+            .filter(|&k| hf.grid().position(k % hf.nx(), k / hf.nx()).distance(DVec2::new(-1500.0, 0.0)) < 250.0)
+            .map(|k| hf.samples()[k])
+            .fold(f32::INFINITY, f32::min)
+    };
+    let (shallow, deep) = (floor(100.0), floor(400.0));
+    assert!((shallow - deep - 300.0).abs() < 40.0, "floors {shallow} and {deep}");
+    // Only a depression has a depth.
+    let mut scene = full_scene(ReconstructionMode::Tin);
+    let Generator::Contours(g) = &mut scene.generator else { unreachable!() };
+    g.regions[1].depth = Some(50.0);
+    let err = generate(&scene, &root(), &mut ()).unwrap_err();
+    assert!(err.to_string().starts_with("generator.contours.regions[1].depth"), "{err}");
 }

@@ -97,6 +97,9 @@ pub(super) fn generate(
         assign_heights(graph.tin().num_points(), &ranking, &histogram)
             .map_err(|e| E::located(&format!("{GENERATOR}.histogram"), e))
     })?;
+    if let Source::Regions(tree) | Source::Contours(tree, _) = &inputs.source {
+        set_crater_depths(tree, &graph, &mut heights);
+    }
     let sea_level = heights.level_boundaries[0];
     let mut levels = inputs.levels.clone();
     levels.extend_from_slice(&heights.level_boundaries);
@@ -145,6 +148,28 @@ pub(super) fn generate(
         reference,
     };
     Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report, warnings })
+}
+
+/// Gives each depression with a `depth` that depth: its nodes' heights below its rim (the contour
+/// of the level around it) are scaled so the deepest lies `depth` under the rim, their order kept.
+fn set_crater_depths(tree: &RegionTree, graph: &Graph, heights: &mut Heights) {
+    let points = graph.tin().points();
+    for (i, region) in tree.regions().iter().enumerate() {
+        let (Some(depth), Some(parent)) = (region.depth, tree.parent(i)) else { continue };
+        let rim = heights.level_boundaries[usize::from(tree.depth(parent)) - 1];
+        let b = region.polygon.bounds();
+        let nodes: Vec<usize> = (0..points.len())
+            .filter(|&v| graph.depressions()[v] && b.contains(points[v]) && region.polygon.contains(points[v]))
+            .collect();
+        let floor = nodes.iter().map(|&v| heights.heights[v]).fold(rim, f64::min);
+        if floor >= rim {
+            continue;
+        }
+        for v in nodes {
+            let h = &mut heights.heights[v];
+            *h = rim - depth * (rim - h.min(rim)) / (rim - floor);
+        }
+    }
 }
 
 /// Applies the scene's contour tools to the node heights in order, each picking its contour on
