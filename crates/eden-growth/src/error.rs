@@ -177,6 +177,31 @@ pub enum EdenError {
         /// What is wrong.
         reason: String,
     },
+    /// Ω is small and spread out (specks far apart): at the requested density, sampling its
+    /// bounding box would exceed the point budget.
+    #[error(
+        "the regions cover {area:.0} square units spread over a {width:.0} x {height:.0} box: the radius {radius:.4} \
+         that {requested} particles need there would take about {estimated} samples over that box; use at most \
+         {particles} particles (`radius` ≥ {suggested_radius:.4}), or remove the far-off specks"
+    )]
+    SparseDomain {
+        /// Area of Ω.
+        area: f64,
+        /// Width of Ω's bounding box (with the sampling margin).
+        width: f64,
+        /// Its height.
+        height: f64,
+        /// The radius the request gives.
+        radius: f64,
+        /// Particles requested.
+        requested: u64,
+        /// Samples the bounding box would take.
+        estimated: u64,
+        /// A particle count within the budget.
+        particles: u64,
+        /// The radius that count gives.
+        suggested_radius: f64,
+    },
     /// Sampling the extended domain failed.
     #[error("sampling the domain failed: {0}")]
     Sampling(#[from] SamplingError),
@@ -224,7 +249,7 @@ impl EdenError {
             Self::InvalidProbability { .. } | Self::ZeroProbability | Self::InvalidProbabilityParameters { .. } => {
                 "probability".to_owned()
             }
-            Self::InvalidParticleCount { .. } => "particles".to_owned(),
+            Self::InvalidParticleCount { .. } | Self::SparseDomain { .. } => "particles".to_owned(),
             _ => String::new(),
         }
     }

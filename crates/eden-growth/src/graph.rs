@@ -1,7 +1,7 @@
 use glam::DVec2;
 use rayon::prelude::*;
 use relief_tin::Tin;
-use relief_tin::poisson_sampling::{DENSITY, FnDomain, PoissonDisc, TaggedSamples, radius_for_count};
+use relief_tin::poisson_sampling::{DENSITY, FnDomain, PoissonDisc, SamplingError, TaggedSamples, radius_for_count};
 use serde::{Deserialize, Serialize};
 
 use crate::regions::Class;
@@ -77,7 +77,8 @@ impl Graph {
         let samples = PoissonDisc::new(r)?
             .with_seed(options.seed)
             .with_max_points(max_points(requested))
-            .sample_extended(omega, options.margin * r)?;
+            .sample_extended(omega, options.margin * r)
+            .map_err(|e| sparse(e, omega.area(), r, requested))?;
         let tin = Tin::new(samples.points)?;
         let classes: Vec<Class> = tin.points().par_iter().map(|&p| tree.classify(p)).collect();
         let mut counts = vec![0usize; tree.regions().len()];
@@ -108,7 +109,8 @@ impl Graph {
         let TaggedSamples { points, .. } = PoissonDisc::new(r)?
             .with_seed(options.seed)
             .with_max_points(max_points(requested))
-            .sample_tagged(&domain, |_| false)?;
+            .sample_tagged(&domain, |_| false)
+            .map_err(|e| sparse(e, labels.omega_area(), r, requested))?;
         let tin = Tin::new(points)?;
         let level: Vec<u16> = tin.points().par_iter().map(|&p| labels.depth_at(p)).collect();
         let depression: Vec<bool> = tin.points().par_iter().map(|&p| labels.depression_at(p)).collect();
@@ -207,6 +209,22 @@ impl Graph {
 /// is vast at its sampling radius fails fast instead of allocating a background grid for it.
 fn max_points(requested: u64) -> u64 {
     requested.saturating_mul(8).saturating_add(1 << 20)
+}
+
+/// A sampler's point-budget error as [`EdenError::SparseDomain`], with the largest particle count
+/// whose sampling of the same box fits the budget (the estimate grows with the count, the budget
+/// by eight points per particle); other errors pass through.
+fn sparse(e: SamplingError, area: f64, radius: f64, requested: u64) -> EdenError {
+    let SamplingError::TooManyPoints { width, height, estimated, .. } = e else { return e.into() };
+    let per_particle = estimated as f64 / requested.max(1) as f64;
+    let particles = if per_particle > 8.0 {
+        (0.9 * f64::from(1u32 << 20) / (per_particle - 8.0)).floor() as u64
+    } else {
+        requested
+    };
+    let particles = particles.max(1);
+    let suggested_radius = (DENSITY * area / particles as f64).sqrt();
+    EdenError::SparseDomain { area, width, height, radius, requested, estimated, particles, suggested_radius }
 }
 
 /// The Poisson radius a sampling of `area` uses.

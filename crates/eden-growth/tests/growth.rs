@@ -256,7 +256,7 @@ fn bad_parameters_are_typed_errors() {
     let sliver = Polygon::from_exterior(vec![DVec2::ZERO, DVec2::new(1.0e6, 0.0), DVec2::new(1.0e6, 1.0e-3)]).unwrap();
     let sliver = RegionTree::new(vec![Region::new(sliver)]).unwrap();
     match Graph::from_regions(&sliver, &GraphOptions::particles(64)).unwrap_err() {
-        EdenError::Sampling(e) => assert!(e.to_string().contains("points"), "{e}"),
+        e @ EdenError::SparseDomain { .. } => assert!(e.to_string().contains("use at most"), "{e}"),
         other => panic!("{other:?}"),
     }
     let mut opts = GraphOptions::particles(100);

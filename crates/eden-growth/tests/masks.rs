@@ -330,3 +330,26 @@ mod properties {
         }
     }
 }
+
+#[test]
+fn specks_far_apart_name_a_particle_count_that_samples_them() {
+    // A 16 × 12 island and a 4 × 4 islet 900 pixels away on a 1024² map: at 50 000 particles the
+    // radius over their tiny area would need a hundred million samples over the box they span.
+    let grid = GridSpec::new(1024, 1024, DVec2::ZERO, DVec2::ONE).unwrap();
+    let depth: Vec<u16> = (0..grid.len())
+        .map(|k| {
+            let (i, j) = (k % 1024, k / 1024);
+            u16::from(
+                ((900..916).contains(&i) && (900..912).contains(&j))
+                    || ((10..14).contains(&i) && (10..14).contains(&j)),
+            )
+        })
+        .collect();
+    let labels = LabelMap::new(grid, depth).unwrap();
+    let err = Graph::from_labels(&labels, &GraphOptions::particles(50_000)).unwrap_err();
+    let EdenError::SparseDomain { particles, .. } = err else { panic!("{err}") };
+    assert!(particles > 10 && particles < 50_000, "{particles}");
+    assert!(err.to_string().contains(&format!("use at most {particles} particles")), "{err}");
+    let graph = Graph::from_labels(&labels, &GraphOptions::particles(particles as usize)).unwrap();
+    assert!(graph.inside_count() > 0);
+}

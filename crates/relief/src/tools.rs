@@ -67,6 +67,22 @@ fn inside(tin: &Tin, set: &ContourSet, k: usize, offset: DVec2) -> Vec<bool> {
         .collect()
 }
 
+/// The nodes inside contour `k` in a new growth order from the contour inward; `None` when it
+/// holds none.
+fn regrowth(
+    tin: &Tin,
+    set: &ContourSet,
+    k: usize,
+    probability: &(impl ProbabilityMap + ?Sized),
+    seed: u64,
+) -> Result<Option<Vec<u32>>, EdenError> {
+    let members = inside(tin, set, k, DVec2::ZERO);
+    if !members.iter().any(|&m| m) {
+        return Ok(None);
+    }
+    grow_within(tin, &members, probability, seed).map(Some)
+}
+
 /// Regrows the inside of contour `k`: its nodes, grown anew from the contour inward (weighted by
 /// `probability`), take their own heights again in rank order — the same elevations, a new shape.
 /// Returns how many nodes changed.
@@ -81,11 +97,7 @@ pub fn fill(
     probability: &(impl ProbabilityMap + ?Sized),
     seed: u64,
 ) -> Result<usize, EdenError> {
-    let members = inside(tin, set, k, DVec2::ZERO);
-    if !members.iter().any(|&m| m) {
-        return Ok(0);
-    }
-    let order = grow_within(tin, &members, probability, seed)?;
+    let Some(order) = regrowth(tin, set, k, probability, seed)? else { return Ok(0) };
     let mut values: Vec<f64> = order.iter().map(|&v| heights[v as usize]).collect();
     values.sort_by(f64::total_cmp);
     let mut changed = 0;
@@ -110,14 +122,10 @@ pub fn delete(
     probability: &(impl ProbabilityMap + ?Sized),
     seed: u64,
 ) -> Result<usize, EdenError> {
-    let members = inside(tin, set, k, DVec2::ZERO);
-    if !members.iter().any(|&m| m) {
-        return Ok(0);
-    }
+    let Some(order) = regrowth(tin, set, k, probability, seed)? else { return Ok(0) };
     let h = set.contours()[k].height;
-    let inside_max = (0..heights.len()).filter(|&v| members[v]).map(|v| heights[v]).fold(h, f64::max);
+    let inside_max = order.iter().map(|&v| heights[v as usize]).fold(h, f64::max);
     let next = set.levels().iter().copied().find(|&l| l > h).unwrap_or(inside_max.max(h + 1.0));
-    let order = grow_within(tin, &members, probability, seed)?;
     let n = order.len() as f64;
     for (rank, &v) in order.iter().enumerate() {
         heights[v as usize] = h + 0.9 * (next - h) * (rank as f64 + 1.0) / (n + 1.0);

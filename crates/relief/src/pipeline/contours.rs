@@ -321,8 +321,12 @@ impl Inputs {
             {
                 E::at(format!("{GENERATOR}.label_image.path"), e)
             }
-            (EdenError::TooManyParticles { .. }, Sampling::Radius(_)) => E::at(format!("{GENERATOR}.radius"), e),
-            (EdenError::TooManyParticles { .. }, Sampling::Particles(_)) => E::at(format!("{GENERATOR}.particles"), e),
+            (EdenError::TooManyParticles { .. } | EdenError::SparseDomain { .. }, Sampling::Radius(_)) => {
+                E::at(format!("{GENERATOR}.radius"), e)
+            }
+            (EdenError::TooManyParticles { .. } | EdenError::SparseDomain { .. }, Sampling::Particles(_)) => {
+                E::at(format!("{GENERATOR}.particles"), e)
+            }
             _ => E::located(GENERATOR, e),
         })
     }
