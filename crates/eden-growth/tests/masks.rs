@@ -353,3 +353,118 @@ fn specks_far_apart_name_a_particle_count_that_samples_them() {
     let graph = Graph::from_labels(&labels, &GraphOptions::particles(particles as usize)).unwrap();
     assert!(graph.inside_count() > 0);
 }
+
+/// A 60 × 40 map: black ground, a big gray (0.5) block and a big white block making both colours
+/// labels, and whatever `paint` adds.
+fn blocks(paint: impl Fn(usize, usize) -> Option<f32>) -> (GridSpec, Vec<[f32; 4]>) {
+    let grid = GridSpec::new(60, 40, DVec2::ZERO, DVec2::ONE).unwrap();
+    let pixels = (0..60 * 40)
+        .map(|k| {
+            let (i, j) = (k % 60, k / 60);
+            let v = paint(i, j).unwrap_or(if i >= 50 && j >= 30 {
+                0.5
+            } else if i >= 50 && j < 8 {
+                1.0
+            } else {
+                0.0
+            });
+            gray(v)
+        })
+        .collect();
+    (grid, pixels)
+}
+
+/// The finest sampling: the smallest patch kept is the 3 × 3 block.
+fn fine() -> MaskOptions {
+    MaskOptions { levels: None, sampling: Sampling::Radius(0.01) }
+}
+
+#[test]
+fn merging_keeps_patches_of_the_minimum_size_and_grows_what_it_merges_into() {
+    // A 3 × 3 gray block stays; a 2 × 2 one merges.
+    let (grid, pixels) = blocks(|i, j| {
+        ((5..8).contains(&i) && (5..8).contains(&j) || (20..22).contains(&i) && (5..7).contains(&j)).then_some(0.5)
+    });
+    let labels = LabelMap::from_mask(grid, &pixels, &fine()).unwrap();
+    let cleaning = labels.cleaning().unwrap();
+    assert_eq!(cleaning.min_patch_pixels, 9);
+    assert_eq!(labels_depth(&labels, 6, 6), 1, "a patch of exactly the minimum size is kept");
+    assert_eq!(labels_depth(&labels, 20, 5), 0);
+    assert_eq!(cleaning.merged_count, 1);
+    // A white pixel inside a ring of eight gray ones: the pixel joins the ring first, which then
+    // holds nine pixels and stays.
+    let (grid, pixels) = blocks(|i, j| match (i, j) {
+        (11, 11) => Some(1.0),
+        (10..=12, 10..=12) => Some(0.5),
+        _ => None,
+    });
+    let labels = LabelMap::from_mask(grid, &pixels, &fine()).unwrap();
+    assert_eq!(labels_depth(&labels, 11, 11), 1);
+    assert_eq!(labels_depth(&labels, 10, 10), 1);
+}
+
+#[test]
+fn a_speck_joins_the_level_it_shares_most_border_with_and_the_list_stops_at_a_hundred() {
+    // A 2 × 2 white speck on the edge of the gray block: six of its eight edges in gray.
+    let (grid, pixels) = blocks(|i, j| ((50..52).contains(&i) && (34..36).contains(&j)).then_some(1.0));
+    let labels = LabelMap::from_mask(grid, &pixels, &fine()).unwrap();
+    assert_eq!(labels_depth(&labels, 50, 34), 1, "into the gray around most of it, not the black");
+    assert_eq!(hex(labels.cleaning().unwrap().merged[0].into), "#808080");
+    // 130 gray specks of 2 × 2: all merged, the first hundred listed.
+    let (grid, pixels) =
+        blocks(|i, j| (i < 39 && j < 39 && i % 3 < 2 && j % 3 < 2 && i / 3 + 13 * (j / 3) < 130).then_some(0.5));
+    let labels = LabelMap::from_mask(grid, &pixels, &fine()).unwrap();
+    let cleaning = labels.cleaning().unwrap();
+    assert_eq!((cleaning.merged_count, cleaning.merged.len()), (130, 100));
+}
+
+#[test]
+fn a_crater_on_two_levels_sinks_below_the_one_around_most_of_it() {
+    // Transparent sea, green island, red range; a blue crater straddling the red range's edge,
+    // mostly inside it.
+    let (red, green, blue) = ([1.0, 0.0, 0.0], [0.0, 0.6, 0.0], [0.0, 0.0, 1.0]);
+    let rgba = |c: [f32; 3]| [c[0], c[1], c[2], 1.0];
+    let pixels: Vec<[f32; 4]> = (0..N * N)
+        .map(|k| {
+            let p = DVec2::new((k % N) as f64, (k / N) as f64);
+            let d = p.distance(DVec2::splat(100.0));
+            if p.distance(DVec2::new(100.0, 135.0)) < 10.0 {
+                rgba(blue)
+            } else if d < 40.0 {
+                rgba(red)
+            } else if d < 80.0 {
+                rgba(green)
+            } else {
+                [0.0; 4]
+            }
+        })
+        .collect();
+    let table = vec![
+        LabelLevel::new([0.0; 3]),
+        LabelLevel::new(green),
+        LabelLevel::new(red),
+        LabelLevel { depression: true, ..LabelLevel::new(blue) },
+    ];
+    let labels = LabelMap::from_mask(grid(), &pixels, &options(Some(table.clone()))).unwrap();
+    // Every crater pixel, the first one met included, sits one level below the red range.
+    for (i, j) in [(100, 126), (100, 135), (95, 140), (104, 143)] {
+        assert_eq!(labels_depth(&labels, i, j), 1, "({i}, {j})");
+    }
+    // A crater all in the coast's level is refused, and the message says where it is.
+    let coastal: Vec<[f32; 4]> =
+        pixels.iter().enumerate().map(|(k, p)| if k % N < 60 && p[0] == 1.0 { rgba(green) } else { *p }).collect();
+    let moved: Vec<[f32; 4]> = (0..N * N)
+        .map(|k| {
+            let p = DVec2::new((k % N) as f64, (k / N) as f64);
+            if p.distance(DVec2::new(40.0, 100.0)) < 6.0 {
+                rgba(blue)
+            } else if p.distance(DVec2::new(40.0, 100.0)) < 30.0 {
+                rgba(green)
+            } else {
+                coastal[k]
+            }
+        })
+        .collect();
+    let err = LabelMap::from_mask(grid(), &moved, &options(Some(table))).unwrap_err().to_string();
+    assert!(err.contains("directly inside the coastline") && err.contains("near (370, 950)"), "{err}");
+}
