@@ -447,7 +447,7 @@ fn a_crater_on_two_levels_sinks_below_the_one_around_most_of_it() {
     ];
     let labels = LabelMap::from_mask(grid(), &pixels, &options(Some(table.clone()))).unwrap();
     // Every crater pixel, the first one met included, sits one level below the red range.
-    for (i, j) in [(100, 126), (100, 135), (95, 140), (104, 143)] {
+    for (i, j) in [(96, 126), (100, 126), (100, 135), (95, 140), (104, 143)] {
         assert_eq!(labels_depth(&labels, i, j), 1, "({i}, {j})");
     }
     // A crater all in the coast's level is refused, and the message says where it is.
@@ -467,4 +467,22 @@ fn a_crater_on_two_levels_sinks_below_the_one_around_most_of_it() {
         .collect();
     let err = LabelMap::from_mask(grid(), &moved, &options(Some(table))).unwrap_err().to_string();
     assert!(err.contains("directly inside the coastline") && err.contains("near (370, 950)"), "{err}");
+}
+
+#[test]
+fn a_blend_equally_far_from_two_levels_takes_the_lower() {
+    // One pixel of 0.25 between black (left) and gray (right): black, met first, is also lower.
+    let (grid, pixels) = blocks(|i, j| ((i, j) == (49, 32)).then_some(0.25));
+    let labels = LabelMap::from_mask(grid, &pixels, &fine()).unwrap();
+    assert_eq!(labels_depth(&labels, 49, 32), 0);
+    // A row of 0.75 between white (below, met first) and gray (above): gray, the lower.
+    let (grid, pixels) = blocks(|_, j| match j {
+        0..20 => Some(1.0),
+        20 => Some(0.75),
+        _ => Some(0.5),
+    });
+    let labels = LabelMap::from_mask(grid, &pixels, &fine()).unwrap();
+    let cleaning = labels.cleaning().unwrap();
+    assert_eq!(cleaning.colors.len(), 2, "{:?}", cleaning.colors);
+    assert_eq!(labels_depth(&labels, 30, 20), 0, "the gray level, the lower of the two");
 }

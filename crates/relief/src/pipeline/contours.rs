@@ -4,10 +4,12 @@
 
 use glam::DVec2;
 
-use super::contour_input::{self, Regrowth};
-use super::edits::{Edits, Tool, ToolKind, apply_edits};
+use super::contour_input::{self, ContourInputSummary, Regrowth};
+use super::contour_tools::{apply_tools, set_crater_depths};
+use super::edits::{Edits, apply_edits};
 use super::inputs::{Env, default_domain, raster_grid};
-use super::progress::{Tick, Timer};
+use super::labels::{label_map, merge_warning};
+use super::progress::Timer;
 use super::summary::GraphSummary;
 use super::{Generated, Report};
 use crate::contours::{
@@ -15,23 +17,21 @@ use crate::contours::{
     reconstruct_interpolated, reconstruct_stairs, smooth_heights,
 };
 use crate::eden_growth::{
-    CoarseOrder, EdenError, Fronts, Graph, GraphOptions, Growth, LabelLevel, LabelMap, MaskOptions, ProbabilityMap,
-    RasterProbability, Region, RegionTree, Sampling, Uniform, grow_with, hex,
+    CoarseOrder, EdenError, Fronts, Graph, GraphOptions, Growth, LabelMap, MaskCleaning, ProbabilityMap,
+    RasterProbability, Region, RegionTree, Sampling, Uniform, grow_with,
 };
 use crate::error::SceneError;
 use crate::heightfield::{Extent, GridSpec, Heightfield, fill_depressions};
 use crate::poisson_sampling::Polygon;
-use crate::scene::{
-    ContoursGenerator, HistogramSource, LabelImage, Multilevel, Probability, ReconstructionMode, Scene,
-};
+use crate::scene::{ContoursGenerator, HistogramSource, Multilevel, Probability, ReconstructionMode, Scene};
 use crate::tin::PointLocator;
 use crate::warp::{Warp, warp_raster};
-use crate::{ReliefError, ReliefError as E, tools};
+use crate::{ReliefError, ReliefError as E};
 
 /// Default node count when a scene gives neither `particles` nor `radius`.
 pub const DEFAULT_PARTICLES: usize = 50_000;
 
-const GENERATOR: &str = "generator.contours";
+pub(super) const GENERATOR: &str = "generator.contours";
 
 /// Everything a contour scene asks for, read and checked before the heavy work.
 struct Inputs {
@@ -51,6 +51,21 @@ enum Source {
     Labels(LabelMap),
     /// Regions made from contour input, with what the input reported.
     Contours(RegionTree, Box<Regrowth>),
+}
+
+/// A label image's cleaning, contour input's reading, and the DEM contours came from.
+type InputReport = (Option<MaskCleaning>, Option<ContourInputSummary>, Option<Box<(String, Heightfield)>>);
+
+impl Source {
+    /// What the summary reports of the inputs: a label image's cleaning, contour input's reading
+    /// and the DEM it came from.
+    fn into_report(self) -> InputReport {
+        match self {
+            Self::Labels(labels) => (labels.cleaning().cloned(), None, None),
+            Self::Contours(_, regrowth) => (None, Some(regrowth.summary), regrowth.reference.map(Box::new)),
+            Self::Regions(_) => (None, None, None),
+        }
+    }
 }
 
 /// The histogram the heights follow: the scene's, or one derived from the regions' heights once
@@ -77,18 +92,7 @@ pub(super) fn generate(
         None => None,
     };
     let graph = timer.step("graph", || inputs.graph(scene.seed))?;
-    let growth = timer.step("growth", || {
-        let seed = growth_seed(scene.seed);
-        let base = inputs.probability.as_ref();
-        let grown = match (&coarse, &g.multilevel) {
-            (Some((cg, cgrowth)), Some(m)) => {
-                let order = CoarseOrder::new(cg, cgrowth, m.contrast).map_err(|e| E::located(GENERATOR, e))?;
-                grow_with(&graph, &|p: DVec2| base.probability(p) * order.probability(p), seed, g.fronts)
-            }
-            _ => grow_with(&graph, base, seed, g.fronts),
-        };
-        grown.map_err(|e| E::located(GENERATOR, e))
-    })?;
+    let growth = timer.step("growth", || inputs.grow(&graph, coarse.as_ref(), g, scene.seed))?;
     let level_ends: Vec<usize> = (1..=growth.levels()).map(|l| growth.level_range(l).end).collect();
     let histogram = inputs.target.histogram(&level_ends)?;
     let ranking =
@@ -120,19 +124,9 @@ pub(super) fn generate(
     let heightfield = timer.step("reconstruction", || inputs.reconstruct(scene, &surface, &contours, sea_level))?;
     let inside: Vec<f64> = growth.order().iter().map(|&v| heights.heights[v as usize]).collect();
     let nodes_ks = histogram.ks_distance(&inside);
-    let mask = match &inputs.source {
-        Source::Labels(labels) => labels.cleaning().cloned(),
-        Source::Regions(_) | Source::Contours(..) => None,
-    };
-    let warnings = match &inputs.source {
-        Source::Labels(labels) => merge_warning(labels),
-        Source::Regions(_) | Source::Contours(..) => None,
-    };
-    let (contour_input, reference) = match inputs.source {
-        Source::Contours(_, regrowth) => (Some(regrowth.summary), regrowth.reference.map(Box::new)),
-        Source::Regions(_) | Source::Labels(_) => (None, None),
-    };
-    let warnings = warnings.into_iter().chain(fit_warning(&histogram, &ranking, nodes_ks)).collect();
+    let (mask, contour_input, reference) = inputs.source.into_report();
+    let warnings =
+        mask.as_ref().and_then(merge_warning).into_iter().chain(fit_warning(&histogram, &ranking, nodes_ks)).collect();
     let report = Report::Contours {
         graph: GraphSummary {
             nodes: graph.tin().num_points(),
@@ -148,64 +142,6 @@ pub(super) fn generate(
         reference,
     };
     Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report, warnings })
-}
-
-/// Gives each depression with a `depth` that depth: its nodes' heights below its rim (the contour
-/// of the level around it) are scaled so the deepest lies `depth` under the rim, their order kept.
-fn set_crater_depths(tree: &RegionTree, graph: &Graph, heights: &mut Heights) {
-    let points = graph.tin().points();
-    for (i, region) in tree.regions().iter().enumerate() {
-        let (Some(depth), Some(parent)) = (region.depth, tree.parent(i)) else { continue };
-        let rim = heights.level_boundaries[usize::from(tree.depth(parent)) - 1];
-        let b = region.polygon.bounds();
-        let nodes: Vec<usize> = (0..points.len())
-            .filter(|&v| graph.depressions()[v] && b.contains(points[v]) && region.polygon.contains(points[v]))
-            .collect();
-        let floor = nodes.iter().map(|&v| heights.heights[v]).fold(rim, f64::min);
-        if floor >= rim {
-            continue;
-        }
-        for v in nodes {
-            let h = &mut heights.heights[v];
-            *h = rim - depth * (rim - h.min(rim)) / (rim - floor);
-        }
-    }
-}
-
-/// Applies the scene's contour tools to the node heights in order, each picking its contour on
-/// the contours of the heights as they are then.
-fn apply_tools(
-    graph: &Graph,
-    heights: &mut [f64],
-    tools: &[(usize, Tool)],
-    extract: &dyn Fn(&[f64]) -> Result<ContourSet, ReliefError>,
-    probability: &dyn ProbabilityMap,
-    seed: u64,
-    tick: &mut Tick<'_>,
-) -> Result<(), ReliefError> {
-    let tin = graph.tin();
-    for (k, &(i, tool)) in tools.iter().enumerate() {
-        let at = format!("edits[{i}].{}", tool.kind.name());
-        let set = extract(heights)?;
-        let Some(c) = tools::pick(&set, tool.at, tool.height) else {
-            let reason = format!("no closed contour around ({}, {})", tool.at.x, tool.at.y);
-            return Err(E::at(format!("{at}.at"), reason));
-        };
-        let seed = growth_seed(seed) ^ (k as u64 + 1).wrapping_mul(0xA24B_AED4_963E_E407);
-        let fail = |e| E::at(&at, e);
-        let source = heights.to_vec();
-        match tool.kind {
-            ToolKind::Fill => tools::fill(tin, heights, &set, c, probability, seed).map_err(fail)?,
-            ToolKind::Delete => tools::delete(tin, heights, &set, c, probability, seed).map_err(fail)?,
-            ToolKind::Paste => tools::paste(tin, heights, &source, &set, c, tool.to - tool.at),
-            ToolKind::Cut => {
-                tools::delete(tin, heights, &set, c, probability, seed).map_err(fail)?;
-                tools::paste(tin, heights, &source, &set, c, tool.to - tool.at)
-            }
-        };
-        tick.tick();
-    }
-    Ok(())
 }
 
 /// Seed of the growth, decorrelated from the sampling's.
@@ -264,6 +200,25 @@ impl Inputs {
         let probability = probability(&g.probability, env, &extent, scene.seed)?;
         let edits = Edits::prepare(&scene.edits)?;
         Ok(Self { source, sampling, target, probability, levels, edits, grid, max_particles: env.budget.max_particles })
+    }
+
+    /// The growth over `graph`, steered by the last coarse pass of multi-level generation.
+    fn grow(
+        &self,
+        graph: &Graph,
+        coarse: Option<&(Graph, Growth)>,
+        g: &ContoursGenerator,
+        seed: u64,
+    ) -> Result<Growth, ReliefError> {
+        let (seed, base) = (growth_seed(seed), self.probability.as_ref());
+        let grown = match (coarse, &g.multilevel) {
+            (Some((cg, cgrowth)), Some(m)) => {
+                let order = CoarseOrder::new(cg, cgrowth, m.contrast).map_err(|e| E::located(GENERATOR, e))?;
+                grow_with(graph, &|p: DVec2| base.probability(p) * order.probability(p), seed, g.fronts)
+            }
+            _ => grow_with(graph, base, seed, g.fronts),
+        };
+        grown.map_err(|e| E::located(GENERATOR, e))
     }
 
     /// The coarse passes of multi-level generation, coarsest first, each steered by the one
@@ -465,56 +420,6 @@ fn sampling(g: &ContoursGenerator) -> Result<Sampling, ReliefError> {
         (None, Some(r)) => Ok(Sampling::Radius(r)),
         (None, None) => Ok(Sampling::Particles(DEFAULT_PARTICLES)),
     }
-}
-
-/// A label image read, placed, cleaned (edge blends snapped, specks merged) and turned into a
-/// label map.
-fn label_map(label: &LabelImage, env: &Env<'_>, sampling: Sampling) -> Result<LabelMap, ReliefError> {
-    let at = format!("{GENERATOR}.label_image");
-    let levels = match &label.levels {
-        None => None,
-        Some(rows) => Some(
-            rows.iter()
-                .enumerate()
-                .map(|(k, row)| {
-                    let color = row.value.rgb().map_err(|reason| {
-                        E::at(
-                            format!("{at}.levels[{k}].value"),
-                            SceneError::OutOfRange { value: reason, rule: "a colour" },
-                        )
-                    })?;
-                    Ok(LabelLevel { color, height: row.height, depression: row.depression })
-                })
-                .collect::<Result<Vec<_>, ReliefError>>()?,
-        ),
-    };
-    let image = env.read_color(&label.path).map_err(|e| E::at(format!("{at}.path"), e))?;
-    let grid = GridSpec::from_extent(image.grid.nx(), image.grid.ny(), label.extent)
-        .map_err(|e| E::at(format!("{at}.extent"), e))?;
-    let place = if label.levels.is_some() { format!("{at}.levels") } else { format!("{at}.path") };
-    let labels =
-        LabelMap::from_mask(grid, &image.pixels, &MaskOptions { levels, sampling }).map_err(|e| E::at(place, e))?;
-    Ok(labels.with_depressions(label.depressions))
-}
-
-/// The warning for patches of a label image merged into their surroundings.
-fn merge_warning(labels: &LabelMap) -> Option<String> {
-    let cleaning = labels.cleaning()?;
-    let first = cleaning.merged.first()?;
-    Some(format!(
-        "label image: {} patch{} smaller than the sampling holds ({} pixels) merged into the level around {}, e.g. {} \
-         pixel{} of {} at ({:.0}, {:.0}) into {}; summary.json lists them",
-        cleaning.merged_count,
-        if cleaning.merged_count == 1 { "" } else { "es" },
-        cleaning.min_patch_pixels,
-        if cleaning.merged_count == 1 { "it" } else { "them" },
-        first.pixels,
-        if first.pixels == 1 { "" } else { "s" },
-        hex(first.color),
-        first.at.x,
-        first.at.y,
-        hex(first.into)
-    ))
 }
 
 impl Target {

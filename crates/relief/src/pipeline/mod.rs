@@ -13,12 +13,14 @@
 //! (`generator.contours.regions[2].polygon`, `edits[1].warp.radius`, …), whichever step finds it.
 
 mod contour_input;
+mod contour_tools;
 mod contours;
 mod diffusion;
 mod edits;
 mod gaussian;
 mod inputs;
 mod island;
+mod labels;
 mod orometry;
 mod outputs;
 mod post;
