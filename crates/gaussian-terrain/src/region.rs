@@ -188,8 +188,9 @@ fn check_radius(name: &'static str, r: f64) -> Result<(), GaussianError> {
 
 /// Stamping (§5.2): the primitives of `P(Ω)` are moved (or copied) by `placement`, and every
 /// other primitive is damped by the outer fall-off of the destination region,
-/// `hᵢ ← f(cᵢ)·hᵢ` with `f = s(d(∂Ω̃, cᵢ)/r)`: vanished under the stamp, untouched beyond `r`.
-/// Returns the indices of the placed primitives.
+/// `hᵢ ← f(cᵢ)·hᵢ` with `f = s(d(∂Ω̃, cᵢ)/r)`: vanished under the stamp (and removed, so no
+/// zero-amplitude primitive is left), untouched beyond `r`. Returns the indices of the placed
+/// primitives.
 ///
 /// # Errors
 /// [`GaussianError::InvalidRegion`] or [`GaussianError::InvalidOption`] for a bad region,
@@ -249,6 +250,8 @@ fn paste_landform(
             g.amplitude *= f;
         }
     }
+    // Primitives wholly under the stamp vanished: drop them rather than keep zero-amplitude ones.
+    terrain.primitives.retain(|g| g.amplitude != 0.0);
     let start = terrain.primitives.len();
     terrain.primitives.extend(landform.placed(DVec2::from(placement.to), placement.rotation, placement.scale));
     Ok((start..terrain.primitives.len()).collect())

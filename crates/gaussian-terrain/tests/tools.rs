@@ -91,6 +91,13 @@ proptest! {
         let selected = region.select(&before);
         let placed = stamp(&mut after, &region, &placement, mode, damping).unwrap();
         prop_assert_eq!(placed.len(), selected.len());
+        // Primitives wholly under the stamp are gone, not left at zero amplitude; the placed ones
+        // are the last, as returned.
+        prop_assert!(after.primitives.iter().all(|g| g.amplitude != 0.0));
+        prop_assert_eq!(placed.last().copied(), after.primitives.len().checked_sub(1));
+        let kept = if mode == StampMode::Copy { before.primitives.len() } else { before.primitives.len() - selected.len() };
+        prop_assert!(after.primitives.len() <= kept + placed.len(), "{} > {} + {}", after.primitives.len(), kept, placed.len());
+
         let destination = circle(tx, ty, r);
         // Untouched: outside the damping band of the destination and not selected (or copied).
         for k in far_from(&before, &destination, damping) {
