@@ -16,7 +16,7 @@ use crate::error::SceneError;
 use crate::heightfield::{Extent, Heightfield};
 use crate::hydrology::{DescriptorDistance, DescriptorOptions, Descriptors};
 use crate::orometry::{AnalysisOptions, analyze};
-use crate::poisson_sampling::{DENSITY, Polygon, Rect};
+use crate::poisson_sampling::{Polygon, Rect, radius_for_count};
 use crate::scene::ContourInput;
 use crate::{ReliefError, ReliefError as E};
 
@@ -76,7 +76,8 @@ pub(super) fn read(spec: &ContourInput, env: &Env<'_>, sampling: Sampling) -> Re
     let omega: f64 =
         (0..set.len()).filter(|&k| set.parent(k).is_none()).map(|k| set.contours()[k].signed_area().abs()).sum();
     let radius = match sampling {
-        Sampling::Particles(n) => (DENSITY * omega / n.max(1) as f64).sqrt(),
+        // No area (no closed ring): no size cut; the empty region list is refused below.
+        Sampling::Particles(n) => radius_for_count(omega, n).unwrap_or(0.0),
         Sampling::Radius(r) => r,
     };
     let (regions, mut summary) = regions(&set, std::f64::consts::PI * radius * radius);
@@ -92,14 +93,10 @@ pub(super) fn read(spec: &ContourInput, env: &Env<'_>, sampling: Sampling) -> Re
 /// A DEM's contours at the scene's heights (or interval), its lowest elevation the coast, closed
 /// along its border; and how many the border cut.
 fn dem_contours(dem: &Heightfield, spec: &ContourInput) -> Result<(ContourSet, usize), ReliefError> {
-    let (min, max) = dem
-        .samples()
-        .iter()
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(f64::from(v)), hi.max(f64::from(v))));
-    if min >= max || min.is_nan() {
-        return Err(E::at(format!("{AT}.dem"), SceneError::Missing("a DEM with more than one elevation")));
-    }
+    let (min, max) = match dem.min_max() {
+        Some((lo, hi)) if lo < hi => (f64::from(lo), f64::from(hi)),
+        _ => return Err(E::at(format!("{AT}.dem"), SceneError::Missing("a DEM with more than one elevation"))),
+    };
     let levels = match (spec.interval, &spec.heights) {
         (Some(_), Some(_)) => return Err(E::at(AT, SceneError::Conflict("interval", "heights"))),
         (None, Some(heights)) => given_heights(heights)?,

@@ -51,12 +51,15 @@ pub(super) fn apply_tools(
         };
         let seed = growth_seed(seed) ^ (k as u64 + 1).wrapping_mul(0xA24B_AED4_963E_E407);
         let fail = |e| E::at(&at, e);
-        let source = heights.to_vec();
         match tool.kind {
             ToolKind::Fill => tools::fill(tin, heights, &set, c, probability, seed).map_err(fail)?,
             ToolKind::Delete => tools::delete(tin, heights, &set, c, probability, seed).map_err(fail)?,
-            ToolKind::Paste => tools::paste(tin, heights, &source, &set, c, tool.to - tool.at),
+            ToolKind::Paste => {
+                let source = heights.to_vec();
+                tools::paste(tin, heights, &source, &set, c, tool.to - tool.at)
+            }
             ToolKind::Cut => {
+                let source = heights.to_vec();
                 tools::delete(tin, heights, &set, c, probability, seed).map_err(fail)?;
                 tools::paste(tin, heights, &source, &set, c, tool.to - tool.at)
             }

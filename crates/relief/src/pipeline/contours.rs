@@ -233,11 +233,7 @@ impl Inputs {
                 Sampling::Particles(n) => Sampling::Particles(((n as f64 / scale).round() as usize).max(16)),
                 Sampling::Radius(r) => Sampling::Radius(r * scale.sqrt()),
             };
-            let options = GraphOptions {
-                sampling,
-                max_particles: self.max_particles,
-                ..GraphOptions::particles(1).with_seed(seed ^ u64::from(k))
-            };
+            let options = self.graph_options(sampling, seed ^ u64::from(k));
             let graph = match &self.source {
                 Source::Regions(tree) | Source::Contours(tree, _) => Graph::from_regions(tree, &options),
                 Source::Labels(labels) => Graph::from_labels(labels, &options),
@@ -258,12 +254,13 @@ impl Inputs {
         previous.ok_or_else(|| E::at(format!("{at}.passes"), "at least 2 passes (one coarse, then the final)"))
     }
 
+    /// Graph options for `sampling` and `seed` under the budget's particle cap.
+    fn graph_options(&self, sampling: Sampling, seed: u64) -> GraphOptions {
+        GraphOptions { sampling, max_particles: self.max_particles, ..GraphOptions::particles(1).with_seed(seed) }
+    }
+
     fn graph(&mut self, seed: u64) -> Result<Graph, ReliefError> {
-        let options = GraphOptions {
-            sampling: self.sampling,
-            max_particles: self.max_particles,
-            ..GraphOptions::particles(1).with_seed(seed)
-        };
+        let options = self.graph_options(self.sampling, seed);
         let graph = match &mut self.source {
             Source::Regions(tree) => Graph::from_regions(tree, &options),
             Source::Labels(labels) => Graph::from_labels(labels, &options),

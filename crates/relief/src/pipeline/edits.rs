@@ -63,25 +63,6 @@ impl Edits {
         for (i, edit) in edits.iter().enumerate() {
             let pick = |kind, p: &ContourPick| Tool { kind, at: p.at.into(), height: p.height, to: p.at.into() };
             let moved = |kind, m: &ContourMove| Tool { kind, at: m.at.into(), height: m.height, to: m.to.into() };
-            let tool = match edit {
-                Edit::Fill(p) => Some(pick(ToolKind::Fill, p)),
-                Edit::Delete(p) => Some(pick(ToolKind::Delete, p)),
-                Edit::Paste(m) => Some(moved(ToolKind::Paste, m)),
-                Edit::Cut(m) => Some(moved(ToolKind::Cut, m)),
-                _ => None,
-            };
-            if let Some(tool) = tool {
-                let finite = tool.at.is_finite() && tool.to.is_finite() && tool.height.is_none_or(f64::is_finite);
-                if !finite {
-                    let at = format!("edits[{i}].{}", tool.kind.name());
-                    return Err(E::at(
-                        at,
-                        SceneError::OutOfRange { value: "a point or height".into(), rule: "must be finite" },
-                    ));
-                }
-                out.tools.push((i, tool));
-                continue;
-            }
             let warp: Box<dyn Warp> = match edit {
                 Edit::Smooth(s) => {
                     s.validate().map_err(|e| E::located(&format!("edits[{i}].smooth"), e))?;
@@ -90,12 +71,38 @@ impl Edits {
                 }
                 Edit::Warp(w) => Box::new(w.clone()),
                 Edit::Slope(s) => Box::new(s.clone()),
-                Edit::Fill(_) | Edit::Delete(_) | Edit::Paste(_) | Edit::Cut(_) => continue,
+                Edit::Fill(p) => {
+                    out.push_tool(i, pick(ToolKind::Fill, p))?;
+                    continue;
+                }
+                Edit::Delete(p) => {
+                    out.push_tool(i, pick(ToolKind::Delete, p))?;
+                    continue;
+                }
+                Edit::Paste(m) => {
+                    out.push_tool(i, moved(ToolKind::Paste, m))?;
+                    continue;
+                }
+                Edit::Cut(m) => {
+                    out.push_tool(i, moved(ToolKind::Cut, m))?;
+                    continue;
+                }
             };
             out.steps.push(Step::Warp(out.warps.len()));
             out.warps.push(warp);
         }
         Ok(out)
+    }
+
+    /// Adds the contour tool of edit `i`, its points and height checked finite.
+    fn push_tool(&mut self, i: usize, tool: Tool) -> Result<(), ReliefError> {
+        if !(tool.at.is_finite() && tool.to.is_finite() && tool.height.is_none_or(f64::is_finite)) {
+            let at = format!("edits[{i}].{}", tool.kind.name());
+            let error = SceneError::OutOfRange { value: "a point or height".into(), rule: "must be finite" };
+            return Err(E::at(at, error));
+        }
+        self.tools.push((i, tool));
+        Ok(())
     }
 
     /// The smoothing edits, in order.
