@@ -31,6 +31,21 @@ fn bench(c: &mut Criterion) {
         group.bench_with_input(id, &terrain, |b, t| {
             b.iter(|| black_box(rasterize(t, &grid, &RasterOptions::default()).expect("raster")));
         });
+        // The same samples as continuous queries, batched (the hierarchy built outside the
+        // timing, as an editor keeps it between queries; its build has its own row).
+        if n == 1024 && count == 60_000 {
+            let query = terrain.query().expect("query");
+            let points: Vec<DVec2> = (0..grid.len()).map(|k| grid.position(k % n, k / n)).collect();
+            group.bench_function(format!("query/elevations/{n}/{}k", count / 1000), |b| {
+                b.iter(|| black_box(query.elevations(&points)));
+            });
+            group.bench_function(format!("query/samples/{n}/{}k", count / 1000), |b| {
+                b.iter(|| black_box(query.samples(&points)));
+            });
+            group.bench_function(format!("query/build/{}k", count / 1000), |b| {
+                b.iter(|| black_box(terrain.query().expect("query")));
+            });
+        }
     }
     // A short fit: initialisation and 20 Adam steps on 256² with 2 000 primitives (the full
     // 512² / 1024² fits are single timed runs: `cargo xtask bench` runs `vectorize_timing`).

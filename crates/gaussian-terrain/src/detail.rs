@@ -126,7 +126,7 @@ impl DetailLayer {
         }
     }
 
-    fn falloffs(&self) -> Vec<Gaussian> {
+    pub(crate) fn falloffs(&self) -> Vec<Gaussian> {
         self.centers.iter().map(|&c| Gaussian::round(DVec2::from(c), self.sigma, 1.0)).collect()
     }
 

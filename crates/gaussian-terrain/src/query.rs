@@ -1,0 +1,513 @@
+//! Continuous queries (§3.2: a vector terrain is a function of the plane, not a grid): the
+//! elevation, gradient and normal at any point, with no raster. The supports of the primitives
+//! and of the detail falloffs go into a bounding volume hierarchy (`obvhs`, a maintained BVH
+//! library: PLOC construction and stack traversal, which a hand-written grid would only
+//! approximate for primitives whose sizes span three orders of magnitude).
+//!
+//! Queries go by cells of a fixed lattice about three quarters of a typical support wide: a
+//! cell walks the hierarchy once for the supports that may reach it, then adds each of them to
+//! all of its points with the rasterizer's branch-free f32 arithmetic (module `fastmath`), the
+//! loop over the points vectorized (AVX2 through `pulp` where the CPU has it). A single query
+//! is a cell with one point, and each point sums the same supports in the same order whatever
+//! the other points of its cell, so a batch returns exactly the single queries' values, for any
+//! thread count.
+
+use glam::{DVec2, DVec3, Vec3A};
+use obvhs::BvhBuildParams;
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::Bvh2;
+use obvhs::bvh2::builder::build_bvh2;
+use rayon::prelude::*;
+
+use crate::fastmath::{exp_neg, exp2_signed, log2};
+use crate::{DetailLayer, Gaussian, GaussianError, VectorTerrain};
+
+/// Side of the query lattice's cells, in typical support widths (measured best among 0.25–1.5
+/// on the rasterizer benchmark's terrain).
+const CELL_PER_SUPPORT: f64 = 0.75;
+
+/// Cells per parallel task in the batched queries.
+const CELLS_PER_TASK: usize = 16;
+
+/// The elevation and its gradient at one point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// `h(p)`, world units of elevation.
+    pub elevation: f64,
+    /// `∇h(p) = (∂h/∂x, ∂h/∂y)`, elevation per world unit.
+    pub gradient: DVec2,
+}
+
+impl Sample {
+    /// The upward unit normal of the surface `z = h(x, y)`: `(−∂h/∂x, −∂h/∂y, 1)` normalized.
+    pub fn normal(&self) -> DVec3 {
+        DVec3::new(-self.gradient.x, -self.gradient.y, 1.0).normalize()
+    }
+}
+
+/// One support in the hierarchy: a primitive (or a detail falloff, amplitude 1) ready to
+/// evaluate.
+struct Item {
+    center: DVec2,
+    /// Rows of `A⁻¹`: local coordinates are `(d·u, d·v)`.
+    u: DVec2,
+    v: DVec2,
+    /// Squared support radius in `d` units.
+    r2: f64,
+    amplitude: f64,
+    half_beta: f64,
+    /// The support's bounding box.
+    lo: DVec2,
+    hi: DVec2,
+    /// The support ellipse's unit axes and semi-axes `r·σ`.
+    axes: (DVec2, DVec2),
+    semi: DVec2,
+}
+
+impl Item {
+    fn new(g: &Gaussian, tolerance: f64) -> Self {
+        let (u, v) = g.inverse_axes();
+        let r = g.support_radius(tolerance);
+        let (lo, hi) = g.bounds(tolerance);
+        Self {
+            center: DVec2::from(g.center),
+            u,
+            v,
+            r2: r * r,
+            amplitude: g.amplitude,
+            half_beta: 0.5 * g.beta,
+            lo,
+            hi,
+            axes: (DVec2::from_angle(g.theta), DVec2::from_angle(g.theta).perp()),
+            semi: DVec2::from(g.sigma) * r,
+        }
+    }
+
+    /// The value at `p` in f64, 0 outside the support (a detail falloff's weight).
+    fn value(&self, p: DVec2) -> f64 {
+        let d = p - self.center;
+        let (x, y) = (d.dot(self.u), d.dot(self.v));
+        let s = x * x + y * y;
+        if s > self.r2 { 0.0 } else { self.amplitude * (-0.5 * s.powf(self.half_beta)).exp() }
+    }
+
+    /// Whether the support may reach the box `[lo, hi]`: its bounding box meets it and its
+    /// ellipse, grown by the box's half-diagonal, holds the box's centre (conservative: the
+    /// grown ellipse holds the support swept by a disc around the box).
+    fn meets(&self, lo: DVec2, hi: DVec2) -> bool {
+        if self.lo.x > hi.x || self.hi.x < lo.x || self.lo.y > hi.y || self.hi.y < lo.y {
+            return false;
+        }
+        let (mid, reach) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
+        let d = mid - self.center;
+        let (x, y) = (d.dot(self.axes.0) / (self.semi.x + reach), d.dot(self.axes.1) / (self.semi.y + reach));
+        x * x + y * y <= 1.0
+    }
+}
+
+/// A vector terrain prepared for point queries: [`VectorTerrain::query`] builds it.
+///
+/// Values agree with [`crate::rasterize`] at its samples (the same truncated supports, f32
+/// arithmetic and f32 sums, so to f32 rounding except where a sample lies on the very edge of a
+/// support) and with [`VectorTerrain::height_at`] to within the
+/// truncation tolerance. Gradients are the analytic derivative of each support,
+/// `∇g = −g·(β/2)·d^(β−2)·A⁻ᵀA⁻¹(p − c)`; a detail layer's noise or error map has no
+/// closed-form gradient, so its part is a central difference over 10⁻³ of the layer's σ.
+/// A non-finite point gives NaN.
+///
+/// # Example
+/// ```
+/// use glam::DVec2;
+/// use relief_gaussian_terrain::{Gaussian, VectorTerrain};
+///
+/// let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::new(0.0, 0.0), 10.0, 100.0)]);
+/// let query = terrain.query()?;
+/// let top = query.sample(DVec2::ZERO);
+/// assert!((top.elevation - 100.0).abs() < 1e-9 && top.gradient.length() < 1e-9);
+/// // East of the top the ground falls to the east: the normal leans east.
+/// assert!(query.sample(DVec2::new(10.0, 0.0)).normal().x > 0.0);
+/// let heights = query.elevations(&[DVec2::ZERO, DVec2::new(1e6, 0.0)]);
+/// assert_eq!(heights[1], 0.0);
+/// # Ok::<(), relief_gaussian_terrain::GaussianError>(())
+/// ```
+pub struct TerrainQuery {
+    /// Boxes are stored relative to this point, so f32 keeps them tight far from the origin.
+    origin: DVec2,
+    bvh: Bvh2,
+    /// The Gaussians, then each detail layer's falloffs, in order.
+    items: Vec<Item>,
+    /// `items[gaussians..]` are detail falloffs.
+    gaussians: usize,
+    /// Each detail layer and the end of its falloffs in `items`.
+    layers: Vec<(DetailLayer, usize)>,
+    base: f64,
+    /// Side of the lattice of query cells, anchored at `origin`.
+    cell: f64,
+}
+
+impl std::fmt::Debug for TerrainQuery {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TerrainQuery")
+            .field("gaussians", &self.gaussians)
+            .field("detail_layers", &self.layers.len())
+            .field("nodes", &self.bvh.nodes.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl VectorTerrain {
+    /// Prepares continuous queries at the default tolerance ([`crate::DEFAULT_TOLERANCE`]).
+    ///
+    /// # Errors
+    /// The terrain's [`VectorTerrain::validate`] errors.
+    pub fn query(&self) -> Result<TerrainQuery, GaussianError> {
+        self.query_with(crate::DEFAULT_TOLERANCE)
+    }
+
+    /// Prepares continuous queries, each primitive cut off below `tolerance·|a|` as in
+    /// [`crate::RasterOptions::tolerance`].
+    ///
+    /// # Errors
+    /// The terrain's [`VectorTerrain::validate`] errors; [`GaussianError::InvalidOption`] for a
+    /// tolerance outside `(0, 1)`.
+    pub fn query_with(&self, tolerance: f64) -> Result<TerrainQuery, GaussianError> {
+        if !(tolerance > 0.0 && tolerance < 1.0) {
+            return Err(GaussianError::InvalidOption {
+                name: "tolerance",
+                value: tolerance,
+                reason: "must be in (0, 1)",
+            });
+        }
+        self.validate()?;
+        let mut supports: Vec<Gaussian> = self.primitives.clone();
+        let mut layers = Vec::with_capacity(self.details.len());
+        for layer in &self.details {
+            supports.extend(layer.falloffs());
+            layers.push((layer.clone(), supports.len()));
+        }
+        let bounds: Vec<(DVec2, DVec2)> = supports.iter().map(|g| g.bounds(tolerance)).collect();
+        let origin = bounds.iter().map(|&(lo, hi)| 0.5 * (lo + hi)).sum::<DVec2>() / bounds.len().max(1) as f64;
+        let boxes: Vec<Aabb> = bounds.iter().map(|&(lo, hi)| outward_box(lo - origin, hi - origin)).collect();
+        let bvh = if boxes.is_empty() {
+            Bvh2::default()
+        } else {
+            let mut build_time = std::time::Duration::ZERO;
+            build_bvh2(&boxes, BvhBuildParams::fast_build(), &mut build_time)
+        };
+        let items: Vec<Item> = supports.iter().map(|g| Item::new(g, tolerance)).collect();
+        let cell = CELL_PER_SUPPORT
+            * typical_width(&items[..if self.primitives.is_empty() { items.len() } else { self.primitives.len() }]);
+        Ok(TerrainQuery { origin, bvh, items, gaussians: self.primitives.len(), layers, base: self.base, cell })
+    }
+}
+
+/// An f32 box that holds the f64 box `[lo, hi]`: widened by a relative 10⁻⁶, well above f32
+/// rounding, so a point inside the f64 box is never culled.
+fn outward_box(lo: DVec2, hi: DVec2) -> Aabb {
+    let pad = |v: DVec2| v.abs() * 1e-6 + DVec2::splat(1e-9);
+    let (a, b) = (lo - pad(lo), hi + pad(hi));
+    Aabb::new(Vec3A::new(a.x as f32, a.y as f32, -1.0), Vec3A::new(b.x as f32, b.y as f32, 1.0))
+}
+
+/// The median of the supports' narrowest box widths (1 when there is none).
+fn typical_width(items: &[Item]) -> f64 {
+    let mut widths: Vec<f64> = items.iter().map(|i| (i.hi - i.lo).min_element()).filter(|w| *w > 0.0).collect();
+    if widths.is_empty() {
+        return 1.0;
+    }
+    let mid = widths.len() / 2;
+    *widths.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
+impl TerrainQuery {
+    /// Number of supports (primitives and detail falloffs) in the hierarchy.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// Whether the terrain has no primitive and no detail (a flat terrain at its base).
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// The elevation at `p`.
+    pub fn elevation(&self, p: DVec2) -> f64 {
+        self.sample(p).elevation
+    }
+
+    /// The elevation and gradient at `p`.
+    pub fn sample(&self, p: DVec2) -> Sample {
+        let Some(key) = self.cell_of(p) else { return Sample::NAN };
+        let mut out = Vec::with_capacity(1);
+        self.cell_samples(key, &[p], &[0], &mut Block::default(), &mut out);
+        out[0].1
+    }
+
+    /// The upward unit normal at `p`.
+    pub fn normal(&self, p: DVec2) -> DVec3 {
+        self.sample(p).normal()
+    }
+
+    /// The elevations at `points`, in parallel: the same values as [`Self::elevation`] one by
+    /// one, for any thread count.
+    pub fn elevations(&self, points: &[DVec2]) -> Vec<f64> {
+        self.samples(points).into_iter().map(|s| s.elevation).collect()
+    }
+
+    /// The elevations and gradients at `points`, in parallel: the same values as
+    /// [`Self::sample`] one by one, for any thread count. Points close together share one walk
+    /// of the hierarchy, so a batch in the order of a grid or a track is the fast case.
+    pub fn samples(&self, points: &[DVec2]) -> Vec<Sample> {
+        let mut out = vec![Sample::NAN; points.len()];
+        let cells = self.bucket(points);
+        let parts: Vec<Vec<(u32, Sample)>> = cells
+            .par_chunks(CELLS_PER_TASK)
+            .map(|cells| {
+                let mut block = Block::default();
+                let mut part = Vec::new();
+                for (key, members) in cells {
+                    self.cell_samples(*key, points, members, &mut block, &mut part);
+                }
+                part
+            })
+            .collect();
+        for (k, s) in parts.into_iter().flatten() {
+            out[k as usize] = s;
+        }
+        out
+    }
+
+    /// The lattice cell of `p`, `None` when it is not finite or beyond the lattice's i32 range.
+    fn cell_of(&self, p: DVec2) -> Option<(i32, i32)> {
+        let c = ((p - self.origin) / self.cell).floor();
+        let fits = |v: f64| v.is_finite() && v.abs() < f64::from(i32::MAX);
+        (fits(c.x) && fits(c.y)).then_some((c.x as i32, c.y as i32))
+    }
+
+    /// The finite points grouped by lattice cell, cells in (y, x) order.
+    fn bucket(&self, points: &[DVec2]) -> Vec<((i32, i32), Vec<u32>)> {
+        let keys: Vec<Option<(i32, i32)>> = points.iter().map(|&p| self.cell_of(p)).collect();
+        let (lo, hi) = keys.iter().flatten().fold(((i32::MAX, i32::MAX), (i32::MIN, i32::MIN)), |(a, b), &(x, y)| {
+            ((a.0.min(x), a.1.min(y)), (b.0.max(x), b.1.max(y)))
+        });
+        if lo.0 > hi.0 {
+            return Vec::new();
+        }
+        let (w, h) = (i64::from(hi.0) - i64::from(lo.0) + 1, i64::from(hi.1) - i64::from(lo.1) + 1);
+        if w.saturating_mul(h) > 4 * points.len() as i64 + 64 {
+            return Self::bucket_sparse(&keys);
+        }
+        // Dense: a counting sort over the lattice window.
+        let slot =
+            |(x, y): (i32, i32)| ((i64::from(y) - i64::from(lo.1)) * w + i64::from(x) - i64::from(lo.0)) as usize;
+        let mut cells: Vec<Vec<u32>> = vec![Vec::new(); (w * h) as usize];
+        for (k, key) in keys.iter().enumerate() {
+            if let Some(key) = key {
+                cells[slot(*key)].push(k as u32);
+            }
+        }
+        let at = |s: usize| (lo.0 + (s as i64 % w) as i32, lo.1 + (s as i64 / w) as i32);
+        cells.into_iter().enumerate().filter(|(_, m)| !m.is_empty()).map(|(s, m)| (at(s), m)).collect()
+    }
+
+    /// [`Self::bucket`] for points spread thin over a wide window: a sort by cell.
+    fn bucket_sparse(keys: &[Option<(i32, i32)>]) -> Vec<((i32, i32), Vec<u32>)> {
+        let mut keyed: Vec<((i32, i32), u32)> =
+            keys.iter().enumerate().filter_map(|(k, key)| key.map(|(x, y)| ((y, x), k as u32))).collect();
+        keyed.sort_unstable();
+        let mut cells: Vec<((i32, i32), Vec<u32>)> = Vec::new();
+        for ((y, x), k) in keyed {
+            match cells.last_mut() {
+                Some((key, members)) if *key == (x, y) => members.push(k),
+                _ => cells.push(((x, y), vec![k])),
+            }
+        }
+        cells
+    }
+
+    /// The samples at `points[members]`, all in the lattice cell `key`: the supports over the
+    /// cell once, then every point against all of them.
+    fn cell_samples(
+        &self,
+        key: (i32, i32),
+        points: &[DVec2],
+        members: &[u32],
+        block: &mut Block,
+        out: &mut Vec<(u32, Sample)>,
+    ) {
+        let corner = self.origin + DVec2::new(f64::from(key.0), f64::from(key.1)) * self.cell;
+        let (lo, hi) = (corner, corner + DVec2::splat(self.cell));
+        let mut candidates = Vec::new();
+        self.bvh.aabb_traverse(outward_box(lo - self.origin, hi - self.origin), |bvh, node| {
+            let node = &bvh.nodes[node as usize];
+            let first = node.first_index as usize;
+            candidates.extend_from_slice(&bvh.primitive_indices[first..first + node.prim_count as usize]);
+            true
+        });
+        candidates.retain(|&k| self.items[k as usize].meets(lo, hi));
+        candidates.sort_unstable();
+        let split = candidates.partition_point(|&k| (k as usize) < self.gaussians);
+        block.load(&self.items, &candidates[..split], points, members, corner);
+        block.run();
+        for (n, &k) in members.iter().enumerate() {
+            let p = points[k as usize];
+            let m = members.len();
+            let (h, gx, gy) = (block.sums[n], block.sums[m + n], block.sums[2 * m + n]);
+            let (h, gx, gy) = (f64::from(h), f64::from(gx), f64::from(gy));
+            let mut s = Sample { elevation: self.base + h, gradient: DVec2::new(gx, gy) };
+            if split < candidates.len() {
+                s.elevation += self.details_at(p, &candidates[split..]);
+                s.gradient += self.details_gradient(p);
+            }
+            out.push((k, s));
+        }
+    }
+
+    /// The detail layers at `p`, given a superset of the falloffs over it (ascending): each
+    /// layer's amplitude times its summed falloff, capped at 1, as [`DetailLayer::value`].
+    fn details_at(&self, p: DVec2, falloffs: &[u32]) -> f64 {
+        let mut total = 0.0;
+        let mut rest = falloffs;
+        for (layer, end) in &self.layers {
+            let here = rest.partition_point(|&k| (k as usize) < *end);
+            let w: f64 = rest[..here].iter().map(|&k| self.items[k as usize].value(p)).sum();
+            if w > 0.0 {
+                total += layer.amplitude_at(p) * w.min(1.0);
+            }
+            rest = &rest[here..];
+        }
+        total
+    }
+
+    /// The detail layers' gradient at `p`: a central difference.
+    fn details_gradient(&self, p: DVec2) -> DVec2 {
+        let step = self.layers.iter().map(|(l, _)| l.sigma).fold(f64::INFINITY, f64::min) * 1e-3;
+        let at = |q: DVec2| {
+            let local = q - self.origin;
+            let point = Vec3A::new(local.x as f32, local.y as f32, 0.0);
+            let mut falloffs = Vec::new();
+            self.bvh.point_traverse(point, |bvh, node| {
+                let node = &bvh.nodes[node as usize];
+                let first = node.first_index as usize;
+                falloffs.extend_from_slice(&bvh.primitive_indices[first..first + node.prim_count as usize]);
+                true
+            });
+            falloffs.retain(|&k| k as usize >= self.gaussians);
+            falloffs.sort_unstable();
+            self.details_at(q, &falloffs)
+        };
+        let (dx, dy) = (DVec2::new(step, 0.0), DVec2::new(0.0, step));
+        DVec2::new(at(p + dx) - at(p - dx), at(p + dy) - at(p - dy)) / (2.0 * step)
+    }
+}
+
+impl Sample {
+    const NAN: Sample = Sample { elevation: f64::NAN, gradient: DVec2::NAN };
+}
+
+/// A cell's work: its Gaussians (centres relative to the cell's corner) and its points
+/// (relative to the corner, f32 columns), with the sums being accumulated.
+#[derive(Default)]
+struct Block {
+    supports: Vec<Support>,
+    /// The points' x, then their y.
+    q: Vec<f32>,
+    /// The points' elevations, then x and then y derivatives (f32 like the rasterizer's sums).
+    sums: Vec<f32>,
+}
+
+/// One Gaussian of a [`Block`], f32.
+#[derive(Clone, Copy)]
+struct Support {
+    cx: f32,
+    cy: f32,
+    ux: f32,
+    uy: f32,
+    vx: f32,
+    vy: f32,
+    r2: f32,
+    amplitude: f32,
+    half_beta: f32,
+}
+
+impl Block {
+    /// Loads the Gaussians `indices` and the points `members` of the cell at `corner`, sums
+    /// cleared.
+    fn load(&mut self, items: &[Item], indices: &[u32], points: &[DVec2], members: &[u32], corner: DVec2) {
+        self.supports.clear();
+        self.supports.extend(indices.iter().map(|&k| {
+            let i = &items[k as usize];
+            let c = i.center - corner;
+            Support {
+                cx: c.x as f32,
+                cy: c.y as f32,
+                ux: i.u.x as f32,
+                uy: i.u.y as f32,
+                vx: i.v.x as f32,
+                vy: i.v.y as f32,
+                r2: i.r2 as f32,
+                amplitude: i.amplitude as f32,
+                half_beta: i.half_beta as f32,
+            }
+        }));
+        self.q.clear();
+        self.q.extend(members.iter().map(|&k| (points[k as usize].x - corner.x) as f32));
+        self.q.extend(members.iter().map(|&k| (points[k as usize].y - corner.y) as f32));
+        self.sums.clear();
+        self.sums.resize(3 * members.len(), 0.0);
+    }
+
+    /// Adds every Gaussian, in order, to every point's sums: the loop over the points is the
+    /// one the compiler vectorizes, dispatched by `pulp` to the widest vector instructions the
+    /// CPU has (AVX2 where present). Each point's sum runs over the Gaussians in order whatever
+    /// the cell's other points, so a point alone in its cell gets the same bits; and Rust never
+    /// fuses `a·b + c`, so the vector build gives the bits of the plain one.
+    fn run(&mut self) {
+        pulp::Arch::new().dispatch(&mut *self);
+    }
+}
+
+impl pulp::WithSimd for &mut Block {
+    type Output = ();
+
+    #[allow(
+        clippy::inline_always,
+        reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        for c in &self.supports {
+            add_support(*c, &self.q, &mut self.sums);
+        }
+    }
+}
+
+/// Adds the Gaussian `c` to the sums of the points `q` (their x, then their y): `sums` holds
+/// the elevations, then the x and then the y derivatives. One slice in, one out, so the
+/// compiler knows the writes miss the reads and vectorizes the loop.
+#[allow(
+    clippy::inline_always,
+    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
+fn add_support(c: Support, q: &[f32], sums: &mut [f32]) {
+    let n = q.len() / 2;
+    let (qx, qy) = q.split_at(n);
+    let (h, rest) = sums.split_at_mut(n);
+    let (gx, gy) = rest.split_at_mut(n);
+    let (qy, h, gx, gy) = (&qy[..n], &mut h[..n], &mut gx[..n], &mut gy[..n]);
+    for j in 0..n {
+        let (dx, dy) = (qx[j] - c.cx, qy[j] - c.cy);
+        let (x, y) = (dx * c.ux + dy * c.uy, dx * c.vx + dy * c.vy);
+        let s = x * x + y * y;
+        // s^(β/2), and s^(β/2 − 1) for the gradient (s = 0: a zero gradient).
+        let power = exp2_signed(c.half_beta * log2(s));
+        let g = c.amplitude * exp_neg(-0.5 * power);
+        let slope = -g * c.half_beta * power / s.max(f32::MIN_POSITIVE);
+        let inside = s <= c.r2;
+        let (nh, ngx, ngy) = (h[j] + g, gx[j] + slope * (x * c.ux + y * c.vx), gy[j] + slope * (x * c.uy + y * c.vy));
+        h[j] = if inside { nh } else { h[j] };
+        gx[j] = if inside { ngx } else { gx[j] };
+        gy[j] = if inside { ngy } else { gy[j] };
+    }
+}

@@ -1,0 +1,169 @@
+//! Continuous queries: the elevations of the rasterizer and of the exact evaluation (to f32
+//! rounding and the tail tolerance), analytic gradients and normals, batched = one by one for
+//! any thread count, and far from the origin.
+
+use glam::DVec2;
+use relief_fixtures::random_terrain;
+use relief_gaussian_terrain::{
+    DetailLayer, DetailSource, Gaussian, RasterOptions, VectorTerrain, rasterize, rasterize_exact,
+};
+use relief_heightfield::{Extent, GridSpec};
+
+fn grid(n: usize, lo: DVec2, size: f64) -> GridSpec {
+    GridSpec::from_extent(n, n, Extent::new(lo, lo + DVec2::splat(size))).unwrap()
+}
+
+fn grid_points(g: &GridSpec) -> Vec<DVec2> {
+    (0..g.len()).map(|k| g.position(g.coords(k).0, g.coords(k).1)).collect()
+}
+
+fn relief(terrain: &VectorTerrain) -> f64 {
+    terrain.primitives.iter().map(|g| g.amplitude.abs()).sum::<f64>()
+}
+
+#[test]
+fn elevations_match_the_rasterizer_at_its_samples() {
+    let terrain = random_terrain(2_000, 1000.0, 12.0, 3);
+    let g = grid(97, DVec2::ZERO, 1000.0);
+    let raster = rasterize(&terrain, &g, &RasterOptions::default()).unwrap();
+    let query = terrain.query().unwrap();
+    let heights = query.elevations(&grid_points(&g));
+    let scale = f64::from(raster.min_max().map_or(1.0, |(a, b)| b - a));
+    let biggest = terrain.primitives.iter().map(|g| g.amplitude.abs()).fold(0.0, f64::max);
+    let diffs: Vec<f64> = heights.iter().zip(raster.samples()).map(|(h, r)| (h - f64::from(*r)).abs()).collect();
+    // A sample on the edge of a support may be in one truncation and not the other (a step of
+    // at most tolerance·|a|); elsewhere they agree to f32 rounding.
+    let worst = diffs.iter().copied().fold(0.0, f64::max);
+    assert!(worst < 1e-3 * biggest + 1e-5 * scale, "worst difference {worst} over a relief of {scale}");
+    let close = diffs.iter().filter(|d| **d < 1e-5 * scale).count();
+    assert!(close as f64 > 0.99 * diffs.len() as f64, "only {close} of {} samples agree to f32 rounding", diffs.len());
+    // And with the untruncated reference, to within the tail tolerance of the primitives there.
+    let exact = rasterize_exact(&terrain, &grid(17, DVec2::ZERO, 1000.0)).unwrap();
+    for (k, p) in grid_points(&grid(17, DVec2::ZERO, 1000.0)).into_iter().enumerate() {
+        let bound = 1e-3 * relief(&terrain) + 1e-3;
+        assert!((query.elevation(p) - f64::from(exact.samples()[k])).abs() < bound);
+    }
+}
+
+#[test]
+fn gradients_are_exact() {
+    // One primitive of each kind; at p = c + σx·e (its own x axis) d = 1 and
+    // ∇g = −g·(β/2)·(x·u) with u = e/σx, x = 1: a closed form to check against.
+    for beta in [2.0, 1.3, 3.5] {
+        let theta: f64 = 0.6;
+        let g = Gaussian { center: [10.0, -20.0], sigma: [40.0, 15.0], theta, amplitude: 250.0, beta };
+        let query = VectorTerrain::new(vec![g]).query().unwrap();
+        let e = DVec2::from_angle(theta);
+        let p = DVec2::from(g.center) + e * 40.0;
+        let value = 250.0 * (-0.5f64).exp();
+        let want = -value * (beta / 2.0) * e / 40.0;
+        let s = query.sample(p);
+        // f32 arithmetic per support, like the rasterizer: a relative 10⁻⁶.
+        assert!((s.elevation - value).abs() < 1e-6 * value, "β {beta}: {} vs {value}", s.elevation);
+        assert!((s.gradient - want).length() < 1e-6 * want.length(), "β {beta}: {:?} vs {want:?}", s.gradient);
+        let n = s.normal();
+        let expect = glam::DVec3::new(-want.x, -want.y, 1.0).normalize();
+        assert!((n - expect).length() < 1e-6 && (n.length() - 1.0).abs() < 1e-12);
+        assert_eq!(query.normal(p), n);
+    }
+    // A sum of many: the gradient is the derivative of the elevation (central differences).
+    let terrain = random_terrain(500, 1000.0, 10.0, 9);
+    let query = terrain.query().unwrap();
+    for k in 0..200 {
+        let p = DVec2::new(f64::from(k * 37 % 1000), f64::from(k * 91 % 1000)) + DVec2::splat(0.37);
+        let s = query.sample(p);
+        // Central differences of each primitive inside its support, in f64.
+        let h = 1e-4;
+        let fd: DVec2 = terrain
+            .primitives
+            .iter()
+            .filter(|g| g.distance_squared(p) <= g.support_radius(1e-3).powi(2))
+            .map(|g| {
+                let (dx, dy) = (DVec2::X * h, DVec2::Y * h);
+                DVec2::new(g.value(p + dx) - g.value(p - dx), g.value(p + dy) - g.value(p - dy)) / (2.0 * h)
+            })
+            .sum();
+        assert!((s.gradient - fd).length() < 1e-5 * (1.0 + fd.length()), "at {p}: {:?} vs {fd:?}", s.gradient);
+        assert_eq!(s.elevation, query.elevation(p));
+    }
+}
+
+#[test]
+fn batched_queries_are_the_single_ones_for_any_thread_count() {
+    let terrain = random_terrain(3_000, 1000.0, 16.0, 5);
+    let query = terrain.query().unwrap();
+    let points = grid_points(&grid(71, DVec2::splat(-50.0), 1100.0));
+    let single: Vec<f64> = points.iter().map(|&p| query.elevation(p)).collect();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| (query.elevations(&points), query.samples(&points)))
+    };
+    let (one, one_samples) = run(1);
+    let (four, four_samples) = run(4);
+    assert_eq!(one, single);
+    assert_eq!(four, single);
+    assert_eq!(one_samples, four_samples);
+    assert!(one_samples.iter().zip(&single).all(|(s, h)| s.elevation == *h));
+    assert!(single.iter().any(|h| *h != 0.0));
+}
+
+#[test]
+fn far_from_the_origin_and_outside_every_support() {
+    // A terrain in UTM-like coordinates: f32 boxes relative to the terrain, so nothing is culled.
+    let offset = DVec2::new(652_000.0, 4_983_000.0);
+    let mut terrain = random_terrain(800, 1000.0, 10.0, 11);
+    for g in &mut terrain.primitives {
+        g.center = (DVec2::from(g.center) + offset).to_array();
+    }
+    terrain.base = 120.0;
+    let query = terrain.query().unwrap();
+    let g = grid(23, offset, 1000.0);
+    let exact = rasterize_exact(&terrain, &g).unwrap();
+    for (k, p) in grid_points(&g).into_iter().enumerate() {
+        let bound = 1e-3 * relief(&terrain) + 1e-3;
+        assert!((query.elevation(p) - f64::from(exact.samples()[k])).abs() < bound, "at {p}");
+    }
+    assert_eq!(query.elevation(offset + DVec2::splat(1e5)), 120.0);
+    let empty = VectorTerrain { base: -3.0, ..VectorTerrain::default() }.query().unwrap();
+    assert!(empty.is_empty());
+    assert_eq!(empty.sample(DVec2::new(1.0, 2.0)).elevation, -3.0);
+    assert_eq!(empty.normal(DVec2::ZERO), glam::DVec3::Z);
+}
+
+#[test]
+fn detail_layers_are_queried_too() {
+    let mut terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::splat(500.0), 200.0, 300.0)]);
+    let fbm = relief_heightfield::noise::Fbm { octaves: 3, frequency: 0.02, seed: 4, ..Default::default() };
+    let source = DetailSource::Noise { amplitude: 10.0, fbm };
+    terrain.details.push(DetailLayer::poisson((DVec2::ZERO, DVec2::splat(1000.0)), 20.0, 1, 100_000, source).unwrap());
+    let query = terrain.query().unwrap();
+    assert_eq!(query.len(), 1 + terrain.details[0].centers.len());
+    let mut moved = 0;
+    for k in 0..100 {
+        let p = DVec2::new(f64::from(k * 53 % 1000), f64::from(k * 29 % 1000)) + DVec2::splat(0.5);
+        let want = terrain.height_at(p);
+        let got = query.elevation(p);
+        // Within the truncation of the falloffs (each at most 10⁻³ of the 10 m detail amplitude).
+        assert!((got - want).abs() < 0.05, "at {p}: {got} vs {want}");
+        let plain = Gaussian::round(DVec2::splat(500.0), 200.0, 300.0).value(p);
+        moved += usize::from((got - plain).abs() > 0.5);
+        let s = query.sample(p);
+        let h = 1e-2;
+        let fd = DVec2::new(
+            terrain.height_at(p + DVec2::X * h) - terrain.height_at(p - DVec2::X * h),
+            terrain.height_at(p + DVec2::Y * h) - terrain.height_at(p - DVec2::Y * h),
+        ) / (2.0 * h);
+        assert!((s.gradient - fd).length() < 2e-2 * (1.0 + fd.length()), "at {p}: {:?} vs {fd:?}", s.gradient);
+    }
+    assert!(moved > 30, "the detail layer changed only {moved} of 100 points");
+}
+
+#[test]
+fn bad_tolerances_and_terrains_are_refused() {
+    let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::ZERO, 1.0, 1.0)]);
+    assert!(terrain.query_with(0.0).is_err());
+    assert!(terrain.query_with(1.0).is_err());
+    let mut bad = terrain.clone();
+    bad.primitives[0].sigma[0] = -1.0;
+    assert!(bad.query().is_err());
+}
