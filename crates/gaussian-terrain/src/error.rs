@@ -83,6 +83,16 @@ pub enum GaussianError {
         /// What is wrong.
         reason: &'static str,
     },
+    /// A crest tool names a node the skeleton does not have.
+    #[error(
+        "crest node {node} does not exist: the skeleton has {nodes} nodes (ids 0..{nodes}, as outputs.skeleton lists them)"
+    )]
+    NoSuchNode {
+        /// The id asked for.
+        node: usize,
+        /// How many nodes the skeleton has.
+        nodes: usize,
+    },
     /// No landform of that name in an atlas.
     #[error("no landform named {name:?} in the atlas")]
     NoSuchLandform {

@@ -67,22 +67,30 @@ pub enum Tool {
         /// Fall-off width inside the border, world units.
         falloff: f64,
     },
-    /// Move the crest skeleton's node nearest `near` by `by`; the rest of the crest follows with
-    /// the graph attenuation — [`Skeleton::move_node`].
+    /// Move a crest skeleton node (`node`, or the one nearest `near`) by `by`; the rest of the
+    /// crest follows with the graph attenuation — [`Skeleton::move_node`].
     MoveCrest {
-        /// A point near the node.
-        near: [f64; 2],
+        /// A point near the node (give this or `node`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        near: Option<[f64; 2]>,
+        /// The node's id: its index in the skeleton a scene's `outputs.skeleton` exports.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        node: Option<usize>,
         /// Translation `[x, y]`.
         by: [f64; 2],
         /// Graph distance the change reaches (default: the whole graph).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         reach: Option<f64>,
     },
-    /// Scale the amplitude around the crest node nearest `near`: `a' = a(α·factor + 1)` —
-    /// [`Skeleton::scale_amplitude`].
+    /// Scale the amplitude around a crest node (`node`, or the one nearest `near`):
+    /// `a' = a(α·factor + 1)` — [`Skeleton::scale_amplitude`].
     RaiseCrest {
-        /// A point near the node.
-        near: [f64; 2],
+        /// A point near the node (give this or `node`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        near: Option<[f64; 2]>,
+        /// The node's id: its index in the skeleton a scene's `outputs.skeleton` exports.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        node: Option<usize>,
         /// `u ≥ −1`: 1 doubles the crest there, −1 flattens it.
         factor: f64,
         /// Graph distance the change reaches (default: the whole graph).
@@ -151,14 +159,14 @@ impl Tool {
             Self::Squeeze { region, by, falloff } => {
                 squeeze(terrain, region, DVec2::from(*by), *falloff)?;
             }
-            Self::MoveCrest { near, by, reach } => {
+            Self::MoveCrest { near, node, by, reach } => {
                 let skeleton = cx.skeleton(terrain).map_err(ToolError::Context)?;
-                let (node, attached) = crest_node(skeleton, terrain, *near)?;
+                let (node, attached) = crest_node(skeleton, terrain, *near, *node)?;
                 skeleton.move_node(terrain, &attached, node, DVec2::from(*by), *reach)?;
             }
-            Self::RaiseCrest { near, factor, reach } => {
+            Self::RaiseCrest { near, node, factor, reach } => {
                 let skeleton = cx.skeleton(terrain).map_err(ToolError::Context)?;
-                let (node, attached) = crest_node(skeleton, terrain, *near)?;
+                let (node, attached) = crest_node(skeleton, terrain, *near, *node)?;
                 skeleton.scale_amplitude(terrain, &attached, node, *factor, *reach)?;
             }
         }
@@ -166,15 +174,28 @@ impl Tool {
     }
 }
 
-/// The skeleton node nearest `near` and the primitives' attachments to the skeleton.
+/// The skeleton node a crest tool names (`node`, or the one nearest `near`: exactly one of
+/// them) and the primitives' attachments to the skeleton.
 fn crest_node(
     skeleton: &Skeleton,
     terrain: &VectorTerrain,
-    near: [f64; 2],
+    near: Option<[f64; 2]>,
+    node: Option<usize>,
 ) -> Result<(usize, Vec<Option<crate::Attachment>>), GaussianError> {
-    let attached = skeleton.attach(terrain);
-    let node = skeleton.nearest_node(DVec2::from(near)).ok_or(GaussianError::InvalidSkeleton {
-        reason: "the terrain has no crest skeleton (lower the skeleton's min_cells)",
-    })?;
-    Ok((node, attached))
+    if skeleton.nodes.is_empty() {
+        return Err(GaussianError::InvalidSkeleton {
+            reason: "the terrain has no crest skeleton (lower the skeleton's min_cells)",
+        });
+    }
+    let node = match (near, node) {
+        (Some(p), None) => skeleton.nearest_node(DVec2::from(p)).unwrap_or(0),
+        (None, Some(id)) if id < skeleton.nodes.len() => id,
+        (None, Some(id)) => {
+            return Err(GaussianError::NoSuchNode { node: id, nodes: skeleton.nodes.len() });
+        }
+        _ => {
+            return Err(GaussianError::InvalidSkeleton { reason: "a crest tool needs exactly one of near and node" });
+        }
+    };
+    Ok((node, skeleton.attach(terrain)))
 }

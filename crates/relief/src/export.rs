@@ -164,6 +164,45 @@ pub fn divide_tree_geojson(tree: &DivideTree, analysis: Option<&Orometry>, crs: 
     serde_json::to_string(&collection).unwrap_or_default()
 }
 
+/// A crest skeleton (§5.1 of the vector-terrain paper) as GeoJSON: each node a point with its
+/// `id` (what a crest tool's `node` takes), its `elevation` on `terrain` (a continuous query,
+/// no raster) and its `degree`; each edge a line with its `id` and its nodes `from`, `to`.
+///
+/// # Errors
+/// The terrain's [`crate::gaussian_terrain::VectorTerrain::query`] errors.
+pub fn skeleton_geojson(
+    skeleton: &crate::gaussian_terrain::Skeleton,
+    terrain: &crate::gaussian_terrain::VectorTerrain,
+    crs: Option<&Crs>,
+) -> Result<String, crate::gaussian_terrain::GaussianError> {
+    let points: Vec<glam::DVec2> = skeleton.nodes.iter().map(|&p| glam::DVec2::from(p)).collect();
+    let elevations = terrain.query()?.elevations(&points);
+    let mut degree = vec![0usize; points.len()];
+    for &[a, b] in &skeleton.edges {
+        degree[a] += 1;
+        degree[b] += 1;
+    }
+    let nodes = points.iter().zip(&elevations).zip(&degree).enumerate().map(|(id, ((p, h), d))| {
+        json!({
+            "type": "Feature",
+            "properties": { "kind": "node", "id": id, "elevation": h, "degree": d },
+            "geometry": { "type": "Point", "coordinates": [p.x, p.y] },
+        })
+    });
+    let edges = skeleton.edges.iter().enumerate().map(|(id, &[a, b])| {
+        json!({
+            "type": "Feature",
+            "properties": { "kind": "edge", "id": id, "from": a, "to": b },
+            "geometry": { "type": "LineString", "coordinates": [skeleton.nodes[a], skeleton.nodes[b]] },
+        })
+    });
+    let mut collection = json!({ "type": "FeatureCollection", "features": nodes.chain(edges).collect::<Vec<_>>() });
+    if let Some(name) = crs.and_then(geojson_crs_name) {
+        collection["crs"] = json!({ "type": "name", "properties": { "name": name } });
+    }
+    Ok(serde_json::to_string(&collection).unwrap_or_default())
+}
+
 /// The analysed peaks as CSV, highest first: position (`lon,lat` for geographic grids, else
 /// `x,y`), elevation, prominence, the key saddle's position and elevation, the prominence parent's
 /// and the line parent's ids ([`Orometry::line_parents`]), dominance, relative prominence,

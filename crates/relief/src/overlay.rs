@@ -218,14 +218,19 @@ fn tool_marks(tool: &Tool) -> Vec<Mark> {
         }
         Tool::Paste { placement, .. } => vec![Mark::point(Role::Selection, DVec2::from(placement.to))],
         Tool::Delete { region } | Tool::Twist { region, .. } | Tool::Squeeze { region, .. } => vec![selection(region)],
-        Tool::MoveCrest { near, by, .. } => {
-            let from = DVec2::from(*near);
-            vec![
-                Mark::point(Role::Selection, from),
-                Mark::line(Role::Selection, vec![from, from + DVec2::from(*by)], false),
-            ]
+        // A node given by id has no position until the skeleton is extracted: no mark.
+        Tool::MoveCrest { near, by, .. } => near
+            .map(|near| {
+                let from = DVec2::from(near);
+                vec![
+                    Mark::point(Role::Selection, from),
+                    Mark::line(Role::Selection, vec![from, from + DVec2::from(*by)], false),
+                ]
+            })
+            .unwrap_or_default(),
+        Tool::RaiseCrest { near, .. } => {
+            near.map(|p| vec![Mark::point(Role::Selection, DVec2::from(p))]).unwrap_or_default()
         }
-        Tool::RaiseCrest { near, .. } => vec![Mark::point(Role::Selection, DVec2::from(*near))],
     }
 }
 

@@ -80,3 +80,94 @@ fn gaussian_scenes_generate_deterministically() {
     let err = generate(&bad, base, &mut Quiet).err().unwrap().to_string();
     assert!(err.contains("generator.gaussian.operations[1]"), "{err}");
 }
+
+/// A round trip: a gaussian scene writes its edited vector terrain and crest skeleton; a scene
+/// that reloads the terrain rasterizes the same bytes, and its crest tools take the exported
+/// node ids (the same node as `near` at the node's position, and a real move).
+#[test]
+fn edited_vector_terrains_and_skeletons_round_trip() {
+    let path = root().join("fixtures/scenes/gaussian-massif.json");
+    let mut scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    scene.outputs.vector_terrain = Some("edited.json".into());
+    scene.outputs.skeleton = Some("skeleton.geojson".into());
+    let out = tempfile::tempdir().unwrap();
+    let (first, written) = relief::pipeline::run(&scene, path.parent().unwrap(), out.path(), &mut Quiet).unwrap();
+    assert!(
+        written.contains(&out.path().join("edited.json")) && written.contains(&out.path().join("skeleton.geojson"))
+    );
+    assert_eq!(
+        scene.output_files().iter().filter(|f| f.ends_with("edited.json") || f.ends_with("skeleton.geojson")).count(),
+        2
+    );
+
+    // Reload: no domain in the scene, no tools; the terrain's recorded domain gives the grid.
+    let reload = |operations: serde_json::Value| {
+        let json = serde_json::json!({
+            "version": 1,
+            "reconstruction": { "resolution": scene.reconstruction.resolution },
+            "generator": { "gaussian": {
+                "source": { "kind": "terrain", "path": "edited.json" },
+                "skeleton": { "spacing": 40 },
+                "operations": operations,
+            } },
+        });
+        let reloaded = Scene::from_json(&json.to_string()).unwrap();
+        generate(&reloaded, out.path(), &mut Quiet).unwrap()
+    };
+    let again = reload(serde_json::json!([]));
+    assert_eq!(again.heightfield.grid(), first.heightfield.grid());
+    assert_eq!(again.heightfield.samples(), first.heightfield.samples());
+
+    // The skeleton: node ids 0..n with their elevations, edges between them.
+    let text = std::fs::read_to_string(out.path().join("skeleton.geojson")).unwrap();
+    let geojson: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let features = geojson["features"].as_array().unwrap();
+    let nodes: Vec<&serde_json::Value> = features.iter().filter(|f| f["properties"]["kind"] == "node").collect();
+    assert!(nodes.len() >= 3, "{} crest nodes", nodes.len());
+    let edited: relief::gaussian_terrain::VectorTerrain =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("edited.json")).unwrap()).unwrap();
+    let query = edited.query().unwrap();
+    for (k, node) in nodes.iter().enumerate() {
+        assert_eq!(node["properties"]["id"], k);
+        let c = &node["geometry"]["coordinates"];
+        let p = DVec2::new(c[0].as_f64().unwrap(), c[1].as_f64().unwrap());
+        assert_eq!(node["properties"]["elevation"].as_f64().unwrap(), query.elevation(p));
+    }
+    let edges = features.iter().filter(|f| f["properties"]["kind"] == "edge");
+    assert!(edges.clone().all(|e| e["properties"]["from"].as_u64().unwrap() < nodes.len() as u64));
+    assert!(edges.count() >= nodes.len() - 1 - 2, "a crest graph is mostly connected");
+
+    // The highest node, moved by id and by a point on it: the same terrain, and a changed one.
+    let (top, position) = nodes
+        .iter()
+        .map(|n| (n["properties"]["id"].as_u64().unwrap(), n["geometry"]["coordinates"].clone()))
+        .max_by(|a, b| {
+            let h = |id: u64| nodes[id as usize]["properties"]["elevation"].as_f64().unwrap();
+            h(a.0).total_cmp(&h(b.0))
+        })
+        .unwrap();
+    let by_id = reload(serde_json::json!([{ "op": "move_crest", "node": top, "by": [60, 0], "reach": 300 }]));
+    let by_point = reload(serde_json::json!([{ "op": "move_crest", "near": position, "by": [60, 0], "reach": 300 }]));
+    assert_eq!(by_id.heightfield.samples(), by_point.heightfield.samples());
+    assert_ne!(by_id.heightfield.samples(), again.heightfield.samples());
+    // A node that does not exist is named, with the count.
+    let json = serde_json::json!({
+        "version": 1,
+        "reconstruction": { "resolution": scene.reconstruction.resolution },
+        "generator": { "gaussian": {
+            "source": { "kind": "terrain", "path": "edited.json" },
+            "operations": [{ "op": "raise_crest", "node": 100_000, "factor": 1 }],
+        } },
+    });
+    let err = generate(&Scene::from_json(&json.to_string()).unwrap(), out.path(), &mut Quiet).err().unwrap();
+    assert!(err.to_string().contains("crest node 100000 does not exist"), "{err}");
+    let json = serde_json::json!({
+        "version": 1,
+        "generator": { "gaussian": {
+            "source": { "kind": "terrain", "path": "edited.json" },
+            "operations": [{ "op": "raise_crest", "node": 0, "near": [0, 0], "factor": 1 }],
+        } },
+    });
+    let err = generate(&Scene::from_json(&json.to_string()).unwrap(), out.path(), &mut Quiet).err().unwrap();
+    assert!(err.to_string().contains("exactly one of near and node"), "{err}");
+}

@@ -47,6 +47,7 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
         contours: None,
         report: Report::Diffusion(terrain.report),
         warnings,
+        vector: None,
     })
 }
 

@@ -34,7 +34,10 @@ pub(super) fn generate(
     let heightfield = timer
         .step("rasterize", || rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| E::at(GENERATOR, e)))?;
     let report = Report::Gaussian(GaussianSummary { primitives: terrain.len() });
-    Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new() })
+    let extent = grid.extent();
+    terrain.domain = Some([extent.min.to_array(), extent.max.to_array()]);
+    let vector = Some(super::VectorResult { terrain, skeleton: g.skeleton });
+    Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new(), vector })
 }
 
 /// The starting vector terrain: written in the scene, read from a file, or fitted to a DEM.

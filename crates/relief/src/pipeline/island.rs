@@ -49,7 +49,7 @@ pub(super) fn generate(scene: &Scene, g: &IslandGenerator, timer: &mut Timer<'_>
         perturbations: island.filters().len(),
     });
     let sea_level = Some(0.5 * g.settings.land_floor);
-    Ok(Generated { heightfield: island.heightfield(), sea_level, contours: None, report, warnings })
+    Ok(Generated { heightfield: island.heightfield(), sea_level, contours: None, report, warnings, vector: None })
 }
 
 /// A stroke that left less than half the land: most likely drawn the other way round from what

@@ -58,6 +58,17 @@ pub(crate) struct Generated {
     pub(crate) report: Report,
     /// What the user should know about the result (a poor fit, an input that had no effect).
     pub(crate) warnings: Vec<String>,
+    /// The gaussian generator's vector terrain.
+    pub(crate) vector: Option<VectorResult>,
+}
+
+/// A gaussian scene's vector terrain after its tools, with how its crest skeleton is extracted.
+#[derive(Debug, Clone)]
+pub struct VectorResult {
+    /// The terrain, its domain the scene's (so that reloading it rasterizes the same grid).
+    pub terrain: crate::gaussian_terrain::VectorTerrain,
+    /// The scene's skeleton options.
+    pub skeleton: crate::gaussian_terrain::SkeletonOptions,
 }
 
 /// The part of the summary only one generator knows.
@@ -97,6 +108,8 @@ pub struct Terrain {
     pub sea_level: Option<f64>,
     /// The run summary (timings cover generation; [`write_outputs`] adds its own).
     pub summary: Summary,
+    /// The vector terrain of a gaussian scene (before any post step).
+    pub vector: Option<VectorResult>,
 }
 
 /// Reads a scene file.
@@ -146,7 +159,14 @@ pub fn generate_with(
 /// The shared end of every run: post-processes, drainage, the contours of a raster generator at
 /// its levels, and the summary.
 fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<Terrain, ReliefError> {
-    let Generated { heightfield, sea_level, contours, report, warnings } = generated;
+    let Generated { heightfield, sea_level, contours, report, mut warnings, vector } = generated;
+    if vector.is_some()
+        && !scene.post.is_empty()
+        && (scene.outputs.vector_terrain.is_some() || scene.outputs.skeleton.is_some())
+    {
+        warnings
+            .push("outputs.vector_terrain and outputs.skeleton hold the vector terrain before the post steps".into());
+    }
     let heightfield = if scene.post.is_empty() {
         heightfield
     } else {
@@ -177,7 +197,7 @@ fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<
     let mut summary = Summary::new(scene, report, &heightfield, &contours, sea_level, drainage, timings);
     summary.comparison = comparison;
     summary.warnings = warnings;
-    Ok(Terrain { heightfield, contours, histogram, sea_level, summary })
+    Ok(Terrain { heightfield, contours, histogram, sea_level, summary, vector })
 }
 
 /// The contours of a raster generator's heightfield at the generator's levels.

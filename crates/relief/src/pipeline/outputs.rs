@@ -31,6 +31,8 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
         ("contours_geojson", &outputs.contours_geojson, "GeoJSON", &["geojson", "json"][..]),
         ("contours_svg", &outputs.contours_svg, "SVG", &["svg"]),
         ("divide_tree", &outputs.divide_tree, "GeoJSON", &["geojson", "json"]),
+        ("vector_terrain", &outputs.vector_terrain, "JSON", &["json"]),
+        ("skeleton", &outputs.skeleton, "GeoJSON", &["geojson", "json"]),
         ("preview", &outputs.preview, "PNG", &["png"]),
         ("summary", &outputs.summary, "JSON", &["json"]),
     ];
@@ -50,10 +52,18 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
     }
     let mut names: Vec<&Path> = outputs.heightfield.iter().map(PathBuf::as_path).collect();
     names.extend(
-        [&outputs.contours_geojson, &outputs.contours_svg, &outputs.divide_tree, &outputs.preview, &outputs.summary]
-            .into_iter()
-            .flatten()
-            .map(PathBuf::as_path),
+        [
+            &outputs.contours_geojson,
+            &outputs.contours_svg,
+            &outputs.divide_tree,
+            &outputs.vector_terrain,
+            &outputs.skeleton,
+            &outputs.preview,
+            &outputs.summary,
+        ]
+        .into_iter()
+        .flatten()
+        .map(PathBuf::as_path),
     );
     for (k, a) in names.iter().enumerate() {
         if names[..k].contains(a) {
@@ -173,11 +183,44 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
             &crate::export::divide_tree_geojson(&o.tree, None, terrain.heightfield.crs()),
         )?);
     }
+    if let Some(vector) = &terrain.vector {
+        written.extend(write_vector(terrain, vector, outputs, out_dir)?);
+    }
     if let Some(name) = &outputs.preview {
         let path = out_dir.join(name);
         let image = crate::export::preview_image(&terrain.heightfield, Some(&terrain.contours), terrain.sea_level);
         crate::io::write_rgb_png(&path, &image)?;
         written.push(path);
+    }
+    Ok(written)
+}
+
+/// A gaussian scene's vector terrain (compact JSON) and crest skeleton, as asked.
+fn write_vector(
+    terrain: &Terrain,
+    vector: &super::VectorResult,
+    outputs: &Outputs,
+    out_dir: &Path,
+) -> Result<Vec<PathBuf>, ReliefError> {
+    let mut written = Vec::new();
+    if let Some(name) = &outputs.vector_terrain {
+        let text = serde_json::to_string(&vector.terrain).map_err(|e| E::step("vector terrain", e))?;
+        written.push(write_text(out_dir, name, &text)?);
+    }
+    if let Some(name) = &outputs.skeleton {
+        // The skeleton a scene reloading the terrain extracts: from its raster on this grid.
+        let grid = terrain.heightfield.grid();
+        let hf = crate::gaussian_terrain::rasterize(
+            &vector.terrain,
+            grid,
+            &crate::gaussian_terrain::RasterOptions::default(),
+        )
+        .map_err(|e| E::at("outputs.skeleton", e))?;
+        let (min_cells, spacing) = vector.skeleton.resolve(grid.len(), grid.extent().size().max_element());
+        let skeleton = crate::vector::crest_skeleton(&hf, min_cells, spacing)?;
+        let text = crate::export::skeleton_geojson(&skeleton, &vector.terrain, terrain.heightfield.crs())
+            .map_err(|e| E::at("outputs.skeleton", e))?;
+        written.push(write_text(out_dir, name, &text)?);
     }
     Ok(written)
 }

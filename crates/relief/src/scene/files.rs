@@ -52,7 +52,8 @@ impl Scene {
 
     /// Every file a run of the scene writes, relative to the output folder, in the order they are
     /// written (a raw heightfield's sidecar or an ASCII grid's `.prj` before it, the divide tree
-    /// only for an orometry scene, the summary last).
+    /// only for an orometry scene, the vector terrain and skeleton only for a gaussian one, the
+    /// summary last).
     pub fn output_files(&self) -> Vec<PathBuf> {
         let o: &Outputs = &self.outputs;
         let mut files: Vec<PathBuf> = Vec::new();
@@ -64,6 +65,10 @@ impl Scene {
         files.extend(o.contours_svg.clone());
         if matches!(self.generator, Generator::Orometry(_)) {
             files.extend(o.divide_tree.clone());
+        }
+        if matches!(self.generator, Generator::Gaussian(_)) {
+            files.extend(o.vector_terrain.clone());
+            files.extend(o.skeleton.clone());
         }
         files.extend(o.preview.clone());
         files.extend(o.summary.clone());

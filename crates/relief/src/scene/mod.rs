@@ -202,6 +202,16 @@ pub struct Outputs {
     /// The divide tree as GeoJSON (orometry generator only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub divide_tree: Option<PathBuf>,
+    /// The vector terrain after the tools, as JSON (gaussian generator only): a scene's
+    /// `source: { "kind": "terrain", "path": … }` reloads it, its domain set to this scene's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vector_terrain: Option<PathBuf>,
+    /// The crest skeleton of the result as GeoJSON (gaussian generator only): nodes as points
+    /// with the `id` a crest tool's `node` takes and their elevation, edges as lines. It is the
+    /// skeleton the crest tools of a scene that reloads `vector_terrain` on the same grid
+    /// extract.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub skeleton: Option<PathBuf>,
     /// Run summary: parameters, counts, timings, histogram match error.
     #[serde(default = "default_summary")]
     pub summary: Option<PathBuf>,
@@ -236,6 +246,8 @@ impl Default for Outputs {
             contours_svg: default_svg(),
             preview: default_preview(),
             divide_tree: None,
+            vector_terrain: None,
+            skeleton: None,
             summary: default_summary(),
         }
     }
