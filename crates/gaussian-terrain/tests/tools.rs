@@ -364,3 +364,183 @@ fn tools_replayed_from_json_equal_the_tool_functions() {
     );
     assert_eq!(replayed, direct, "refused tools change nothing");
 }
+
+/// Twist turns each primitive in Ω about the anchor by exactly
+/// `φ = angle·|c − anchor|/R·s(d(∂Ω, c)/r)`, centre and orientation alike, and nothing else;
+/// deep inside, the turn is most of `angle` (a twist that did nothing, or turned everything
+/// rigidly, fails).
+#[test]
+fn twist_turns_by_the_paper_angle() {
+    let before = terrain();
+    let mut after = before.clone();
+    let region = circle(500.0, 480.0, 220.0);
+    let (angle, falloff) = (0.9, 80.0);
+    let moved = twist(&mut after, &region, angle, falloff).unwrap();
+    let anchor = region.anchor();
+    let mut turned = Vec::new();
+    for (g, h) in before.primitives.iter().zip(&after.primitives) {
+        let c = DVec2::from(g.center);
+        let f = region.inner_falloff(c, falloff);
+        if f <= 0.0 {
+            assert_eq!(g, h);
+            continue;
+        }
+        let phi = angle * c.distance(anchor) / 220.0 * f;
+        let want = anchor + DVec2::from_angle(phi).rotate(c - anchor);
+        assert!((DVec2::from(h.center) - want).length() < 1e-9, "{:?} vs {want}", h.center);
+        assert!((h.theta - (g.theta + phi)).abs() < 1e-12);
+        assert_eq!((h.sigma, h.amplitude, h.beta), (g.sigma, g.amplitude, g.beta));
+        turned.push(phi);
+    }
+    assert_eq!(moved, turned.len());
+    assert!(turned.len() >= 20, "{} primitives turned", turned.len());
+    assert!(
+        turned.iter().any(|&phi| phi > 0.5 * angle),
+        "largest turn {:?}",
+        turned.iter().copied().fold(0.0, f64::max)
+    );
+}
+
+/// Squeeze moves each primitive in Ω by exactly `f(c)·v` and stretches it along `v` by
+/// `f(c) − f(c') + 1` about its new centre: the new primitive at `m·p + t` equals the old at `p`.
+#[test]
+fn squeeze_moves_and_stretches_by_the_paper_factor() {
+    let before = terrain();
+    let mut after = before.clone();
+    let region = circle(480.0, 520.0, 230.0);
+    let (v, falloff) = (DVec2::new(70.0, -25.0), 120.0);
+    let moved = squeeze(&mut after, &region, v, falloff).unwrap();
+    let dir = v.normalize();
+    let (mut count, mut full, mut stretched) = (0, 0, 0);
+    for (g, h) in before.primitives.iter().zip(&after.primitives) {
+        let c = DVec2::from(g.center);
+        let f = region.inner_falloff(c, falloff);
+        if f <= 0.0 {
+            assert_eq!(g, h);
+            continue;
+        }
+        count += 1;
+        let to = c + v * f;
+        assert!((DVec2::from(h.center) - to).length() < 1e-9);
+        let k = (f - region.inner_falloff(to, falloff) + 1.0).max(0.05);
+        let m = glam::DMat2::IDENTITY + glam::DMat2::from_cols(dir * dir.x, dir * dir.y) * (k - 1.0);
+        for (a, b) in [(0.0, 0.0), (0.7, 0.2), (-0.4, 1.1), (1.3, -0.9)] {
+            let p = c + DVec2::new(a * g.sigma[0], b * g.sigma[1]);
+            let (want, got) = (g.value(p), h.value(m * (p - c) + to));
+            assert!((want - got).abs() < 1e-9 * g.amplitude.abs().max(1.0), "{want} vs {got}");
+        }
+        full += usize::from(f == 1.0);
+        stretched += usize::from((k - 1.0).abs() > 0.05);
+    }
+    assert_eq!(moved, count);
+    assert!(full > 0 && stretched > 0, "{full} moved by the whole v, {stretched} stretched");
+}
+
+/// A stamp places each selected primitive exactly where the similarity sends it (centre, σ
+/// scaled, θ turned, amplitude and β kept) and multiplies every other one by the destination's
+/// outer fall-off, dropping those it zeroes.
+#[test]
+fn stamps_place_and_damp_exactly() {
+    let before = terrain();
+    let region = circle(300.0, 320.0, 140.0);
+    let placement = Placement { to: [680.0, 640.0], rotation: 0.7, scale: 1.3 };
+    let damping = 90.0;
+    for mode in [StampMode::Copy, StampMode::Move] {
+        let mut after = before.clone();
+        let placed = stamp(&mut after, &region, &placement, mode, damping).unwrap();
+        let selected = region.select(&before);
+        assert_eq!(placed.len(), selected.len());
+        assert!(selected.len() >= 5);
+        let anchor = region.anchor();
+        for (&k, &n) in selected.iter().zip(&placed) {
+            let (g, h) = (before.primitives[k], after.primitives[n]);
+            let want =
+                DVec2::from(placement.to) + DVec2::from_angle(0.7).rotate((DVec2::from(g.center) - anchor) * 1.3);
+            assert!((DVec2::from(h.center) - want).length() < 1e-9);
+            assert!((h.sigma[0] - 1.3 * g.sigma[0]).abs() < 1e-12 && (h.sigma[1] - 1.3 * g.sigma[1]).abs() < 1e-12);
+            assert!((h.theta - (g.theta + 0.7)).abs() < 1e-12);
+            assert_eq!((h.amplitude, h.beta), (g.amplitude, g.beta));
+        }
+        let destination = circle(680.0, 640.0, 140.0 * 1.3);
+        let expected: Vec<_> = before
+            .primitives
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| mode == StampMode::Copy || !selected.contains(k))
+            .map(|(_, g)| {
+                let f = destination.outer_falloff(DVec2::from(g.center), damping);
+                let mut g = *g;
+                if f < 1.0 {
+                    g.amplitude *= f;
+                }
+                g
+            })
+            .filter(|g| g.amplitude != 0.0)
+            .collect();
+        let damped = expected.iter().zip(&before.primitives).filter(|(a, b)| a.amplitude != b.amplitude).count();
+        assert_eq!(&after.primitives[..after.primitives.len() - placed.len()], &expected[..]);
+        assert!(damped > 0 || mode == StampMode::Move, "nothing was damped");
+    }
+}
+
+/// A crest move sends every node by exactly `α·v`, `α = s(1 − l/d_m)`, and each attached
+/// primitive within the reach with its edge: the centre keeps its offset from its projection, turned by the edge's
+/// rotation and stretched by its change of length.
+#[test]
+fn crest_moves_follow_the_attenuation_exactly() {
+    let mut skeleton = crest().simplified(10.0);
+    let mut t = VectorTerrain::new(
+        skeleton
+            .nodes
+            .iter()
+            .flat_map(|&p| {
+                let p = DVec2::from(p);
+                [
+                    relief_gaussian_terrain::Gaussian::round(p + DVec2::new(3.0, 1.0), 8.0, 50.0),
+                    relief_gaussian_terrain::Gaussian {
+                        center: (p + DVec2::new(-2.0, 4.0)).to_array(),
+                        sigma: [9.0, 4.0],
+                        theta: 0.4,
+                        amplitude: 30.0,
+                        beta: 2.5,
+                    },
+                ]
+            })
+            .collect(),
+    );
+    let before_nodes = skeleton.clone();
+    let before = t.clone();
+    let attached = skeleton.attach(&t);
+    let tip = skeleton.nearest_node(DVec2::new(42.0, 142.0)).unwrap();
+    let (v, reach) = (DVec2::new(20.0, 5.0), 90.0);
+    skeleton.move_node(&mut t, &attached, tip, v, Some(reach)).unwrap();
+    let dist = before_nodes.graph_distances(tip);
+    for (k, d) in dist.iter().enumerate() {
+        let alpha = if d.is_finite() { relief_gaussian_terrain::smoothstep(1.0 - d / reach) } else { 0.0 };
+        let want = DVec2::from(before_nodes.nodes[k]) + v * alpha;
+        assert!((DVec2::from(skeleton.nodes[k]) - want).length() < 1e-12, "node {k}");
+    }
+    let node = |s: &Skeleton, k: usize| DVec2::from(s.nodes[k]);
+    let mut far_moves = 0;
+    for ((g, h), a) in before.primitives.iter().zip(&t.primitives).zip(&attached) {
+        let a = a.unwrap();
+        let [p, q] = before_nodes.edges[a.edge];
+        let (p0, q0, p1, q1) = (node(&before_nodes, p), node(&before_nodes, q), node(&skeleton, p), node(&skeleton, q));
+        let (e0, e1) = (q0 - p0, q1 - p1);
+        // A primitive whose projection lies beyond the reach stays, even on a moving edge.
+        let l = (dist[p] + a.t * e0.length()).min(dist[q] + (1.0 - a.t) * e0.length());
+        if l >= reach {
+            assert_eq!(g, h);
+            continue;
+        }
+        let (pi0, pi1) = (p0 + e0 * a.t, p1 + e1 * a.t);
+        let offset = DVec2::from(g.center) - pi0;
+        // The offset turned with the edge and stretched along it by the length ratio.
+        let along = e0.normalize();
+        let stretched = offset + along * offset.dot(along) * (e1.length() / e0.length() - 1.0);
+        let want = pi1 + DVec2::from_angle(e0.angle_to(e1)).rotate(stretched);
+        assert!((DVec2::from(h.center) - want).length() < 1e-9, "{:?} vs {want}", h.center);
+        far_moves += usize::from(DVec2::from(h.center).distance(DVec2::from(g.center)) > 0.5 * v.length());
+    }
+    assert!(far_moves >= 2, "{far_moves} primitives moved by more than half the move");
+}
