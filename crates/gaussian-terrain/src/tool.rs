@@ -27,13 +27,15 @@ pub enum Tool {
         /// Damping radius, world units.
         damping: f64,
     },
-    /// Paste a landform from an atlas file with a circular footprint of radius `footprint`
-    /// around its anchor — [`paste`].
+    /// Paste a landform from an atlas file (or, without `atlas`, from the session's own atlas
+    /// that `copy` and `cut` fill) with a circular footprint of radius `footprint` around its
+    /// anchor — [`paste`].
     Paste {
         /// The atlas JSON; a relative path is resolved by whoever applies the tool (a scene
-        /// resolves it against the scene file's directory).
-        #[cfg_attr(feature = "schemars", schemars(with = "String"))]
-        atlas: PathBuf,
+        /// resolves it against the scene file's directory). Absent: the session's atlas.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[cfg_attr(feature = "schemars", schemars(with = "Option<String>"))]
+        atlas: Option<PathBuf>,
         /// The landform's name.
         landform: String,
         /// Footprint radius around the landform's anchor, world units.
@@ -42,6 +44,22 @@ pub enum Tool {
         placement: Placement,
         /// Damping radius, world units.
         damping: f64,
+    },
+    /// Save the primitives centred in `region` to the session's atlas as `name`, anchored at
+    /// the region's anchor (a later `paste` without `atlas` takes it; a scene's
+    /// `outputs.atlas` writes the session's atlas) — [`crate::copy`].
+    Copy {
+        /// The selection.
+        region: Region,
+        /// The landform's name (a later copy of the same name replaces it).
+        name: String,
+    },
+    /// [`Tool::Copy`], then delete the selection — [`crate::cut`].
+    Cut {
+        /// The selection.
+        region: Region,
+        /// The landform's name (a later copy of the same name replaces it).
+        name: String,
     },
     /// Delete the primitives centred in `region` — [`crate::delete`].
     Delete {
@@ -99,17 +117,26 @@ pub enum Tool {
     },
 }
 
-/// What the tools need beyond the terrain, supplied by whoever replays them: atlas files and the
-/// crest skeleton (its crest cells come from flow routing, which lives above this crate).
+/// What the tools need beyond the terrain, supplied by whoever replays them: atlas files, the
+/// session's own atlas and the crest skeleton (its crest cells come from flow routing, which
+/// lives above this crate).
 pub trait ToolContext {
     /// Why the context could not supply something (a file, a budget, the routing).
     type Error;
 
-    /// The landform `name` of the atlas file `atlas`, about to be pasted into `terrain`.
+    /// The landform `name` of the atlas file `atlas` (`None`: the session's atlas, which
+    /// [`ToolContext::keep`] fills), about to be pasted into `terrain`.
     ///
     /// # Errors
-    /// The context's own, e.g. an unreadable atlas or a paste that would exceed a budget.
-    fn landform(&mut self, atlas: &Path, name: &str, terrain: &VectorTerrain) -> Result<Landform, Self::Error>;
+    /// The context's own, e.g. an unreadable atlas, no such landform, or a paste that would
+    /// exceed a budget.
+    fn landform(&mut self, atlas: Option<&Path>, name: &str, terrain: &VectorTerrain) -> Result<Landform, Self::Error>;
+
+    /// Keeps a copied or cut landform in the session's atlas, replacing one of the same name.
+    ///
+    /// # Errors
+    /// The context's own, e.g. an atlas over a budget.
+    fn keep(&mut self, landform: Landform) -> Result<(), Self::Error>;
 
     /// The crest skeleton of `terrain` for the crest tools: extracted on first use, then kept
     /// (the tools edit it in place, so later crest edits follow earlier ones).
@@ -146,9 +173,15 @@ impl Tool {
                 stamp(terrain, region, placement, *mode, *damping)?;
             }
             Self::Paste { atlas, landform, footprint, placement, damping } => {
-                let landform = cx.landform(atlas, landform, terrain).map_err(ToolError::Context)?;
+                let landform = cx.landform(atlas.as_deref(), landform, terrain).map_err(ToolError::Context)?;
                 let footprint = Region::Circle { center: [0.0, 0.0], radius: *footprint };
                 paste(terrain, &landform, &footprint, placement, *damping)?;
+            }
+            Self::Copy { region, name } => {
+                cx.keep(crate::copy(terrain, region, name)?).map_err(ToolError::Context)?;
+            }
+            Self::Cut { region, name } => {
+                cx.keep(crate::cut(terrain, region, name)?).map_err(ToolError::Context)?;
             }
             Self::Delete { region } => {
                 crate::delete(terrain, region)?;

@@ -274,6 +274,8 @@ struct Session {
     atlas: relief_gaussian_terrain::Atlas,
     skeleton: Option<Skeleton>,
     skeletons_extracted: usize,
+    /// What `copy` and `cut` kept.
+    kept: relief_gaussian_terrain::Atlas,
 }
 
 impl relief_gaussian_terrain::ToolContext for Session {
@@ -281,14 +283,23 @@ impl relief_gaussian_terrain::ToolContext for Session {
 
     fn landform(
         &mut self,
-        atlas: &std::path::Path,
+        atlas: Option<&std::path::Path>,
         name: &str,
         _: &VectorTerrain,
     ) -> Result<relief_gaussian_terrain::Landform, String> {
-        if atlas != std::path::Path::new("atlas.json") {
-            return Err(format!("no atlas {}", atlas.display()));
+        match atlas {
+            None => self.kept.get(name).cloned().map_err(|e| e.to_string()),
+            Some(a) if a == std::path::Path::new("atlas.json") => {
+                self.atlas.get(name).cloned().map_err(|e| e.to_string())
+            }
+            Some(a) => Err(format!("no atlas {}", a.display())),
         }
-        self.atlas.get(name).cloned().map_err(|e| e.to_string())
+    }
+
+    fn keep(&mut self, landform: relief_gaussian_terrain::Landform) -> Result<(), String> {
+        self.kept.landforms.retain(|l| l.name != landform.name);
+        self.kept.landforms.push(landform);
+        Ok(())
     }
 
     fn skeleton(&mut self, _: &VectorTerrain) -> Result<&mut Skeleton, String> {
@@ -321,7 +332,7 @@ fn tools_replayed_from_json_equal_the_tool_functions() {
         ]"#,
     )
     .unwrap();
-    let mut session = Session { atlas: atlas.clone(), skeleton: None, skeletons_extracted: 0 };
+    let mut session = Session { atlas: atlas.clone(), skeleton: None, skeletons_extracted: 0, kept: Atlas::default() };
     let mut replayed = base.clone();
     for tool in &tools {
         assert!(tool.apply(&mut replayed, &mut session).is_ok(), "{tool:?}");
@@ -543,4 +554,43 @@ fn crest_moves_follow_the_attenuation_exactly() {
         far_moves += usize::from(DVec2::from(h.center).distance(DVec2::from(g.center)) > 0.5 * v.length());
     }
     assert!(far_moves >= 2, "{far_moves} primitives moved by more than half the move");
+}
+
+/// `copy` and `cut` keep landforms in the session's atlas; a `paste` without `atlas` takes them
+/// from there, as the tool functions do by hand.
+#[test]
+fn copy_and_cut_fill_the_session_atlas() {
+    use relief_gaussian_terrain::{Atlas, Tool};
+    let base = terrain();
+    let tools: Vec<Tool> = serde_json::from_str(
+        r#"[
+            { "op": "copy", "region": { "shape": "circle", "center": [300, 300], "radius": 120 }, "name": "a" },
+            { "op": "cut", "region": { "shape": "circle", "center": [700, 300], "radius": 100 }, "name": "b" },
+            { "op": "paste", "landform": "b", "footprint": 100, "placement": { "to": [300, 750], "rotation": 0.5 }, "damping": 40 },
+            { "op": "paste", "landform": "a", "footprint": 120, "placement": { "to": [750, 750] }, "damping": 40 }
+        ]"#,
+    )
+    .unwrap();
+    let mut session =
+        Session { atlas: Atlas::default(), skeleton: None, skeletons_extracted: 0, kept: Atlas::default() };
+    let mut replayed = base.clone();
+    for tool in &tools {
+        tool.apply(&mut replayed, &mut session).unwrap();
+    }
+    let mut direct = base.clone();
+    let a = copy(&direct, &circle(300.0, 300.0, 120.0), "a").unwrap();
+    let b = cut(&mut direct, &circle(700.0, 300.0, 100.0), "b").unwrap();
+    let to = |to: [f64; 2], rotation| Placement { to, rotation, scale: 1.0 };
+    paste(&mut direct, &b, &circle(0.0, 0.0, 100.0), &to([300.0, 750.0], 0.5), 40.0).unwrap();
+    paste(&mut direct, &a, &circle(0.0, 0.0, 120.0), &to([750.0, 750.0], 0.0), 40.0).unwrap();
+    assert_eq!(replayed, direct);
+    assert_eq!(session.kept.landforms, vec![a.clone(), b]);
+    assert!(!a.primitives.is_empty());
+    let missing: Tool = serde_json::from_str(
+        r#"{ "op": "paste", "landform": "c", "footprint": 10, "placement": { "to": [0, 0] }, "damping": 1 }"#,
+    )
+    .unwrap();
+    assert!(
+        matches!(missing.apply(&mut replayed, &mut session), Err(relief_gaussian_terrain::ToolError::Context(e)) if e.contains("\"c\""))
+    );
 }

@@ -217,7 +217,11 @@ fn tool_marks(tool: &Tool) -> Vec<Mark> {
             vec![selection(region), Mark::point(Role::Selection, DVec2::from(placement.to))]
         }
         Tool::Paste { placement, .. } => vec![Mark::point(Role::Selection, DVec2::from(placement.to))],
-        Tool::Delete { region } | Tool::Twist { region, .. } | Tool::Squeeze { region, .. } => vec![selection(region)],
+        Tool::Delete { region }
+        | Tool::Copy { region, .. }
+        | Tool::Cut { region, .. }
+        | Tool::Twist { region, .. }
+        | Tool::Squeeze { region, .. } => vec![selection(region)],
         // A node given by id has no position until the skeleton is extracted: no mark.
         Tool::MoveCrest { near, by, .. } => near
             .map(|near| {

@@ -171,3 +171,47 @@ fn edited_vector_terrains_and_skeletons_round_trip() {
     let err = generate(&Scene::from_json(&json.to_string()).unwrap(), out.path(), &mut Quiet).err().unwrap();
     assert!(err.to_string().contains("exactly one of near and node"), "{err}");
 }
+
+/// An atlas built from a vectorized real DEM: the fixture scene copies and cuts landforms into
+/// its session atlas and pastes them elsewhere; the written atlas then serves a later scene's
+/// `paste` from the file, and the cut left a hole where the knob was.
+#[test]
+fn atlases_from_a_real_dem_round_trip() {
+    let path = root().join("fixtures/scenes/gaussian-atlas.json");
+    let scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let out = tempfile::tempdir().unwrap();
+    let (first, _) = relief::pipeline::run(&scene, path.parent().unwrap(), out.path(), &mut Quiet).unwrap();
+    let atlas: relief::gaussian_terrain::Atlas =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("atlas.json")).unwrap()).unwrap();
+    let names: Vec<&str> = atlas.landforms.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["hill", "knob"]);
+    let (hill, knob) = (atlas.get("hill").unwrap(), atlas.get("knob").unwrap());
+    assert!(hill.primitives.len() >= 5 && knob.primitives.len() >= 3);
+    // The knob's primitives left its region: none of the edited terrain's centres is there.
+    let edited: relief::gaussian_terrain::VectorTerrain =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("edited.json")).unwrap()).unwrap();
+    let knob_region = relief::gaussian_terrain::Region::Circle { center: [-84.15, 36.62], radius: 0.03 };
+    assert!(knob_region.select(&edited).is_empty());
+    // Both pasted landforms are in the terrain exactly where their placements put them.
+    for (landform, to, rotation, scale) in [(knob, [-84.35, 36.68], 1.2, 1.0), (hill, [-84.13, 36.50], -0.5, 0.8)] {
+        for g in landform.placed(DVec2::from(to), rotation, scale) {
+            assert!(edited.primitives.contains(&g), "{} not pasted", landform.name);
+        }
+    }
+    // A later scene pastes the hill from the written atlas file.
+    let json = serde_json::json!({
+        "version": 1,
+        "reconstruction": { "resolution": scene.reconstruction.resolution },
+        "generator": { "gaussian": {
+            "source": { "kind": "terrain", "path": "edited.json" },
+            "operations": [{ "op": "paste", "atlas": "atlas.json", "landform": "hill", "footprint": 0.035,
+                             "placement": { "to": [-84.35, 36.50] }, "damping": 0.015 }],
+        } },
+    });
+    let later = generate(&Scene::from_json(&json.to_string()).unwrap(), out.path(), &mut Quiet).unwrap();
+    let vector = later.vector.unwrap().terrain;
+    for g in hill.placed(DVec2::new(-84.35, 36.50), 0.0, 1.0) {
+        assert!(vector.primitives.contains(&g));
+    }
+    assert_ne!(later.heightfield.samples(), first.heightfield.samples());
+}

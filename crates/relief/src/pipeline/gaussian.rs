@@ -9,7 +9,7 @@ use super::progress::{Tick, Timer};
 use super::summary::GaussianSummary;
 use super::{Generated, Report};
 use crate::gaussian_terrain::{
-    Landform, RasterOptions, Skeleton, SkeletonOptions, ToolContext, ToolError, VectorTerrain, VectorizeOptions,
+    Atlas, Landform, RasterOptions, Skeleton, SkeletonOptions, ToolContext, ToolError, VectorTerrain, VectorizeOptions,
     rasterize, vectorize,
 };
 use crate::heightfield::GridSpec;
@@ -30,13 +30,16 @@ pub(super) fn generate(
     let mut terrain = timer.step("source", || load_source(&g.source, env, &at))?;
     env.budget.primitives(terrain.len() as u64, &at)?;
     let grid = raster_grid(scene, scene.domain.unwrap_or_else(|| terrain.extent()))?;
-    timer.counted("tools", g.operations.len() as u64, |tick| apply_tools(&mut terrain, g, &grid, env, tick))?;
+    let mut atlas = Atlas::default();
+    timer.counted("tools", g.operations.len() as u64, |tick| {
+        apply_tools(&mut terrain, &mut atlas, g, &grid, env, tick)
+    })?;
     let heightfield = timer
         .step("rasterize", || rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| E::at(GENERATOR, e)))?;
     let report = Report::Gaussian(GaussianSummary { primitives: terrain.len() });
     let extent = grid.extent();
     terrain.domain = Some([extent.min.to_array(), extent.max.to_array()]);
-    let vector = Some(super::VectorResult { terrain, skeleton: g.skeleton });
+    let vector = Some(super::VectorResult { terrain, skeleton: g.skeleton, atlas });
     Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new(), vector })
 }
 
@@ -64,12 +67,13 @@ fn load_source(source: &GaussianSource, env: &Env<'_>, at: &str) -> Result<Vecto
 /// most doubles the terrain, so the work stays bounded) and before a paste.
 fn apply_tools(
     terrain: &mut VectorTerrain,
+    atlas: &mut Atlas,
     g: &GaussianGenerator,
     grid: &GridSpec,
     env: &Env<'_>,
     tick: &mut Tick<'_>,
 ) -> Result<(), ReliefError> {
-    let mut cx = Tools { env, grid, options: g.skeleton, skeleton: None, here: String::new() };
+    let mut cx = Tools { env, grid, options: g.skeleton, skeleton: None, here: String::new(), atlas };
     for (index, tool) in g.operations.iter().enumerate() {
         cx.here = format!("{GENERATOR}.operations[{index}]");
         tool.apply(terrain, &mut cx).map_err(|e| match e {
@@ -91,17 +95,32 @@ struct Tools<'a> {
     skeleton: Option<Skeleton>,
     /// The JSON path of the tool being applied.
     here: String,
+    /// The session's atlas: what `copy` and `cut` kept.
+    atlas: &'a mut Atlas,
 }
 
 impl ToolContext for Tools<'_> {
     type Error = ReliefError;
 
-    fn landform(&mut self, atlas: &Path, name: &str, terrain: &VectorTerrain) -> Result<Landform, ReliefError> {
-        let atlas: crate::gaussian_terrain::Atlas = self.env.read_json(atlas, &format!("{}.atlas", self.here))?;
-        let landform = atlas.get(name).map_err(|e| E::at(&self.here, e))?;
+    fn landform(&mut self, atlas: Option<&Path>, name: &str, terrain: &VectorTerrain) -> Result<Landform, ReliefError> {
+        let landform = match atlas {
+            Some(path) => {
+                let atlas: Atlas = self.env.read_json(path, &format!("{}.atlas", self.here))?;
+                atlas.get(name).cloned()
+            }
+            None => self.atlas.get(name).cloned(),
+        }
+        .map_err(|e| E::at(format!("{}.landform", self.here), e))?;
         let pasted = (terrain.len() + landform.primitives.len()) as u64;
         self.env.budget.primitives(pasted, &format!("{}.landform", self.here))?;
-        Ok(landform.clone())
+        Ok(landform)
+    }
+
+    fn keep(&mut self, landform: Landform) -> Result<(), ReliefError> {
+        self.atlas.landforms.retain(|l| l.name != landform.name);
+        self.atlas.landforms.push(landform);
+        let kept = self.atlas.landforms.iter().map(|l| l.primitives.len() as u64).sum();
+        self.env.budget.primitives(kept, &format!("{}.name", self.here))
     }
 
     fn skeleton(&mut self, terrain: &VectorTerrain) -> Result<&mut Skeleton, ReliefError> {

@@ -69,6 +69,8 @@ pub struct VectorResult {
     pub terrain: crate::gaussian_terrain::VectorTerrain,
     /// The scene's skeleton options.
     pub skeleton: crate::gaussian_terrain::SkeletonOptions,
+    /// What the scene's `copy` and `cut` tools kept, by name.
+    pub atlas: crate::gaussian_terrain::Atlas,
 }
 
 /// The part of the summary only one generator knows.

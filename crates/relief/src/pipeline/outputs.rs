@@ -33,6 +33,7 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
         ("divide_tree", &outputs.divide_tree, "GeoJSON", &["geojson", "json"]),
         ("vector_terrain", &outputs.vector_terrain, "JSON", &["json"]),
         ("skeleton", &outputs.skeleton, "GeoJSON", &["geojson", "json"]),
+        ("atlas", &outputs.atlas, "JSON", &["json"]),
         ("preview", &outputs.preview, "PNG", &["png"]),
         ("summary", &outputs.summary, "JSON", &["json"]),
     ];
@@ -58,6 +59,7 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
             &outputs.divide_tree,
             &outputs.vector_terrain,
             &outputs.skeleton,
+            &outputs.atlas,
             &outputs.preview,
             &outputs.summary,
         ]
@@ -195,7 +197,7 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
     Ok(written)
 }
 
-/// A gaussian scene's vector terrain (compact JSON) and crest skeleton, as asked.
+/// A gaussian scene's vector terrain (compact JSON), crest skeleton and session atlas, as asked.
 fn write_vector(
     terrain: &Terrain,
     vector: &super::VectorResult,
@@ -220,6 +222,10 @@ fn write_vector(
         let skeleton = crate::vector::crest_skeleton(&hf, min_cells, spacing)?;
         let text = crate::export::skeleton_geojson(&skeleton, &vector.terrain, terrain.heightfield.crs())
             .map_err(|e| E::at("outputs.skeleton", e))?;
+        written.push(write_text(out_dir, name, &text)?);
+    }
+    if let Some(name) = &outputs.atlas {
+        let text = serde_json::to_string(&vector.atlas).map_err(|e| E::step("atlas", e))?;
         written.push(write_text(out_dir, name, &text)?);
     }
     Ok(written)

@@ -29,7 +29,7 @@ impl Scene {
                     files.push(path);
                 }
                 files.extend(g.operations.iter().filter_map(|tool| match tool {
-                    Tool::Paste { atlas, .. } => Some(atlas.as_path()),
+                    Tool::Paste { atlas, .. } => atlas.as_deref(),
                     _ => None,
                 }));
             }
@@ -52,7 +52,7 @@ impl Scene {
 
     /// Every file a run of the scene writes, relative to the output folder, in the order they are
     /// written (a raw heightfield's sidecar or an ASCII grid's `.prj` before it, the divide tree
-    /// only for an orometry scene, the vector terrain and skeleton only for a gaussian one, the
+    /// only for an orometry scene, the vector terrain, skeleton and atlas only for a gaussian one, the
     /// summary last).
     pub fn output_files(&self) -> Vec<PathBuf> {
         let o: &Outputs = &self.outputs;
@@ -69,6 +69,7 @@ impl Scene {
         if matches!(self.generator, Generator::Gaussian(_)) {
             files.extend(o.vector_terrain.clone());
             files.extend(o.skeleton.clone());
+            files.extend(o.atlas.clone());
         }
         files.extend(o.preview.clone());
         files.extend(o.summary.clone());

@@ -212,6 +212,10 @@ pub struct Outputs {
     /// extract.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub skeleton: Option<PathBuf>,
+    /// The landforms the scene's `copy` and `cut` tools kept, as an atlas JSON that a `paste`'s
+    /// `atlas` reads (gaussian generator only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub atlas: Option<PathBuf>,
     /// Run summary: parameters, counts, timings, histogram match error.
     #[serde(default = "default_summary")]
     pub summary: Option<PathBuf>,
@@ -248,6 +252,7 @@ impl Default for Outputs {
             divide_tree: None,
             vector_terrain: None,
             skeleton: None,
+            atlas: None,
             summary: default_summary(),
         }
     }
