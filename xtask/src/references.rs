@@ -240,7 +240,16 @@ pub(crate) const REFERENCES: &[(&str, Reference)] = &[
     ),
     ("gaussian_terrain/rasterize/1024/60k", Reference::Fixed { label: "target (issue #8)", seconds: 0.25 }),
     ("gaussian_terrain/rasterize/4096/60k", Reference::Fixed { label: "paper, RTX 3090 (§6.1)", seconds: 0.388 }),
+    ("gaussian_terrain/rasterize/1024/60k", Reference::Fixed { label: "target (issue #25)", seconds: 0.05 }),
     ("gaussian_terrain/rasterize/4096/60k", Reference::Fixed { label: "target (issue #8)", seconds: 4.0 }),
+    // Issue 25: batched continuous queries at least as fast per sample as rasterizing them.
+    (
+        "gaussian_terrain/query/elevations/1024/60k",
+        Reference::SideBySide {
+            label: "rasterizing the same 1024² samples, same run (target ≤ 1×)",
+            bench: "gaussian_terrain/rasterize/1024/60k",
+        },
+    ),
     ("orometry/analyze/3601", Reference::Fixed { label: "target (issue #9)", seconds: 3.0 }),
     (
         "orometry/synthesize/3000",

@@ -20,17 +20,64 @@ use crate::{Gaussian, GaussianError};
 /// σ of the detail fall-offs, in Poisson radii.
 const SIGMA_PER_RADIUS: f64 = 1.25;
 
+/// The ground under a detail: the elevation and slope of the terrain's Gaussians (base
+/// included, detail layers not) at the point.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Ground {
+    /// Elevation, world units.
+    pub elevation: f64,
+    /// Gradient magnitude `|∇h|` (rise over run).
+    pub slope: f64,
+}
+
+/// How procedural detail follows the topography (§3.2: noise "modulated according to the
+/// terrain's topography … elevation and slope"): the amplitude is multiplied by a smoothstep
+/// ramp of each ground property given, `s((v − from)/(to − from))`, 0 at `from` and full at
+/// `to` (so `[2000, 500]` fades detail out with height).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+pub struct Modulation {
+    /// Elevation ramp `[from, to]`, world units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elevation: Option<[f64; 2]>,
+    /// Slope ramp `[from, to]`, as gradient magnitudes (rise over run: 1 is 45°).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slope: Option<[f64; 2]>,
+}
+
+impl Modulation {
+    /// Whether it modulates nothing (the default).
+    pub fn is_none(&self) -> bool {
+        self.elevation.is_none() && self.slope.is_none()
+    }
+
+    /// The factor `m` on `ground`, in `[0, 1]`.
+    pub fn factor(&self, ground: Ground) -> f64 {
+        let ramp = |v: f64, [from, to]: [f64; 2]| crate::smoothstep((v - from) / (to - from));
+        self.elevation.map_or(1.0, |r| ramp(ground.elevation, r)) * self.slope.map_or(1.0, |r| ramp(ground.slope, r))
+    }
+
+    fn is_valid(&self) -> bool {
+        [self.elevation, self.slope].into_iter().flatten().all(|[a, b]| a.is_finite() && b.is_finite() && a != b)
+    }
+}
+
 /// Where a detail layer's amplitude `a(p)` comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 #[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub enum DetailSource {
-    /// Procedural: `a(p) = amplitude · fbm(p)` (seeded gradient noise, about ±amplitude).
+    /// Procedural: `a(p) = amplitude · fbm(p) · m(p)` (seeded gradient noise, about
+    /// ±amplitude), `m` the [`Modulation`] by the ground's elevation and slope (1 by default).
     Noise {
         /// Peak amplitude, elevation units.
         amplitude: f64,
         /// The noise (octaves, frequency in cycles per world unit, seed, …).
         fbm: Fbm,
+        /// How the amplitude follows the terrain (default: it does not).
+        #[serde(default, skip_serializing_if = "Modulation::is_none")]
+        modulation: Modulation,
     },
     /// Data-driven: `a(p)` is the error map ΔT = T − T̃ of a vectorization, read bilinearly
     /// (0 outside the map).
@@ -110,18 +157,21 @@ impl DetailLayer {
                 reason: "must be > 0",
             });
         }
-        if let DetailSource::Noise { amplitude, fbm } = &self.source
-            && (!amplitude.is_finite() || !fbm.is_valid())
+        if let DetailSource::Noise { amplitude, fbm, modulation } = &self.source
+            && (!amplitude.is_finite() || !fbm.is_valid() || !modulation.is_valid())
         {
             return Err(GaussianError::NotFinite { index: layer, what: "detail noise" });
         }
         Ok(())
     }
 
-    /// `a(p)`.
-    pub fn amplitude_at(&self, p: DVec2) -> f64 {
+    /// `a(p)` over `ground` (which only a modulated noise layer reads).
+    pub fn amplitude_at(&self, p: DVec2, ground: Ground) -> f64 {
         match &self.source {
-            DetailSource::Noise { amplitude, fbm } => amplitude * fbm.sample(p),
+            DetailSource::Noise { amplitude, fbm, modulation } => {
+                let m = if modulation.is_none() { 1.0 } else { modulation.factor(ground) };
+                amplitude * fbm.sample(p) * m
+            }
             DetailSource::ErrorMap { map } => map.sample_bilinear(p).map_or(0.0, f64::from),
         }
     }
@@ -130,20 +180,40 @@ impl DetailLayer {
         self.centers.iter().map(|&c| Gaussian::round(DVec2::from(c), self.sigma, 1.0)).collect()
     }
 
-    /// The layer's value at `p` (exact, O(centres)): `a(p)·min(1, Σ wᵢ(p))`.
-    pub fn value(&self, p: DVec2) -> f64 {
-        let w: f64 = self.falloffs().iter().map(|g| g.value(p)).sum();
-        self.amplitude_at(p) * w.min(1.0)
+    /// Whether the amplitude depends on the ground.
+    pub fn is_modulated(&self) -> bool {
+        matches!(&self.source, DetailSource::Noise { modulation, .. } if !modulation.is_none())
     }
 
-    /// Adds the layer to `samples` laid out on `grid`.
-    pub(crate) fn add_to(&self, grid: &GridSpec, samples: &mut [f32], tolerance: f64) {
+    /// The layer's value at `p` over `ground` (exact, O(centres)): `a(p)·min(1, Σ wᵢ(p))`.
+    pub fn value(&self, p: DVec2, ground: Ground) -> f64 {
+        let w: f64 = self.falloffs().iter().map(|g| g.value(p)).sum();
+        self.amplitude_at(p, ground) * w.min(1.0)
+    }
+
+    /// Adds the layer to `samples` laid out on `grid`; `ground` holds the Gaussians' raster
+    /// (base included) when a layer is modulated, its slope taken by central differences.
+    pub(crate) fn add_to(&self, grid: &GridSpec, samples: &mut [f32], ground: Option<&[f32]>, tolerance: f64) {
         let weights = raster_samples(&self.falloffs(), grid, tolerance);
         for (k, (s, w)) in samples.iter_mut().zip(weights).enumerate() {
             if w > 0.0 {
                 let (i, j) = grid.coords(k);
-                *s += (self.amplitude_at(grid.position(i, j)) as f32) * w.min(1.0);
+                let under =
+                    ground.filter(|_| self.is_modulated()).map_or(Ground::default(), |g| grid_ground(grid, g, i, j));
+                *s += (self.amplitude_at(grid.position(i, j), under) as f32) * w.min(1.0);
             }
         }
     }
+}
+
+/// The ground at sample `(i, j)` of `heights` on `grid`: its elevation, and the slope by central
+/// differences (one-sided at the border).
+fn grid_ground(grid: &GridSpec, heights: &[f32], i: usize, j: usize) -> Ground {
+    let (nx, ny) = (grid.nx(), grid.ny());
+    let at = |i: usize, j: usize| f64::from(heights[j * nx + i]);
+    let cell = grid.cell_size();
+    let (i0, i1, j0, j1) = (i.saturating_sub(1), (i + 1).min(nx - 1), j.saturating_sub(1), (j + 1).min(ny - 1));
+    let dx = if i1 > i0 { (at(i1, j) - at(i0, j)) / ((i1 - i0) as f64 * cell.x) } else { 0.0 };
+    let dy = if j1 > j0 { (at(i, j1) - at(i, j0)) / ((j1 - j0) as f64 * cell.y) } else { 0.0 };
+    Ground { elevation: at(i, j), slope: dx.hypot(dy) }
 }

@@ -79,7 +79,7 @@ mod terrain;
 mod tool;
 mod vectorize;
 
-pub use detail::{DetailLayer, DetailSource};
+pub use detail::{DetailLayer, DetailSource, Ground, Modulation};
 pub use error::GaussianError;
 pub use loss::{LossTerms, LossWeights};
 pub use primitive::{DEFAULT_TOLERANCE, Gaussian};

@@ -150,6 +150,21 @@ impl Gaussian {
         self.amplitude * (-0.5 * d2.powf(0.5 * self.beta)).exp()
     }
 
+    /// The exact gradient at `p`: `∇g = −g·(β/2)·d^(β−2)·(x·u + y·v)` with `(x, y) = (d·u, d·v)`
+    /// the local coordinates (0 at the centre).
+    pub fn gradient(&self, p: DVec2) -> DVec2 {
+        let (u, v) = self.inverse_axes();
+        let d = p - DVec2::from(self.center);
+        let (x, y) = (d.dot(u), d.dot(v));
+        let s = x * x + y * y;
+        if s == 0.0 {
+            return DVec2::ZERO;
+        }
+        let power = s.powf(0.5 * self.beta);
+        let g = self.amplitude * (-0.5 * power).exp();
+        -g * 0.5 * self.beta * (power / s) * (u * x + v * y)
+    }
+
     /// Support radius in `d` units: beyond it the primitive is below `tolerance·|a|`,
     /// `d_R = (2·ln(1/tolerance))^(1/β)` (3.72 for an ordinary Gaussian at 10⁻³, where the paper's
     /// fixed 3σ would leave a 1.1 % step).

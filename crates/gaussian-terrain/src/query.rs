@@ -20,7 +20,7 @@ use obvhs::bvh2::builder::build_bvh2;
 use rayon::prelude::*;
 
 use crate::fastmath::{exp_neg, exp2_signed, log2};
-use crate::{DetailLayer, Gaussian, GaussianError, VectorTerrain};
+use crate::{DetailLayer, Gaussian, GaussianError, Ground, VectorTerrain};
 
 /// Side of the query lattice's cells, in typical support widths (measured best among 0.25–1.5
 /// on the rasterizer benchmark's terrain).
@@ -356,8 +356,9 @@ impl TerrainQuery {
             let (h, gx, gy) = (f64::from(h), f64::from(gx), f64::from(gy));
             let mut s = Sample { elevation: self.base + h, gradient: DVec2::new(gx, gy) };
             if split < candidates.len() {
-                s.elevation += self.details_at(p, &candidates[split..]);
-                s.gradient += self.details_gradient(p);
+                let ground = s;
+                s.elevation += self.details_at(p, &candidates[split..], ground.ground());
+                s.gradient += self.details_gradient(p, ground);
             }
             out.push((k, s));
         }
@@ -365,22 +366,24 @@ impl TerrainQuery {
 
     /// The detail layers at `p`, given a superset of the falloffs over it (ascending): each
     /// layer's amplitude times its summed falloff, capped at 1, as [`DetailLayer::value`].
-    fn details_at(&self, p: DVec2, falloffs: &[u32]) -> f64 {
+    fn details_at(&self, p: DVec2, falloffs: &[u32], ground: Ground) -> f64 {
         let mut total = 0.0;
         let mut rest = falloffs;
         for (layer, end) in &self.layers {
             let here = rest.partition_point(|&k| (k as usize) < *end);
             let w: f64 = rest[..here].iter().map(|&k| self.items[k as usize].value(p)).sum();
             if w > 0.0 {
-                total += layer.amplitude_at(p) * w.min(1.0);
+                total += layer.amplitude_at(p, ground) * w.min(1.0);
             }
             rest = &rest[here..];
         }
         total
     }
 
-    /// The detail layers' gradient at `p`: a central difference.
-    fn details_gradient(&self, p: DVec2) -> DVec2 {
+    /// The detail layers' gradient at `p`: a central difference, over the Gaussians' `ground`
+    /// at `p` carried to the nearby points by its gradient (a modulation's change of slope over
+    /// the step is left out).
+    fn details_gradient(&self, p: DVec2, ground: Sample) -> DVec2 {
         let step = self.layers.iter().map(|(l, _)| l.sigma).fold(f64::INFINITY, f64::min) * 1e-3;
         let at = |q: DVec2| {
             let local = q - self.origin;
@@ -394,7 +397,9 @@ impl TerrainQuery {
             });
             falloffs.retain(|&k| k as usize >= self.gaussians);
             falloffs.sort_unstable();
-            self.details_at(q, &falloffs)
+            let under =
+                Ground { elevation: ground.elevation + ground.gradient.dot(q - p), slope: ground.gradient.length() };
+            self.details_at(q, &falloffs, under)
         };
         let (dx, dy) = (DVec2::new(step, 0.0), DVec2::new(0.0, step));
         DVec2::new(at(p + dx) - at(p - dx), at(p + dy) - at(p - dy)) / (2.0 * step)
@@ -403,6 +408,11 @@ impl TerrainQuery {
 
 impl Sample {
     const NAN: Sample = Sample { elevation: f64::NAN, gradient: DVec2::NAN };
+
+    /// The ground a detail layer sees here.
+    fn ground(&self) -> Ground {
+        Ground { elevation: self.elevation, slope: self.gradient.length() }
+    }
 }
 
 /// A cell's work: its Gaussians (centres relative to the cell's corner) and its points

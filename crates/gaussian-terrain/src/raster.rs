@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use relief_heightfield::{GridSpec, Heightfield};
 
 use crate::kernel::raster_samples;
-use crate::{GaussianError, VectorTerrain};
+use crate::{DetailLayer, GaussianError, VectorTerrain};
 
 /// The largest output grid: 2²⁸ samples (a 16384² grid, 1 GiB of f32).
 pub const MAX_RASTER_CELLS: usize = 1 << 28;
@@ -65,8 +65,9 @@ pub fn rasterize(
         let base = terrain.base as f32;
         samples.par_iter_mut().for_each(|s| *s += base);
     }
+    let ground = terrain.details.iter().any(DetailLayer::is_modulated).then(|| samples.clone());
     for layer in &terrain.details {
-        layer.add_to(grid, &mut samples, tolerance);
+        layer.add_to(grid, &mut samples, ground.as_deref(), tolerance);
     }
     Ok(Heightfield::from_samples(*grid, samples)?)
 }

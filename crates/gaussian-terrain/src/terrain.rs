@@ -130,9 +130,16 @@ impl VectorTerrain {
     /// The exact elevation at `p`: the base, every primitive untruncated and every detail
     /// layer, in f64. O(primitives); the reference the rasterizer is tested against.
     pub fn height_at(&self, p: DVec2) -> f64 {
-        self.base
-            + self.primitives.iter().map(|g| g.value(p)).sum::<f64>()
-            + self.details.iter().map(|d| d.value(p)).sum::<f64>()
+        let ground = self.ground_at(p);
+        ground.elevation + self.details.iter().map(|d| d.value(p, ground)).sum::<f64>()
+    }
+
+    /// The ground the detail layers see at `p`: the base plus every primitive untruncated, and
+    /// its slope from their exact gradients.
+    pub fn ground_at(&self, p: DVec2) -> crate::Ground {
+        let elevation = self.base + self.primitives.iter().map(|g| g.value(p)).sum::<f64>();
+        let gradient: DVec2 = self.primitives.iter().map(|g| g.gradient(p)).sum();
+        crate::Ground { elevation, slope: gradient.length() }
     }
 }
 

@@ -427,7 +427,7 @@ fn add_details(
         for v in &mut full {
             *v += base;
         }
-        terrain.details[0].add_to(dem.grid(), &mut full, crate::DEFAULT_TOLERANCE);
+        terrain.details[0].add_to(dem.grid(), &mut full, None, crate::DEFAULT_TOLERANCE);
         report.l1_with_details =
             dem.samples().iter().zip(&full).map(|(h, a)| f64::from((h - a).abs())).sum::<f64>() / n;
     }

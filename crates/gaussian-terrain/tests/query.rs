@@ -134,7 +134,8 @@ fn far_from_the_origin_and_outside_every_support() {
 fn detail_layers_are_queried_too() {
     let mut terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::splat(500.0), 200.0, 300.0)]);
     let fbm = relief_heightfield::noise::Fbm { octaves: 3, frequency: 0.02, seed: 4, ..Default::default() };
-    let source = DetailSource::Noise { amplitude: 10.0, fbm };
+    let source =
+        DetailSource::Noise { amplitude: 10.0, fbm, modulation: relief_gaussian_terrain::Modulation::default() };
     terrain.details.push(DetailLayer::poisson((DVec2::ZERO, DVec2::splat(1000.0)), 20.0, 1, 100_000, source).unwrap());
     let query = terrain.query().unwrap();
     assert_eq!(query.len(), 1 + terrain.details[0].centers.len());
@@ -156,6 +157,15 @@ fn detail_layers_are_queried_too() {
         assert!((s.gradient - fd).length() < 2e-2 * (1.0 + fd.length()), "at {p}: {:?} vs {fd:?}", s.gradient);
     }
     assert!(moved > 30, "the detail layer changed only {moved} of 100 points");
+    // Modulated by the ground's elevation: the query sees the same ground as the exact sum.
+    if let DetailSource::Noise { modulation, .. } = &mut terrain.details[0].source {
+        modulation.elevation = Some([50.0, 250.0]);
+    }
+    let query = terrain.query().unwrap();
+    for k in 0..100 {
+        let p = DVec2::new(f64::from(k * 53 % 1000), f64::from(k * 29 % 1000)) + DVec2::splat(0.5);
+        assert!((query.elevation(p) - terrain.height_at(p)).abs() < 0.05, "at {p}");
+    }
 }
 
 #[test]

@@ -91,7 +91,7 @@ fn noise_details_add_bounded_detail() {
         20.0,
         1,
         100_000,
-        DetailSource::Noise { amplitude: 10.0, fbm },
+        DetailSource::Noise { amplitude: 10.0, fbm, modulation: relief_gaussian_terrain::Modulation::default() },
     )
     .unwrap();
     terrain.details.push(layer);
@@ -175,5 +175,51 @@ fn bad_input_gets_typed_errors() {
             vectorize(&dem, &bad, |_| ControlFlow::Continue(())),
             Err(GaussianError::InvalidOption { .. })
         ));
+    }
+}
+
+/// Noise details follow the topography (§3.2): modulated by elevation, they vanish on low ground
+/// and reach their amplitude on high ground; by slope, they vanish on the flat top and the plain
+/// and stay on the flanks. The rasterizer (grid slopes) and the exact evaluation agree.
+#[test]
+fn noise_details_follow_elevation_and_slope() {
+    use relief_gaussian_terrain::{Ground, Modulation};
+    let hill = Gaussian { center: [500.0, 500.0], sigma: [180.0, 180.0], theta: 0.0, amplitude: 300.0, beta: 4.0 };
+    let fbm = relief_heightfield::noise::Fbm { octaves: 3, frequency: 0.02, seed: 4, ..Default::default() };
+    let g = grid(101);
+    let plain = rasterize(&VectorTerrain::new(vec![hill]), &g, &RasterOptions::default()).unwrap();
+    for modulation in [
+        Modulation { elevation: Some([50.0, 250.0]), slope: None },
+        Modulation { elevation: None, slope: Some([0.3, 0.8]) },
+    ] {
+        let mut terrain = VectorTerrain::new(vec![hill]);
+        let source = DetailSource::Noise { amplitude: 10.0, fbm, modulation };
+        terrain
+            .details
+            .push(DetailLayer::poisson((DVec2::ZERO, DVec2::splat(1000.0)), 20.0, 1, 100_000, source).unwrap());
+        let detailed = rasterize(&terrain, &g, &RasterOptions::default()).unwrap();
+        let (mut off, mut on) = (0, 0);
+        for k in 0..g.len() {
+            let (i, j) = g.coords(k);
+            let p = g.position(i, j);
+            let ground = terrain.ground_at(p);
+            let m = modulation.factor(ground);
+            let delta = f64::from(detailed.samples()[k] - plain.samples()[k]);
+            let full = 10.0 * fbm.sample(p);
+            if m == 0.0 && modulation.elevation.is_some() {
+                assert_eq!(delta, 0.0, "detail on low ground at {p}");
+                off += 1;
+            }
+            if m == 1.0 && full.abs() > 1.0 {
+                assert!((delta - full).abs() < 0.05 * full.abs() + 0.05, "{delta} vs {full} at {p}");
+                on += 1;
+            }
+            // The grid's slope and the exact one differ a little on the flanks: compare loosely.
+            let exact = terrain.height_at(p);
+            assert!((f64::from(detailed.samples()[k]) - exact).abs() < 1.5, "{} vs {exact}", detailed.samples()[k]);
+        }
+        assert!(on > 100, "{modulation:?}: {on} samples with full detail");
+        assert!(off > 100 || modulation.elevation.is_none(), "{off} samples without detail");
+        assert_eq!(modulation.factor(Ground { elevation: 0.0, slope: 0.0 }), 0.0);
     }
 }
