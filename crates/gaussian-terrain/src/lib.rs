@@ -85,7 +85,9 @@ pub use loss::{LossTerms, LossWeights};
 pub use primitive::{DEFAULT_TOLERANCE, Gaussian};
 pub use query::{Sample, TerrainQuery};
 pub use raster::{MAX_RASTER_CELLS, RasterOptions, rasterize, rasterize_exact};
-pub use region::{Placement, Region, StampMode, copy, cut, delete, paste, smoothstep, squeeze, stamp, twist};
+pub use region::{
+    Placement, Region, StampMode, copy, cut, damp_around, delete, paste, smoothstep, squeeze, stamp, twist,
+};
 pub use relief_heightfield::{GridSpec, Heightfield};
 pub use skeleton::{Attachment, Skeleton, SkeletonOptions};
 pub use terrain::{Atlas, Landform, MAX_PRIMITIVES, VectorTerrain};

@@ -75,6 +75,34 @@ impl Region {
         }
     }
 
+    /// The convex hull of `points` as a lasso (counter-clockwise), `None` when they span no
+    /// area (fewer than three, or all on a line).
+    pub fn convex_hull(points: &[DVec2]) -> Option<Region> {
+        let mut sorted: Vec<DVec2> = points.iter().copied().filter(|p| p.is_finite()).collect();
+        sorted.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+        sorted.dedup();
+        if sorted.len() < 3 {
+            return None;
+        }
+        // Andrew's monotone chain.
+        let cross = |o: DVec2, a: DVec2, b: DVec2| (a - o).perp_dot(b - o);
+        let mut hull: Vec<DVec2> = Vec::with_capacity(2 * sorted.len());
+        for pass in 0..2 {
+            let start = hull.len();
+            let iter: Box<dyn Iterator<Item = &DVec2>> =
+                if pass == 0 { Box::new(sorted.iter()) } else { Box::new(sorted.iter().rev()) };
+            for &p in iter {
+                while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+                    hull.pop();
+                }
+                hull.push(p);
+            }
+            hull.pop();
+        }
+        let lasso = Region::Lasso { points: hull.iter().map(DVec2::to_array).collect() };
+        (hull.len() >= 3 && lasso.area() > 0.0).then_some(lasso)
+    }
+
     /// Whether `p` is inside Ω (even–odd rule for a lasso).
     pub fn contains(&self, p: DVec2) -> bool {
         match self {
@@ -300,6 +328,38 @@ fn delete_indices(terrain: &mut VectorTerrain, sorted: &[usize]) {
         k += 1;
         !drop
     });
+}
+
+/// The influence region of combined edits (§5.2: "we propagate modifications in an influence
+/// region around the convex hull of modifications"): the primitives `moved` by a crest or
+/// region edit span a convex hull Ω; every other primitive is damped by Ω's outer fall-off,
+/// `hᵢ ← s(d(∂Ω, cᵢ)/r)·hᵢ` (vanished inside Ω, and then removed; untouched beyond `r`), so
+/// the moved landform does not pile onto what it now covers. `moved` are indices into the
+/// terrain (ascending or not); fewer than three non-collinear centres span no hull and damp
+/// nothing. Returns how many primitives were damped.
+///
+/// # Errors
+/// [`GaussianError::InvalidOption`] for a radius that is not `> 0`.
+pub fn damp_around(terrain: &mut VectorTerrain, moved: &[usize], radius: f64) -> Result<usize, GaussianError> {
+    check_radius("influence radius", radius)?;
+    let centres: Vec<DVec2> =
+        moved.iter().filter_map(|&k| terrain.primitives.get(k)).map(|g| DVec2::from(g.center)).collect();
+    let Some(hull) = Region::convex_hull(&centres) else { return Ok(0) };
+    let n = terrain.primitives.len();
+    let mut is_moved = vec![false; n];
+    for &k in moved.iter().filter(|&&k| k < n) {
+        is_moved[k] = true;
+    }
+    let mut damped = 0;
+    for (g, _) in terrain.primitives.iter_mut().zip(&is_moved).filter(|(_, m)| !**m) {
+        let f = hull.outer_falloff(DVec2::from(g.center), radius);
+        if f < 1.0 {
+            g.amplitude *= f;
+            damped += 1;
+        }
+    }
+    terrain.primitives.retain(|g| g.amplitude != 0.0);
+    Ok(damped)
 }
 
 /// Twist (§5.2, after Génevaux et al. 2015): primitives inside Ω turn about the region's anchor

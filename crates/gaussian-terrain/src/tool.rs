@@ -99,6 +99,11 @@ pub enum Tool {
         /// Graph distance the change reaches (default: the whole graph).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         reach: Option<f64>,
+        /// Influence radius around the convex hull of the moved primitives: the others there
+        /// are damped so the moved crest does not pile onto them — [`crate::damp_around`]
+        /// (default: none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        damping: Option<f64>,
     },
     /// Scale the amplitude around a crest node (`node`, or the one nearest `near`):
     /// `a' = a(α·factor + 1)` — [`Skeleton::scale_amplitude`].
@@ -192,10 +197,15 @@ impl Tool {
             Self::Squeeze { region, by, falloff } => {
                 squeeze(terrain, region, DVec2::from(*by), *falloff)?;
             }
-            Self::MoveCrest { near, node, by, reach } => {
+            Self::MoveCrest { near, node, by, reach, damping } => {
                 let skeleton = cx.skeleton(terrain).map_err(ToolError::Context)?;
                 let (node, attached) = crest_node(skeleton, terrain, *near, *node)?;
+                let before = damping.map(|_| terrain.primitives.clone());
                 skeleton.move_node(terrain, &attached, node, DVec2::from(*by), *reach)?;
+                if let (Some(radius), Some(before)) = (damping, before) {
+                    let moved: Vec<usize> = (0..before.len()).filter(|&k| before[k] != terrain.primitives[k]).collect();
+                    crate::damp_around(terrain, &moved, *radius)?;
+                }
             }
             Self::RaiseCrest { near, node, factor, reach } => {
                 let skeleton = cx.skeleton(terrain).map_err(ToolError::Context)?;

@@ -594,3 +594,64 @@ fn copy_and_cut_fill_the_session_atlas() {
         matches!(missing.apply(&mut replayed, &mut session), Err(relief_gaussian_terrain::ToolError::Context(e)) if e.contains("\"c\""))
     );
 }
+
+/// The influence region of combined edits: the convex hull of the moved primitives damps the
+/// others by exactly its outer fall-off (those inside vanish and go), the moved ones keep their
+/// bits, and a crest move with `damping` applies it.
+#[test]
+fn combined_edits_damp_around_the_convex_hull() {
+    use relief_gaussian_terrain::{Tool, damp_around};
+    let square = [DVec2::ZERO, DVec2::new(10.0, 0.0), DVec2::new(10.0, 10.0), DVec2::new(0.0, 10.0), DVec2::splat(5.0)];
+    let Some(Region::Lasso { points }) = Region::convex_hull(&square) else { panic!("a hull") };
+    assert_eq!(points.len(), 4);
+    assert!(Region::convex_hull(&[DVec2::ZERO, DVec2::ONE, DVec2::splat(2.0)]).is_none());
+
+    let before = terrain();
+    let moved: Vec<usize> = circle(500.0, 500.0, 160.0).select(&before);
+    let hull =
+        Region::convex_hull(&moved.iter().map(|&k| DVec2::from(before.primitives[k].center)).collect::<Vec<_>>())
+            .unwrap();
+    let mut after = before.clone();
+    let damped = damp_around(&mut after, &moved, 60.0).unwrap();
+    let mut expected = Vec::new();
+    for (k, g) in before.primitives.iter().enumerate() {
+        let mut g = *g;
+        if !moved.contains(&k) {
+            let f = hull.outer_falloff(DVec2::from(g.center), 60.0);
+            if f < 1.0 {
+                g.amplitude *= f;
+            }
+        }
+        if g.amplitude != 0.0 {
+            expected.push(g);
+        }
+    }
+    assert_eq!(after.primitives, expected);
+    assert!(damped >= 3, "{damped} damped");
+
+    let tool = |damping: Option<f64>| {
+        let json = serde_json::json!({ "op": "move_crest", "near": [42, 142], "by": [20, 5], "reach": 90, "damping": damping });
+        serde_json::from_value::<Tool>(json).unwrap()
+    };
+    let session = || Session {
+        atlas: relief_gaussian_terrain::Atlas::default(),
+        skeleton: None,
+        skeletons_extracted: 0,
+        kept: relief_gaussian_terrain::Atlas::default(),
+    };
+    // Primitives along the crest: those beyond the move's reach stay, and the ones next to the
+    // moved part are damped.
+    let mut crest_terrain = VectorTerrain::new(
+        crest()
+            .simplified(10.0)
+            .nodes
+            .iter()
+            .map(|&p| relief_gaussian_terrain::Gaussian::round(DVec2::from(p), 8.0, 50.0))
+            .collect(),
+    );
+    let mut plain = crest_terrain.clone();
+    tool(None).apply(&mut plain, &mut session()).unwrap();
+    tool(Some(40.0)).apply(&mut crest_terrain, &mut session()).unwrap();
+    let amplitude = |t: &VectorTerrain| t.primitives.iter().map(|g| g.amplitude.abs()).sum::<f64>();
+    assert!(amplitude(&crest_terrain) < amplitude(&plain), "damping removed nothing");
+}
