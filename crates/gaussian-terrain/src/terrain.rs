@@ -1,7 +1,7 @@
 //! The vector terrain (a list of primitives, serde) and the atlas of saved landforms.
 
 use glam::DVec2;
-use relief_heightfield::Extent;
+use relief_heightfield::{Extent, Heightfield};
 use serde::{Deserialize, Serialize};
 
 use crate::{DetailLayer, Gaussian, GaussianError};
@@ -132,6 +132,40 @@ impl VectorTerrain {
     pub fn height_at(&self, p: DVec2) -> f64 {
         let ground = self.ground_at(p);
         ground.elevation + self.details.iter().map(|d| d.value(p, ground)).sum::<f64>()
+    }
+
+    /// The loop of the paper's Fig. 15: whatever changed `target` away from this terrain
+    /// (erosion on its raster, say) becomes a detail layer, `ΔT = target − T̃` read by detail
+    /// primitives at Poisson-disc centres `spacing` cells apart over `target`'s extent, so the
+    /// terrain reproduces `target` on its grid and carries the change to any other resolution.
+    ///
+    /// # Errors
+    /// The rasterizer's errors; [`GaussianError::InvalidOption`] for a spacing that is not
+    /// `> 0` or that would place more centres than [`MAX_PRIMITIVES`].
+    pub fn add_error_details(&mut self, target: &Heightfield, spacing: f64, seed: u64) -> Result<(), GaussianError> {
+        if !(spacing.is_finite() && spacing > 0.0) {
+            return Err(GaussianError::InvalidOption {
+                name: "detail spacing",
+                value: spacing,
+                reason: "must be > 0 cells",
+            });
+        }
+        let current = crate::rasterize(self, target.grid(), &crate::RasterOptions::default())?;
+        let error: Vec<f32> = target.samples().iter().zip(current.samples()).map(|(t, c)| t - c).collect();
+        let map = Heightfield::from_samples(*target.grid(), error)?;
+        let cell = target.grid().cell_size();
+        let extent = target.extent();
+        let radius = spacing * cell.x.min(cell.y);
+        let budget = MAX_PRIMITIVES.saturating_sub(self.len());
+        let layer = DetailLayer::poisson(
+            (extent.min, extent.max),
+            radius,
+            seed,
+            budget,
+            crate::DetailSource::ErrorMap { map },
+        )?;
+        self.details.push(layer);
+        Ok(())
     }
 
     /// The ground the detail layers see at `p`: the base plus every primitive untruncated, and

@@ -215,3 +215,50 @@ fn atlases_from_a_real_dem_round_trip() {
     }
     assert_ne!(later.heightfield.samples(), first.heightfield.samples());
 }
+
+/// Fig. 15's loop as a post step: erosion on the raster, then `details` turns the change into
+/// detail primitives, so the written vector terrain reproduces the eroded raster on its grid
+/// and carries the erosion to a finer one; a scene without a vector terrain is told so.
+#[test]
+fn erosion_becomes_detail_primitives() {
+    let path = root().join("fixtures/scenes/gaussian-massif.json");
+    let mut scene = Scene::from_json(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    scene.post = serde_json::from_value(serde_json::json!([
+        { "thermal": { "talus_deg": 20, "iterations": 40 } },
+        { "details": {} }
+    ]))
+    .unwrap();
+    scene.outputs.vector_terrain = Some("eroded.json".into());
+    let out = tempfile::tempdir().unwrap();
+    let (eroded, _) = relief::pipeline::run(&scene, path.parent().unwrap(), out.path(), &mut Quiet).unwrap();
+    assert!(eroded.summary.warnings.is_empty(), "{:?}", eroded.summary.warnings);
+    let plain = generate(&Scene { post: Vec::new(), ..scene.clone() }, path.parent().unwrap(), &mut Quiet).unwrap();
+    let changed = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+    let erosion = changed(eroded.heightfield.samples(), plain.heightfield.samples());
+    assert!(erosion > 1.0, "thermal erosion changed the raster by only {erosion}");
+
+    let terrain: relief::gaussian_terrain::VectorTerrain =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("eroded.json")).unwrap()).unwrap();
+    assert_eq!(terrain.details.len(), 1);
+    let grid = eroded.heightfield.grid();
+    let options = relief::gaussian_terrain::RasterOptions::default();
+    let again = relief::gaussian_terrain::rasterize(&terrain, grid, &options).unwrap();
+    let residual = changed(again.samples(), eroded.heightfield.samples());
+    assert!(residual < 0.01 * erosion, "the detailed terrain misses the eroded raster by {residual}");
+    // At twice the resolution the erosion is still there (the plain terrain lacks it).
+    let fine = relief::heightfield::GridSpec::from_extent(2 * grid.nx() - 1, 2 * grid.ny() - 1, grid.extent()).unwrap();
+    let mut bare = terrain.clone();
+    bare.details.clear();
+    let (with, without) = (
+        relief::gaussian_terrain::rasterize(&terrain, &fine, &options).unwrap(),
+        relief::gaussian_terrain::rasterize(&bare, &fine, &options).unwrap(),
+    );
+    assert!(changed(with.samples(), without.samples()) > 0.5 * erosion);
+
+    // No vector terrain, no details.
+    let island = root().join("fixtures/scenes/volcanic-island.json");
+    let mut other = Scene::from_json(&std::fs::read_to_string(&island).unwrap()).unwrap();
+    other.post = serde_json::from_value(serde_json::json!([{ "details": {} }])).unwrap();
+    let err = generate(&other, island.parent().unwrap(), &mut Quiet).err().unwrap().to_string();
+    assert!(err.contains("post[0].details") && err.contains("gaussian"), "{err}");
+}

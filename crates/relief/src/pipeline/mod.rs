@@ -43,7 +43,7 @@ use crate::contours::{ContourSet, Histogram, extract_dem};
 use crate::diffusion::SolveReport;
 use crate::eden_growth::MaskCleaning;
 use crate::heightfield::Heightfield;
-use crate::scene::{Generator, Scene};
+use crate::scene::{Generator, PostProcess, Scene};
 use crate::{ReliefError, ReliefError as E};
 use contour_input::ContourInputSummary;
 use inputs::Env;
@@ -161,19 +161,24 @@ pub fn generate_with(
 /// The shared end of every run: post-processes, drainage, the contours of a raster generator at
 /// its levels, and the summary.
 fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<Terrain, ReliefError> {
-    let Generated { heightfield, sea_level, contours, report, mut warnings, vector } = generated;
-    if vector.is_some()
-        && !scene.post.is_empty()
-        && (scene.outputs.vector_terrain.is_some() || scene.outputs.skeleton.is_some())
-    {
-        warnings
-            .push("outputs.vector_terrain and outputs.skeleton hold the vector terrain before the post steps".into());
+    let Generated { heightfield, sea_level, contours, report, mut warnings, mut vector } = generated;
+    let detailed = matches!(scene.post.last(), Some(PostProcess::Details { .. }));
+    let written = scene.outputs.vector_terrain.is_some() || scene.outputs.skeleton.is_some();
+    if vector.is_some() && !scene.post.is_empty() && !detailed && written {
+        warnings.push(
+            "outputs.vector_terrain and outputs.skeleton hold the vector terrain before the post steps \
+             (end post with a details step to carry them over)"
+                .into(),
+        );
     }
     let heightfield = if scene.post.is_empty() {
         heightfield
     } else {
         let work = post::post_work(&scene.post);
-        timer.counted("post-process", work, |tick| post::post_process(heightfield, &scene.post, sea_level, tick))?
+        let terrain = vector.as_mut().map(|v| &mut v.terrain);
+        timer.counted("post-process", work, |tick| {
+            post::post_process(heightfield, &scene.post, sea_level, terrain, scene.seed, tick)
+        })?
     };
     let drainage = timer.step("drainage", || post::drainage(&heightfield, sea_level))?;
     let (contours, histogram) = match (contours, &report) {

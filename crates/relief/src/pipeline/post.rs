@@ -23,16 +23,19 @@ pub(super) fn post_work(post: &[PostProcess]) -> u64 {
     let units = |step: &PostProcess| match step {
         PostProcess::StreamPower(law) => law.iterations as u64,
         PostProcess::Thermal(thermal) => thermal.iterations as u64,
-        PostProcess::Fill {} => 1,
+        PostProcess::Fill {} | PostProcess::Details { .. } => 1,
     };
     post.iter().map(units).sum()
 }
 
-/// Runs the scene's post-processes in order, ticking each unit of [`post_work`].
+/// Runs the scene's post-processes in order, ticking each unit of [`post_work`]; a `details`
+/// step adds the raster's changes to `vector` (a gaussian scene's terrain).
 pub(super) fn post_process(
     mut hf: Heightfield,
     post: &[PostProcess],
     sea_level: Option<f64>,
+    mut vector: Option<&mut crate::gaussian_terrain::VectorTerrain>,
+    seed: u64,
     tick: &mut Tick<'_>,
 ) -> Result<Heightfield, ReliefError> {
     let outlets = outlets(sea_level);
@@ -51,6 +54,15 @@ pub(super) fn post_process(
             PostProcess::Thermal(thermal) => thermal.run(&mut hf, |_| tick.tick()).map_err(|e| fail("thermal", e))?,
             PostProcess::Fill {} => {
                 hf = hydrology::fill(&hf, outlets).map_err(|e| fail("fill", e))?;
+                tick.tick();
+            }
+            PostProcess::Details { spacing } => {
+                let at = format!("post[{k}].details");
+                let Some(terrain) = vector.as_deref_mut() else {
+                    let rule = "only a gaussian scene has a vector terrain to add details to";
+                    return Err(E::at(at, crate::SceneError::OutOfRange { value: "details".into(), rule }));
+                };
+                terrain.add_error_details(&hf, *spacing, seed).map_err(|e| E::at(at, e))?;
                 tick.tick();
             }
         }

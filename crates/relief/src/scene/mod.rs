@@ -135,6 +135,20 @@ pub enum PostProcess {
     /// Priority-Flood+ε filling: every land cell drains to the sea or the border again (keeps
     /// nothing closed, not even craters).
     Fill {},
+    /// Perche et al.'s Fig. 15 loop (gaussian generator only): what the steps before changed on
+    /// the raster (erosion) becomes detail primitives of the vector terrain, which then
+    /// reproduces the processed raster and carries the change to any resolution
+    /// (`outputs.vector_terrain`).
+    Details {
+        /// Spacing of the detail primitives, in cells (default 1.5: dense enough that the
+        /// error map is read back everywhere).
+        #[serde(default = "default_detail_spacing")]
+        spacing: f64,
+    },
+}
+
+fn default_detail_spacing() -> f64 {
+    1.5
 }
 
 /// How the heightfield is rebuilt, and its size.
