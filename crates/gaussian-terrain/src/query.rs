@@ -470,8 +470,9 @@ impl Block {
     /// Adds every Gaussian, in order, to every point's sums: the loop over the points is the
     /// one the compiler vectorizes, dispatched by `pulp` to the widest vector instructions the
     /// CPU has (AVX2 where present). Each point's sum runs over the Gaussians in order whatever
-    /// the cell's other points, so a point alone in its cell gets the same bits; and Rust never
-    /// fuses `a·b + c`, so the vector build gives the bits of the plain one.
+    /// the cell's other points, so a point alone in its cell gets the same bits; and the vector
+    /// build gives the bits of the plain one (no implicit fusing, explicit `mul_add`s fused on
+    /// both).
     fn run(&mut self) {
         pulp::Arch::new().dispatch(&mut *self);
     }

@@ -495,8 +495,8 @@ fn stamps_place_and_damp_exactly() {
 }
 
 /// A crest move sends every node by exactly `α·v`, `α = s(1 − l/d_m)`, and each attached
-/// primitive within the reach with its edge: the centre keeps its offset from its projection, turned by the edge's
-/// rotation and stretched by its change of length.
+/// primitive within the reach with its edge: the centre keeps its offset from its projection,
+/// turned by the edge's rotation and stretched by its change of length.
 #[test]
 fn crest_moves_follow_the_attenuation_exactly() {
     let mut skeleton = crest().simplified(10.0);
