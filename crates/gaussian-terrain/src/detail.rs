@@ -217,3 +217,21 @@ fn grid_ground(grid: &GridSpec, heights: &[f32], i: usize, j: usize) -> Ground {
     let dy = if j1 > j0 { (at(i, j1) - at(i, j0)) / ((j1 - j0) as f64 * cell.y) } else { 0.0 };
     Ground { elevation: at(i, j), slope: dx.hypot(dy) }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Grid slopes are central differences inside (exact for a parabola) and one-sided at the
+    /// border.
+    #[test]
+    fn grid_ground_takes_central_differences() {
+        let grid =
+            GridSpec::from_extent(11, 5, relief_heightfield::Extent::new(DVec2::ZERO, DVec2::new(10.0, 4.0))).unwrap();
+        let heights: Vec<f32> = (0..grid.len()).map(|k| (k % 11) as f32 * (k % 11) as f32).collect();
+        let g = grid_ground(&grid, &heights, 5, 2);
+        assert_eq!((g.elevation, g.slope), (25.0, 10.0));
+        assert_eq!(grid_ground(&grid, &heights, 0, 0).slope, 1.0);
+        assert_eq!(grid_ground(&grid, &heights, 10, 4).slope, 19.0);
+    }
+}
