@@ -237,7 +237,7 @@ impl TerrainQuery {
 
     /// The elevation and gradient at `p`.
     pub fn sample(&self, p: DVec2) -> Sample {
-        let Some(key) = self.cell_of(p) else { return Sample::NAN };
+        let Some(key) = self.cell_of(p) else { return self.beyond(p) };
         let mut out = Vec::with_capacity(1);
         self.cell_samples(key, &[p], &[0], &mut Block::default(), &mut out);
         out[0].1
@@ -258,7 +258,7 @@ impl TerrainQuery {
     /// [`Self::sample`] one by one, for any thread count. Points close together share one walk
     /// of the hierarchy, so a batch in the order of a grid or a track is the fast case.
     pub fn samples(&self, points: &[DVec2]) -> Vec<Sample> {
-        let mut out = vec![Sample::NAN; points.len()];
+        let mut out: Vec<Sample> = points.iter().map(|&p| self.beyond(p)).collect();
         let cells = self.bucket(points);
         let parts: Vec<Vec<(u32, Sample)>> = cells
             .par_chunks(CELLS_PER_TASK)
@@ -275,6 +275,12 @@ impl TerrainQuery {
             out[k as usize] = s;
         }
         out
+    }
+
+    /// A point no cell holds: NaN when it is not finite, else so far out (beyond the lattice's
+    /// i32 range) that no support reaches it: the base.
+    fn beyond(&self, p: DVec2) -> Sample {
+        if p.is_finite() { Sample { elevation: self.base, gradient: DVec2::ZERO } } else { Sample::NAN }
     }
 
     /// The lattice cell of `p`, `None` when it is not finite or beyond the lattice's i32 range.
@@ -294,10 +300,11 @@ impl TerrainQuery {
             return Vec::new();
         }
         let (w, h) = (i64::from(hi.0) - i64::from(lo.0) + 1, i64::from(hi.1) - i64::from(lo.1) + 1);
-        if w.saturating_mul(h) > 4 * points.len() as i64 + 64 {
+        if w.saturating_mul(h) > points.len() as i64 + 64 {
             return Self::bucket_sparse(&keys);
         }
-        // Dense: a counting sort over the lattice window.
+        // Dense (no more cells in the window than points, so the buckets cost at most one empty
+        // list per point): a counting sort over the lattice window.
         let slot =
             |(x, y): (i32, i32)| ((i64::from(y) - i64::from(lo.1)) * w + i64::from(x) - i64::from(lo.0)) as usize;
         let mut cells: Vec<Vec<u32>> = vec![Vec::new(); (w * h) as usize];

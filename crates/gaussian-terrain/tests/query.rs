@@ -124,6 +124,13 @@ fn far_from_the_origin_and_outside_every_support() {
         assert!((query.elevation(p) - f64::from(exact.samples()[k])).abs() < bound, "at {p}");
     }
     assert_eq!(query.elevation(offset + DVec2::splat(1e5)), 120.0);
+    // Beyond the query lattice's range, still the base; a NaN point gives NaN.
+    let far = [DVec2::splat(1e15), DVec2::new(f64::NAN, 0.0), offset + DVec2::splat(500.0)];
+    let batch = query.elevations(&far);
+    assert_eq!(batch[0], 120.0);
+    assert!(batch[1].is_nan() && query.elevation(far[1]).is_nan());
+    assert_eq!(query.elevation(far[0]), 120.0);
+    assert_eq!(batch[2], query.elevation(far[2]));
     let empty = VectorTerrain { base: -3.0, ..VectorTerrain::default() }.query().unwrap();
     assert!(empty.is_empty());
     assert_eq!(empty.sample(DVec2::new(1.0, 2.0)).elevation, -3.0);
