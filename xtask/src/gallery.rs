@@ -14,6 +14,8 @@ struct Entry {
     scene: String,
     description: String,
     summary: serde_json::Value,
+    /// Whether `{name}-dem.png`, the source DEM's preview, was written.
+    dem_beside: bool,
 }
 
 pub(crate) fn run(root: &Path) -> Result<()> {
@@ -47,8 +49,11 @@ pub(crate) fn run(root: &Path) -> Result<()> {
             .with_context(|| format!("copying the preview of {name}"))?;
         let text = fs::read_to_string(scene)?;
         let json: serde_json::Value = serde_json::from_str(&text)?;
-        // A scene regrown from a DEM's contours shows the DEM beside it (Fig. 24).
-        if let Some(dem) = json["generator"]["contours"]["contours"]["dem"].as_str() {
+        // A scene regrown from a DEM's contours (Fig. 24) or vectorized from a DEM shows the DEM
+        // beside it.
+        let source = &json["generator"]["gaussian"]["source"];
+        let vectorized = (source["kind"] == "dem").then(|| source["path"].as_str()).flatten();
+        if let Some(dem) = json["generator"]["contours"]["contours"]["dem"].as_str().or(vectorized) {
             let dem = scene.parent().context("scene without a folder")?.join(dem);
             crate::run(
                 Command::new(&relief)
@@ -62,6 +67,7 @@ pub(crate) fn run(root: &Path) -> Result<()> {
         }
         let summary: serde_json::Value = serde_json::from_str(&fs::read_to_string(out.join("summary.json"))?)?;
         entries.push(Entry {
+            dem_beside: vectorized.is_some(),
             scene: scene.strip_prefix(root).unwrap_or(scene).display().to_string(),
             description: json["description"].as_str().unwrap_or("").to_owned(),
             name,
@@ -143,7 +149,14 @@ fn render(entries: &[Entry]) -> String {
                 ks = s["histogram_match"]["raster"].as_f64().unwrap_or(f64::NAN),
             )
         };
-        let comparison = comparison(&s["comparison"], &e.name);
+        let mut comparison = comparison(&s["comparison"], &e.name);
+        if s["gaussian"].is_object() && e.dem_beside {
+            comparison = format!(
+                " ![{name}: the DEM](gallery/{name}-dem.png)\n\nThe vector terrain (left) beside the DEM it was \
+                 vectorized from (right).\n",
+                name = e.name
+            );
+        }
         let _ = write!(
             md,
             "\n## {name}\n\n{description}\n\n{source}{contours} contours on {levels} levels, {nx} × {ny} \

@@ -92,7 +92,7 @@ pub use relief_heightfield::{GridSpec, Heightfield};
 pub use skeleton::{Attachment, Skeleton, SkeletonOptions};
 pub use terrain::{Atlas, Landform, MAX_PRIMITIVES, VectorTerrain};
 pub use tool::{Tool, ToolContext, ToolError};
-pub use vectorize::{Progress, VectorizeOptions, VectorizeReport, Vectorized, vectorize};
+pub use vectorize::{Densify, Progress, VectorizeOptions, VectorizeReport, Vectorized, vectorize};
 
 /// The crate README's example, compiled and run as a doc test.
 #[cfg(doctest)]

@@ -141,6 +141,8 @@ pub struct TerrainQuery {
     /// Each detail layer and the end of its falloffs in `items`.
     layers: Vec<(DetailLayer, usize)>,
     base: f64,
+    /// [`VectorTerrain::floor`].
+    floor: Option<f64>,
     /// Side of the lattice of query cells, anchored at `origin`.
     cell: f64,
 }
@@ -197,7 +199,8 @@ impl VectorTerrain {
         let items: Vec<Item> = supports.iter().map(|g| Item::new(g, tolerance)).collect();
         let cell = CELL_PER_SUPPORT
             * typical_width(&items[..if self.primitives.is_empty() { items.len() } else { self.primitives.len() }]);
-        Ok(TerrainQuery { origin, bvh, items, gaussians: self.primitives.len(), layers, base: self.base, cell })
+        let (gaussians, base, floor) = (self.primitives.len(), self.base, self.floor);
+        Ok(TerrainQuery { origin, bvh, items, gaussians, layers, base, floor, cell })
     }
 }
 
@@ -280,7 +283,8 @@ impl TerrainQuery {
     /// A point no cell holds: NaN when it is not finite, else so far out (beyond the lattice's
     /// i32 range) that no support reaches it: the base.
     fn beyond(&self, p: DVec2) -> Sample {
-        if p.is_finite() { Sample { elevation: self.base, gradient: DVec2::ZERO } } else { Sample::NAN }
+        let elevation = self.floor.map_or(self.base, |f| self.base.max(f));
+        if p.is_finite() { Sample { elevation, gradient: DVec2::ZERO } } else { Sample::NAN }
     }
 
     /// The lattice cell of `p`, `None` when it is not finite or beyond the lattice's i32 range.
@@ -362,6 +366,11 @@ impl TerrainQuery {
             let (h, gx, gy) = (block.sums[n], block.sums[m + n], block.sums[2 * m + n]);
             let (h, gx, gy) = (f64::from(h), f64::from(gx), f64::from(gy));
             let mut s = Sample { elevation: self.base + h, gradient: DVec2::new(gx, gy) };
+            if let Some(floor) = self.floor
+                && s.elevation < floor
+            {
+                s = Sample { elevation: floor, gradient: DVec2::ZERO };
+            }
             if split < candidates.len() {
                 let ground = s;
                 s.elevation += self.details_at(p, &candidates[split..], ground.ground());

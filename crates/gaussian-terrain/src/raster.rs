@@ -26,7 +26,8 @@ impl Default for RasterOptions {
 }
 
 /// Evaluates `terrain` at every sample of `grid` (any resolution, any window of the plane):
-/// the sum of the primitives truncated at their support radius (error at most
+/// the base plus the primitives truncated at their support radius, raised to the floor if any,
+/// plus the detail layers (error at most
 /// `tolerance · Σ|a|` over the primitives reaching a sample, plus f32 rounding).
 ///
 /// # Errors
@@ -64,6 +65,10 @@ pub fn rasterize(
     if terrain.base != 0.0 {
         let base = terrain.base as f32;
         samples.par_iter_mut().for_each(|s| *s += base);
+    }
+    if let Some(floor) = terrain.floor {
+        let floor = floor as f32;
+        samples.par_iter_mut().for_each(|s| *s = s.max(floor));
     }
     let ground = terrain.details.iter().any(DetailLayer::is_modulated).then(|| samples.clone());
     for layer in &terrain.details {

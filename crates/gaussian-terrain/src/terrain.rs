@@ -25,6 +25,12 @@ pub struct VectorTerrain {
     /// that the primitives only model relief above it.
     #[serde(default)]
     pub base: f64,
+    /// Where the base plus the primitives falls below this, the terrain is this (before the
+    /// detail layers): the sea level or flat low ground of a vectorized DEM, kept exactly flat
+    /// (none by default; vectorization sets it to the DEM's minimum when at least 1 % of the DEM
+    /// lies there). Its slope there is 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floor: Option<f64>,
     /// The window the terrain was made for, `[min, max]` corners (vectorization records the
     /// DEM's extent); renderers default to it. Not a clip: primitives reach beyond it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -44,6 +50,9 @@ struct VectorTerrainJson {
     /// A constant added everywhere (default 0).
     #[serde(default)]
     base: f64,
+    /// The lowest elevation of the base plus the primitives (none by default).
+    #[serde(default)]
+    floor: Option<f64>,
     /// The window the terrain was made for, `[min, max]` corners.
     #[serde(default)]
     domain: Option<[[f64; 2]; 2]>,
@@ -55,7 +64,8 @@ struct VectorTerrainJson {
 impl TryFrom<VectorTerrainJson> for VectorTerrain {
     type Error = GaussianError;
     fn try_from(j: VectorTerrainJson) -> Result<Self, GaussianError> {
-        let terrain = Self { primitives: j.primitives, base: j.base, domain: j.domain, details: j.details };
+        let terrain =
+            Self { primitives: j.primitives, base: j.base, floor: j.floor, domain: j.domain, details: j.details };
         terrain.validate()?;
         Ok(terrain)
     }
@@ -64,7 +74,7 @@ impl TryFrom<VectorTerrainJson> for VectorTerrain {
 impl VectorTerrain {
     /// A terrain of these primitives (not yet validated).
     pub fn new(primitives: Vec<Gaussian>) -> Self {
-        Self { base: 0.0, primitives, domain: None, details: Vec::new() }
+        Self { base: 0.0, primitives, floor: None, domain: None, details: Vec::new() }
     }
 
     /// Number of primitives.
@@ -97,8 +107,12 @@ impl VectorTerrain {
         if count > limit {
             return Err(GaussianError::TooManyPrimitives { count, limit });
         }
-        if !self.base.is_finite() || self.base.abs() > f64::from(f32::MAX) {
+        let finite = |v: f64| v.is_finite() && v.abs() <= f64::from(f32::MAX);
+        if !finite(self.base) {
             return Err(GaussianError::NotFinite { index: 0, what: "base" });
+        }
+        if self.floor.is_some_and(|f| !finite(f)) {
+            return Err(GaussianError::NotFinite { index: 0, what: "floor" });
         }
         if let Some([lo, hi]) = self.domain
             && !(lo.iter().chain(&hi).all(|v| v.is_finite()) && hi[0] > lo[0] && hi[1] > lo[1])
@@ -169,9 +183,15 @@ impl VectorTerrain {
     }
 
     /// The ground the detail layers see at `p`: the base plus every primitive untruncated, and
-    /// its slope from their exact gradients.
+    /// its slope from their exact gradients; the floor and a slope of 0 where that is below the
+    /// [`VectorTerrain::floor`].
     pub fn ground_at(&self, p: DVec2) -> crate::Ground {
         let elevation = self.base + self.primitives.iter().map(|g| g.value(p)).sum::<f64>();
+        if let Some(floor) = self.floor
+            && elevation < floor
+        {
+            return crate::Ground { elevation: floor, slope: 0.0 };
+        }
         let gradient: DVec2 = self.primitives.iter().map(|g| g.gradient(p)).sum();
         crate::Ground { elevation, slope: gradient.length() }
     }

@@ -18,7 +18,6 @@ use rayon::prelude::*;
 use relief_heightfield::{GridSpec, Heightfield};
 use serde::{Deserialize, Serialize};
 
-use crate::detail::{DetailLayer, DetailSource};
 use crate::fastmath::{exp_neg, exp2_signed, log2};
 use crate::kernel::{Prepared, Span, raster_samples};
 use crate::loss::{LossTerms, LossWeights, loss};
@@ -65,8 +64,34 @@ pub struct VectorizeOptions {
     /// Add a detail layer reading the error map, its Poisson spacing in DEM cells (default
     /// `None`: no details; 2 restores the DEM to within f32 rounding).
     pub detail_spacing: Option<f64>,
+    /// How densification picks the primitives to clone or split (default
+    /// [`Densify::Error`]).
+    pub densify: Densify,
+    /// One Adam step size for every parameter, `learning_rate` in the parameters' own units,
+    /// as the paper states it (default `false`: per-parameter steps scaled to each primitive,
+    /// see `docs/benchmarks.md` for the comparison on real DEMs).
+    pub uniform_steps: bool,
+    /// Keep the fit within the DEM's elevation range (default `true`): samples beyond it are
+    /// penalised in the loss, and when at least 1 % of the DEM lies at its minimum (a sea, a
+    /// filled no-data area) the fit is raised to that minimum wherever it falls below, recorded
+    /// as the terrain's [`VectorTerrain::floor`], so such ground stays exactly flat instead of
+    /// carrying the ripples of primitives cancelling each other. `false` fits the plain sum, as
+    /// the paper does.
+    pub keep_range: bool,
     /// Seed of the initial placement.
     pub seed: u64,
+}
+
+/// How densification (§4) chooses the primitives it clones or splits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Densify {
+    /// Those under the largest mean absolute error, weighted by their fall-off (default).
+    #[default]
+    Error,
+    /// Those with the largest mean positional gradient since the last densification, as
+    /// 3D Gaussian splatting (Kerbl et al. 2023) and the paper choose them.
+    PositionalGradient,
 }
 
 impl Default for VectorizeOptions {
@@ -83,6 +108,9 @@ impl Default for VectorizeOptions {
             max_elongation: 20.0,
             min_amplitude: 1e-3,
             detail_spacing: None,
+            densify: Densify::Error,
+            uniform_steps: false,
+            keep_range: true,
             seed: 0,
         }
     }
@@ -174,19 +202,21 @@ struct Param {
     v: [f64; 7],
     step: [f64; 7],
     t: u32,
+    /// Σ |∂ℓ/∂c| since the last densification ([`Densify::PositionalGradient`]).
+    positional: f64,
 }
 
 impl Param {
-    fn new(center: DVec2, sigma: [f64; 2], theta: f64, amplitude: f64, beta: f64, lr: f64) -> Self {
-        let scale = (sigma[0] * sigma[1]).sqrt();
+    fn new(center: DVec2, sigma: [f64; 2], theta: f64, amplitude: f64, beta: f64, options: &VectorizeOptions) -> Self {
+        let (lr, scale) = (options.learning_rate, (sigma[0] * sigma[1]).sqrt());
         let x = [center.x, center.y, sigma[0].ln(), sigma[1].ln(), theta, amplitude, beta.ln()];
         // Per-step sizes for Adam (whose steps are about `lr` in units of these): the centre
         // 10 % of the primitive's scale, ln σ / θ / ln β 3 %, the amplitude `lr` itself in
         // normalized elevation (as the paper's raw parameters); tuned on the tests' DEMs, where
         // they reach a 2–8× lower ℓ₁ than a uniform `lr` in the same number of steps.
         let (s, a) = (3.0 * lr, lr);
-        let step = [10.0 * lr * scale, 10.0 * lr * scale, s, s, s, a, s];
-        Self { x, m: [0.0; 7], v: [0.0; 7], step, t: 0 }
+        let step = if options.uniform_steps { [lr; 7] } else { [10.0 * lr * scale, 10.0 * lr * scale, s, s, s, a, s] };
+        Self { x, m: [0.0; 7], v: [0.0; 7], step, t: 0, positional: 0.0 }
     }
 
     fn gaussian(&self) -> Gaussian {
@@ -283,13 +313,17 @@ pub fn vectorize(
     let target: Vec<f32> =
         work.samples().iter().map(|&h| (2.0 * (f64::from(h) - f64::from(lo)) / range) as f32).collect();
     let pixels = GridSpec::new(work.nx(), work.ny(), DVec2::ZERO, DVec2::ONE)?;
-    let fit = fit(&target, &pixels, options, started, &mut progress);
+    let floored = options.keep_range && lies_flat_at_minimum(dem, lo);
+    if floored {
+        terrain.floor = Some(f64::from(lo));
+    }
+    let fit = fit(&target, &pixels, options, floored, started, &mut progress);
     report.stopped_by = fit.stopped_by.into();
     let kept: Vec<Gaussian> =
         fit.params.iter().map(Param::gaussian).filter(|g| keep(g, options, &pixels, FIT_TOLERANCE)).collect();
 
     terrain.primitives = to_world(&kept, &work, range);
-    add_details(dem, &mut terrain, &mut report, options, range)?;
+    measure_and_add_details(dem, &mut terrain, &mut report, options, range)?;
     report.iterations = fit.iterations;
     report.primitives = terrain.primitives.len();
     report.loss = fit.loss;
@@ -310,6 +344,13 @@ fn check_dem(dem: &Heightfield) -> Result<(f32, f32), GaussianError> {
     dem.min_max().ok_or(GaussianError::EmptyDem { nx, ny })
 }
 
+/// Whether at least 1 % of the DEM lies exactly at its minimum `lo` (a sea, a filled no-data
+/// area): the fit then gets a floor there.
+fn lies_flat_at_minimum(dem: &Heightfield, lo: f32) -> bool {
+    let at = dem.samples().iter().filter(|&&h| h == lo).count();
+    at * 100 >= dem.samples().len()
+}
+
 /// Where the optimisation stopped: the primitives' optimizer states, the steps run, the loss at
 /// the last step and why it stopped (as [`VectorizeReport::stopped_by`]).
 struct Fit {
@@ -322,10 +363,13 @@ struct Fit {
 /// The optimisation on the working grid `pixels` (§4): the multi-level initialisation, then Adam
 /// steps with a learning rate decaying to a tenth over the budget, densifying every
 /// `options.densify_every` steps but in the last fifth, until [`stop_reason`] says otherwise.
+/// With `floored`, the approximation is raised to 0 (the DEM's minimum) where it falls below,
+/// and samples so raised pass no gradient back.
 fn fit(
     target: &[f32],
     pixels: &GridSpec,
     options: &VectorizeOptions,
+    floored: bool,
     started: Instant,
     progress: &mut impl FnMut(&Progress) -> ControlFlow<()>,
 ) -> Fit {
@@ -336,8 +380,18 @@ fn fit(
     let mut iteration = 0;
     loop {
         let prims: Vec<Gaussian> = params.iter().map(Param::gaussian).collect();
-        let approx = raster_samples(&prims, pixels, FIT_TOLERANCE);
-        let (terms, grad) = loss(&approx, target, wx, wy, &options.weights, true);
+        let mut approx = raster_samples(&prims, pixels, FIT_TOLERANCE);
+        let below: Vec<bool> = if floored { approx.iter().map(|&a| a < 0.0).collect() } else { Vec::new() };
+        for (a, _) in approx.iter_mut().zip(&below).filter(|(_, b)| **b) {
+            *a = 0.0;
+        }
+        let (terms, mut grad) = loss(&approx, target, wx, wy, &options.weights, true);
+        for (g, _) in grad.iter_mut().zip(&below).filter(|(_, b)| **b) {
+            *g = 0.0;
+        }
+        if options.keep_range {
+            penalize_out_of_range(&approx, &mut grad);
+        }
         let state = Progress {
             iteration,
             iterations: options.iterations,
@@ -352,11 +406,33 @@ fn fit(
         let back = backward(&prims, pixels, &grad, &err, FIT_TOLERANCE);
         // Learning rate decays exponentially to a tenth over the budget.
         let decay = 0.1f64.powf(iteration as f64 / options.iterations.max(1) as f64);
-        params.par_iter_mut().zip(&back).for_each(|(p, b)| p.adam(&b.grad, decay, max_ln_sigma));
+        params.par_iter_mut().zip(&back).for_each(|(p, b)| {
+            p.positional += b.grad[0].hypot(b.grad[1]);
+            p.adam(&b.grad, decay, max_ln_sigma);
+        });
         iteration += 1;
         let late = iteration * 5 > options.iterations * 4;
         if options.densify_every > 0 && iteration % options.densify_every == 0 && !late {
             densify(&mut params, &back, options, pixels);
+        }
+    }
+}
+
+/// Weight of the range penalty, against ℓ₁'s `α₁` = 0.5: an excess beyond the DEM's range costs
+/// five times what the same error inside it does.
+const RANGE_WEIGHT: f64 = 8.0;
+
+/// Adds the gradient of `RANGE_WEIGHT · mean(max(0, a − 2) + max(0, −a))` to `grad`: samples of
+/// the approximation above the DEM's top or below its bottom (normalized 2 and 0) are pushed
+/// back, so that a fit does not overshoot the range the DEM spans (a peak above the summit, a
+/// hollow below the lowest valley) to lower its error next to it.
+fn penalize_out_of_range(approx: &[f32], grad: &mut [f32]) {
+    let k = (RANGE_WEIGHT / approx.len() as f64) as f32;
+    for (g, &a) in grad.iter_mut().zip(approx) {
+        if a > 2.0 {
+            *g += k;
+        } else if a < 0.0 {
+            *g -= k;
         }
     }
 }
@@ -395,41 +471,26 @@ fn to_world(kept: &[Gaussian], work: &Heightfield, range: f64) -> Vec<Gaussian> 
         .collect()
 }
 
-/// Measures the fit at the DEM's resolution and, when asked, adds the error-map detail layer.
-fn add_details(
+/// Measures the fit at the DEM's resolution and, when asked, adds the error-map detail layer
+/// ([`VectorTerrain::add_error_details`]).
+fn measure_and_add_details(
     dem: &Heightfield,
     terrain: &mut VectorTerrain,
     report: &mut VectorizeReport,
     options: &VectorizeOptions,
     range: f64,
 ) -> Result<(), GaussianError> {
-    let approx = raster_samples(&terrain.primitives, dem.grid(), crate::DEFAULT_TOLERANCE);
-    let base = terrain.base as f32;
-    let error: Vec<f32> = dem.samples().iter().zip(&approx).map(|(h, a)| h - (a + base)).collect();
-    let n = error.len() as f64;
-    report.l1 = error.iter().map(|e| f64::from(e.abs())).sum::<f64>() / n;
+    let mean_error = |terrain: &VectorTerrain| -> Result<f64, GaussianError> {
+        let approx = crate::rasterize(terrain, dem.grid(), &crate::RasterOptions::default())?;
+        let sum: f64 = dem.samples().iter().zip(approx.samples()).map(|(h, a)| f64::from((h - a).abs())).sum();
+        Ok(sum / dem.samples().len() as f64)
+    };
+    report.l1 = mean_error(terrain)?;
     report.l1_normalized = 2.0 * report.l1 / range;
     report.l1_with_details = report.l1;
     if let Some(spacing) = options.detail_spacing {
-        let map = Heightfield::from_samples(*dem.grid(), error)?;
-        let c = dem.grid().cell_size();
-        let radius = spacing * c.x.min(c.y);
-        let ext = dem.extent();
-        let layer = DetailLayer::poisson(
-            (ext.min, ext.max),
-            radius,
-            options.seed ^ 0x00de_7a11,
-            MAX_PRIMITIVES,
-            DetailSource::ErrorMap { map },
-        )?;
-        terrain.details.push(layer);
-        let mut full = approx;
-        for v in &mut full {
-            *v += base;
-        }
-        terrain.details[0].add_to(dem.grid(), &mut full, None, crate::DEFAULT_TOLERANCE);
-        report.l1_with_details =
-            dem.samples().iter().zip(&full).map(|(h, a)| f64::from((h - a).abs())).sum::<f64>() / n;
+        terrain.add_error_details(dem, spacing, options.seed ^ 0x00de_7a11)?;
+        report.l1_with_details = mean_error(terrain)?;
     }
     Ok(())
 }
@@ -529,7 +590,7 @@ fn initialise(target: &[f32], pixels: &GridSpec, options: &VectorizeOptions) -> 
                 let value = f64::from(smooth[j.min(ny - 1) * nx + i.min(nx - 1)]);
                 // Level sum ≈ Σ a·g ≈ (a / cell area) · volume of one primitive.
                 let amplitude = value * dx * dy / (std::f64::consts::TAU * sigma * sigma * radial_mass(beta));
-                params.push(Param::new(p, [sigma, sigma], theta, amplitude, beta, options.learning_rate));
+                params.push(Param::new(p, [sigma, sigma], theta, amplitude, beta, options));
             }
         }
         let level: Vec<Gaussian> = params[before..].iter().map(Param::gaussian).collect();
@@ -564,57 +625,12 @@ struct Back {
 /// The loss gradient of every primitive from the per-sample gradient `dl` (module `loss`):
 /// `∂ℓ/∂θₖ = Σ_p dl(p)·∂g/∂θₖ(p)` over the support, primitives in parallel.
 fn backward(prims: &[Gaussian], pixels: &GridSpec, dl: &[f32], err: &[f32], tolerance: f64) -> Vec<Back> {
-    let nx = pixels.nx();
+    let arch = pulp::Arch::new();
     prims
         .par_iter()
         .map(|g| {
             let p = Prepared::new(g, tolerance);
-            // Σ G·e, Σ w·X, Σ w·Y, Σ w·X², Σ w·Y², Σ w·XY, Σ G·e·q·log2 r with w = G·e·q/r;
-            // then the fall-off-weighted error.
-            let mut acc = [0.0f64; 9];
-            if let Some((j0, j1)) = p.rows(pixels) {
-                let hb = p.half_beta;
-                for j in j0..=j1 {
-                    let Some(Span { i0, i1, x: lx, y: ly, sx, sy }) = p.span(pixels, j) else { continue };
-                    let row = j * nx;
-                    let (dl, err) = (&dl[row + i0..=row + i1], &err[row + i0..=row + i1]);
-                    // Eight lanes of partial sums so that the loop vectorizes (a single f32
-                    // accumulator is a serial dependency the compiler must keep in order).
-                    let mut lanes = [[0.0f32; LANES]; 9];
-                    let mut k0 = 0;
-                    while k0 < dl.len() {
-                        let n = LANES.min(dl.len() - k0);
-                        let (mut gv, mut ev) = ([0.0f32; LANES], [0.0f32; LANES]);
-                        gv[..n].copy_from_slice(&dl[k0..k0 + n]);
-                        ev[..n].copy_from_slice(&err[k0..k0 + n]);
-                        for l in 0..LANES {
-                            let t = (k0 + l) as i32 as f32;
-                            let (x, y) = (lx + t * sx, ly + t * sy);
-                            let r = (x * x + y * y).max(1e-20);
-                            let l2 = log2(r);
-                            let q = exp2_signed(hb * l2);
-                            // Lanes past the span carry gv = ev = 0 but must not count in Σe.
-                            let e = exp_neg(-0.5 * q) * f32::from(u8::from(l < n));
-                            let ge = gv[l] * e;
-                            let w = ge * q / r;
-                            lanes[0][l] += ge;
-                            lanes[1][l] += w * x;
-                            lanes[2][l] += w * y;
-                            lanes[3][l] += w * x * x;
-                            lanes[4][l] += w * y * y;
-                            lanes[5][l] += w * x * y;
-                            lanes[6][l] += ge * q * l2;
-                            lanes[7][l] += e * ev[l];
-                            lanes[8][l] += e;
-                        }
-                        k0 += LANES;
-                    }
-                    let r_acc = lanes.map(|l| l.iter().sum::<f32>());
-                    for (a, r) in acc.iter_mut().zip(r_acc) {
-                        *a += f64::from(r);
-                    }
-                }
-            }
+            let acc = arch.dispatch(Sums { p: &p, pixels, dl, err });
             let (u, v) = g.inverse_axes();
             let f = -g.amplitude * g.beta / 4.0;
             let dc = -2.0 * f * (acc[1] * u + acc[2] * v);
@@ -633,6 +649,75 @@ fn backward(prims: &[Gaussian], pixels: &GridSpec, dl: &[f32], err: &[f32], tole
         .collect()
 }
 
+/// One primitive's sums over its support for [`backward`]: `Σ G·e`, `Σ w·X`, `Σ w·Y`, `Σ w·X²`,
+/// `Σ w·Y²`, `Σ w·XY`, `Σ G·e·q·log2 r` with `w = G·e·q/r`, then `Σ G·err` and `Σ G` for the
+/// fall-off-weighted error. Run as a `pulp` operation, so the fused multiply-adds of the fast
+/// transcendentals are the CPU's instructions (and the lanes its vectors) rather than the
+/// software fallback a build for the baseline x86-64 would call.
+struct Sums<'a> {
+    p: &'a Prepared,
+    pixels: &'a GridSpec,
+    dl: &'a [f32],
+    err: &'a [f32],
+}
+
+impl pulp::WithSimd for Sums<'_> {
+    type Output = [f64; 9];
+
+    #[allow(
+        clippy::inline_always,
+        reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> [f64; 9] {
+        let Sums { p, pixels, dl, err } = self;
+        let nx = pixels.nx();
+        let mut acc = [0.0f64; 9];
+        let Some((j0, j1)) = p.rows(pixels) else { return acc };
+        let hb = p.half_beta;
+        for j in j0..=j1 {
+            let Some(Span { i0, i1, x: lx, y: ly, sx, sy }) = p.span(pixels, j) else { continue };
+            let row = j * nx;
+            let (dl, err) = (&dl[row + i0..=row + i1], &err[row + i0..=row + i1]);
+            // Eight lanes of partial sums so that the loop vectorizes (a single f32
+            // accumulator is a serial dependency the compiler must keep in order).
+            let mut lanes = [[0.0f32; LANES]; 9];
+            let mut k0 = 0;
+            while k0 < dl.len() {
+                let n = LANES.min(dl.len() - k0);
+                let (mut gv, mut ev) = ([0.0f32; LANES], [0.0f32; LANES]);
+                gv[..n].copy_from_slice(&dl[k0..k0 + n]);
+                ev[..n].copy_from_slice(&err[k0..k0 + n]);
+                for l in 0..LANES {
+                    let t = (k0 + l) as i32 as f32;
+                    let (x, y) = (lx + t * sx, ly + t * sy);
+                    let r = (x * x + y * y).max(1e-20);
+                    let l2 = log2(r);
+                    let q = exp2_signed(hb * l2);
+                    // Lanes past the span carry gv = ev = 0 but must not count in Σe.
+                    let e = exp_neg(-0.5 * q) * f32::from(u8::from(l < n));
+                    let ge = gv[l] * e;
+                    let w = ge * q / r;
+                    lanes[0][l] += ge;
+                    lanes[1][l] += w * x;
+                    lanes[2][l] += w * y;
+                    lanes[3][l] += w * x * x;
+                    lanes[4][l] += w * y * y;
+                    lanes[5][l] += w * x * y;
+                    lanes[6][l] += ge * q * l2;
+                    lanes[7][l] += e * ev[l];
+                    lanes[8][l] += e;
+                }
+                k0 += LANES;
+            }
+            for (a, l) in acc.iter_mut().zip(lanes) {
+                *a += f64::from(l.iter().sum::<f32>());
+            }
+        }
+        acc
+    }
+}
+
 /// Regularisation (§4, after Kerbl et al. 2023): prune, then split the large and clone the small
 /// primitives under the largest errors, up to the budget (5 % of it per round).
 fn densify(params: &mut Vec<Param>, back: &[Back], options: &VectorizeOptions, pixels: &GridSpec) {
@@ -645,7 +730,13 @@ fn densify(params: &mut Vec<Param>, back: &[Back], options: &VectorizeOptions, p
         (0..params.len()).filter(|&k| keep(&params[k].gaussian(), options, pixels, FIT_TOLERANCE)).collect();
     let kept = order.len();
     let room = options.primitives.saturating_sub(kept).min((options.primitives / 20).max(1));
-    order.sort_by(|&a, &b| back[b].error.total_cmp(&back[a].error).then(a.cmp(&b)));
+    let score: Vec<f64> = match options.densify {
+        Densify::Error => back.iter().map(|b| b.error).collect(),
+        // Children start at 0 and old primitives sum over the whole interval: the interval is
+        // the same for all that are candidates, so the sum ranks as the mean does.
+        Densify::PositionalGradient => params.iter().map(|p| p.positional).collect(),
+    };
+    order.sort_by(|&a, &b| score[b].total_cmp(&score[a]).then(a.cmp(&b)));
     let grow: Vec<usize> = order.iter().copied().take(room).collect();
     let mut chosen = vec![false; params.len()];
     for &k in &grow {
@@ -661,7 +752,7 @@ fn densify(params: &mut Vec<Param>, back: &[Back], options: &VectorizeOptions, p
             continue;
         }
         if !chosen[k] {
-            next.push(*p);
+            next.push(Param { positional: 0.0, ..*p });
             continue;
         }
         let g = p.gaussian();
@@ -680,7 +771,7 @@ fn densify(params: &mut Vec<Param>, back: &[Back], options: &VectorizeOptions, p
         };
         for side in [-1.0, 1.0] {
             let child = c + axis * offset * side;
-            next.push(Param::new(child, sigma, g.theta, amplitude, g.beta, options.learning_rate));
+            next.push(Param::new(child, sigma, g.theta, amplitude, g.beta, options));
         }
     }
     *params = next;
@@ -689,6 +780,34 @@ fn densify(params: &mut Vec<Param>, back: &[Back], options: &VectorizeOptions, p
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The range penalty's gradient: `RANGE_WEIGHT / n` up above 2, down below 0, nothing
+    /// inside (0 and 2 included).
+    #[test]
+    fn the_range_penalty_pushes_back_only_beyond_the_range() {
+        let approx = [-0.5f32, 0.0, 1.0, 2.0, 2.5];
+        let mut grad = [1.0f32; 5];
+        penalize_out_of_range(&approx, &mut grad);
+        let k = (RANGE_WEIGHT / 5.0) as f32;
+        assert_eq!(grad, [1.0 - k, 1.0, 1.0, 1.0, 1.0 + k]);
+    }
+
+    /// The floor is recorded when 1 % of the samples lie at the minimum, not below that.
+    #[test]
+    fn a_floor_needs_one_percent_at_the_minimum() {
+        let grid = GridSpec::new(10, 10, DVec2::ZERO, DVec2::ONE).expect("grid");
+        let dem = |at_min: usize| {
+            Heightfield::from_fn_indexed(grid, |i, j| if j * 10 + i < at_min { 0.0 } else { 1.0 + i as f32 })
+                .expect("dem")
+        };
+        assert!(lies_flat_at_minimum(&dem(1), 0.0));
+        assert!(lies_flat_at_minimum(&dem(5), 0.0));
+        let big = GridSpec::new(20, 10, DVec2::ZERO, DVec2::ONE).expect("grid");
+        let two = Heightfield::from_fn_indexed(big, |i, j| if j * 20 + i < 2 { 0.0 } else { 5.0 }).expect("dem");
+        let one = Heightfield::from_fn_indexed(big, |i, j| if j * 20 + i < 1 { 0.0 } else { 5.0 }).expect("dem");
+        assert!(lies_flat_at_minimum(&two, 0.0));
+        assert!(!lies_flat_at_minimum(&one, 0.0));
+    }
 
     #[test]
     fn radial_mass_is_one_for_the_ordinary_gaussian() {
@@ -721,9 +840,9 @@ mod tests {
         let (_, dl) = loss(&x, &target, 40, 36, &weights, true);
         let err = vec![0.0; x.len()];
         let back = backward(&prims, &pixels, &dl, &err, 1e-12);
-        let lr = 1.0;
+        let options = VectorizeOptions::default();
         for (index, g) in prims.iter().enumerate() {
-            let p = Param::new(DVec2::from(g.center), g.sigma, g.theta, g.amplitude, g.beta, lr);
+            let p = Param::new(DVec2::from(g.center), g.sigma, g.theta, g.amplitude, g.beta, &options);
             for k in 0..7 {
                 let h = 1e-3;
                 let (mut plus, mut minus) = (prims.clone(), prims.clone());

@@ -184,3 +184,57 @@ fn bad_tolerances_and_terrains_are_refused() {
     bad.primitives[0].sigma[0] = -1.0;
     assert!(bad.query().is_err());
 }
+
+/// A floor raises the base plus the primitives to it, before the details, in the rasterizer,
+/// the exact evaluation and the queries alike, with a flat gradient where it holds; JSON keeps it.
+#[test]
+fn the_floor_flattens_what_falls_below_it() {
+    let terrain = VectorTerrain {
+        primitives: vec![
+            Gaussian::round(DVec2::new(300.0, 500.0), 120.0, 80.0),
+            Gaussian::round(DVec2::new(700.0, 500.0), 120.0, -60.0),
+        ],
+        base: 10.0,
+        floor: Some(-20.0),
+        ..VectorTerrain::default()
+    };
+    let unfloored = VectorTerrain { floor: None, ..terrain.clone() };
+    let g = grid(65, DVec2::ZERO, 1000.0);
+    let raster = rasterize(&terrain, &g, &RasterOptions::default()).unwrap();
+    let plain = rasterize(&unfloored, &g, &RasterOptions::default()).unwrap();
+    let exact = rasterize_exact(&terrain, &g).unwrap();
+    let query = terrain.query().unwrap();
+    let points = grid_points(&g);
+    let samples = query.samples(&points);
+    let mut raised = 0;
+    for (k, p) in points.iter().enumerate() {
+        let (h, below) = (raster.samples()[k], plain.samples()[k]);
+        assert_eq!(h, below.max(-20.0), "raster at {p}");
+        assert!((f64::from(exact.samples()[k]) - f64::from(h)).abs() < 0.1, "exact at {p}");
+        assert!((samples[k].elevation - f64::from(h)).abs() < 0.1, "query at {p}");
+        if below < -20.0 {
+            raised += 1;
+            assert_eq!(samples[k].elevation, -20.0);
+            assert_eq!(samples[k].gradient, DVec2::ZERO, "the floor is flat at {p}");
+        } else if below > -19.0
+            && p.distance(DVec2::new(300.0, 500.0)).min(p.distance(DVec2::new(700.0, 500.0))) < 250.0
+        {
+            assert_ne!(samples[k].gradient, DVec2::ZERO, "slope kept above the floor at {p}");
+        }
+    }
+    // The hollow reaches 10 − 60 = −50 at its centre: well below the floor over a wide disc.
+    assert!(raised > 40, "{raised} samples raised");
+    assert_eq!(terrain.height_at(DVec2::new(700.0, 500.0)), -20.0);
+    assert!((terrain.height_at(DVec2::new(300.0, 500.0)) - 90.0).abs() < 0.5);
+    // Far away the base is above the floor: the base; a floor above the base wins.
+    assert_eq!(query.elevation(DVec2::splat(1e12)), 10.0);
+    let high = VectorTerrain { floor: Some(15.0), ..terrain.clone() };
+    assert_eq!(high.query().unwrap().elevation(DVec2::splat(1e12)), 15.0);
+    let json = serde_json::to_string(&terrain).unwrap();
+    assert!(json.contains("\"floor\":-20.0"), "{json}");
+    let back: VectorTerrain = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, terrain);
+    assert!(!serde_json::to_string(&unfloored).unwrap().contains("floor"));
+    let nan = VectorTerrain { floor: Some(f64::NAN), ..terrain };
+    assert!(nan.validate().is_err());
+}
