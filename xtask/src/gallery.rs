@@ -62,7 +62,10 @@ pub(crate) fn run(root: &Path) -> Result<()> {
                     .arg(&dem)
                     .arg("-o")
                     .arg(images.join(format!("{name}-dem.png")))
-                    .args(["--contours", "50", "--max-size", "512"]),
+                    .args(["--max-size", "512"])
+                    // The contours paper's DEMs with their 50 m contours; a vectorized DEM with
+                    // its relief alone (its contours would be drawn at its own interval).
+                    .args(if vectorized.is_some() { &[][..] } else { &["--contours", "50"][..] }),
             )?;
         }
         let summary: serde_json::Value = serde_json::from_str(&fs::read_to_string(out.join("summary.json"))?)?;
@@ -152,7 +155,7 @@ fn render(entries: &[Entry]) -> String {
         let mut comparison = comparison(&s["comparison"], &e.name);
         if s["gaussian"].is_object() && e.dem_beside {
             comparison = format!(
-                " ![{name}: the DEM](gallery/{name}-dem.png)\n\nThe vector terrain (left) beside the DEM it was \
+                " ![{name}: the DEM](gallery/{name}-dem.png)\n\nThe scene's vector terrain (left, after its edits) beside the DEM it was \
                  vectorized from (right).\n",
                 name = e.name
             );

@@ -4,7 +4,8 @@
 //! `cargo xtask bench` runs it; one run of a minute-long fit does not suit criterion's sampling.
 //!
 //! Usage: `cargo run --release -p relief-gaussian-terrain --example vectorize_timing -- [size]
-//! [primitives] [iterations]` (defaults 512 10000 200).
+//! [primitives] [iterations] [resolution]` (defaults 512 10000 200 512; the paper's protocol is
+//! `1024 10000 200 1024`).
 
 use std::ops::ControlFlow;
 
@@ -16,9 +17,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let size = args.first().copied().unwrap_or(512);
     let primitives = args.get(1).copied().unwrap_or(10_000);
     let iterations = args.get(2).copied().unwrap_or(200);
+    let resolution = args.get(3).copied().unwrap_or(512);
     let verbose = std::env::var_os("VERBOSE").is_some();
     let dem = fbm_dem(size, 7)?;
-    let options = VectorizeOptions { primitives, iterations, ..VectorizeOptions::default() };
+    let options = VectorizeOptions { primitives, iterations, resolution, ..VectorizeOptions::default() };
     let fit = vectorize(&dem, &options, |p| {
         if verbose && p.iteration % 25 == 0 {
             eprintln!(
@@ -36,8 +38,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     })?;
     let r = &fit.report;
     println!(
-        "vectorize {size}² with {primitives} primitives, {} steps: {:.1} s, {} primitives kept, ℓ1 {:.2e} (normalized to [-1, 1] like Table 3), loss {:.2e}",
-        r.iterations, r.seconds, r.primitives, r.l1_normalized, r.loss.total
+        "vectorize {size}² (working grid {}²) with {primitives} primitives, {} steps: {:.1} s, {} primitives kept, ℓ1 {:.2e} (normalized to [-1, 1] like Table 3), loss {:.2e}",
+        resolution.min(size),
+        r.iterations,
+        r.seconds,
+        r.primitives,
+        r.l1_normalized,
+        r.loss.total
     );
     Ok(())
 }
