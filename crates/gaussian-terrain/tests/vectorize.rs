@@ -38,6 +38,11 @@ fn recovers_a_terrain_of_known_primitives() {
     // Below 1 % of the relief on average (normalized ℓ₁ counts the relief as 2).
     assert!(r.l1_normalized < 0.02, "ℓ1 {} ({} m of {} m relief)", r.l1_normalized, r.l1, hi - lo);
     assert!(r.primitives <= 60 && r.primitives > 0);
+    // The DEM's extent is recorded as the window to render by default; its lowest ground is
+    // not flat, so there is no floor.
+    let e = dem.extent();
+    assert_eq!(fit.terrain.domain, Some([e.min.to_array(), e.max.to_array()]));
+    assert_eq!(fit.terrain.floor, None);
     assert_eq!(r.iterations, 150);
     assert_eq!(fit.terrain.base, f64::from(lo));
     // The fitted terrain, rasterized independently, has that error.
