@@ -155,6 +155,44 @@ fn crest_skeleton_follows_the_ridge() {
     }
 }
 
+/// A scene's DEM source takes `details` (error-map detail primitives, so the vector terrain
+/// restores the DEM) and `keep_range` (false: the paper's plain sum, no floor).
+#[test]
+fn a_scene_vectorizes_a_dem_with_details_and_the_range_choice() {
+    let dem = root().join("fixtures/dem/salish-land.tif");
+    let truth = relief::io::read(&dem).unwrap();
+    let e = truth.extent();
+    let scene = |source: serde_json::Value| {
+        let json = serde_json::json!({
+            "version": 1,
+            "generator": { "gaussian": { "source": source } },
+            "domain": { "min": e.min.to_array(), "max": e.max.to_array() },
+            "reconstruction": { "resolution": [120, 91] },
+        });
+        let scene = Scene::from_json(&json.to_string()).unwrap();
+        generate(&scene, root().as_path(), &mut Quiet).unwrap()
+    };
+    let source = |extra: serde_json::Value| {
+        let mut s = serde_json::json!({ "kind": "dem", "path": dem, "primitives": 120, "iterations": 40 });
+        s.as_object_mut().unwrap().extend(extra.as_object().unwrap().clone());
+        s
+    };
+    let mean_error = |t: &relief::Terrain| {
+        let sum: f64 = truth.samples().iter().zip(t.heightfield.samples()).map(|(a, b)| f64::from((a - b).abs())).sum();
+        sum / truth.samples().len() as f64
+    };
+    let plain = scene(source(serde_json::json!({})));
+    let detailed = scene(source(serde_json::json!({ "details": 2.0 })));
+    let unkept = scene(source(serde_json::json!({ "keep_range": false })));
+    let floor = |t: &relief::Terrain| t.vector.as_ref().unwrap().terrain.floor;
+    assert_eq!(floor(&plain), Some(0.0));
+    assert_eq!(floor(&unkept), None);
+    assert!(unkept.heightfield.min_max().unwrap().0 < 0.0, "the plain sum dips below the sea");
+    assert!(!detailed.vector.as_ref().unwrap().terrain.details.is_empty());
+    let (coarse, fine) = (mean_error(&plain), mean_error(&detailed));
+    assert!(fine < 0.01 * coarse && fine < 1.0, "details: {fine} m against {coarse} m without");
+}
+
 /// The fixture scene applies every tool and is deterministic.
 #[test]
 fn gaussian_scenes_generate_deterministically() {

@@ -48,12 +48,14 @@ fn load_source(source: &GaussianSource, env: &Env<'_>, at: &str) -> Result<Vecto
     match source {
         GaussianSource::Primitives(terrain) => Ok(terrain.clone()),
         GaussianSource::Terrain { path } => env.read_json(path, &format!("{at}.path")),
-        GaussianSource::Dem { path, primitives, iterations, resolution } => {
+        GaussianSource::Dem { path, primitives, iterations, resolution, keep_range, details } => {
             let dem = env.read(path).map_err(|e| E::at(format!("{at}.path"), e))?;
             let options = VectorizeOptions {
                 primitives: *primitives,
                 iterations: *iterations,
                 resolution: *resolution,
+                keep_range: *keep_range,
+                detail_spacing: *details,
                 ..VectorizeOptions::default()
             };
             let fitted = vectorize(&dem, &options, |_| ControlFlow::Continue(())).map_err(|e| E::at(at, e))?;

@@ -419,7 +419,25 @@ pub enum GaussianSource {
         /// Working-grid resolution (default 256).
         #[serde(default = "dem_resolution")]
         resolution: usize,
+        /// Keep the fit within the DEM's elevation range, with a flat floor where its lowest
+        /// ground is flat (default true; false fits the paper's plain sum) —
+        /// [`crate::gaussian_terrain::VectorizeOptions::keep_range`].
+        #[serde(default = "keep_range", skip_serializing_if = "is_true")]
+        keep_range: bool,
+        /// Add error-map detail primitives at this Poisson spacing in DEM cells, so the vector
+        /// terrain restores the DEM (2 restores it to f32 rounding; default none) —
+        /// [`crate::gaussian_terrain::VectorizeOptions::detail_spacing`].
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        details: Option<f64>,
     },
+}
+
+fn keep_range() -> bool {
+    true
+}
+#[allow(clippy::trivially_copy_pass_by_ref, reason = "serde's skip_serializing_if passes a reference")]
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 fn dem_primitives() -> usize {
