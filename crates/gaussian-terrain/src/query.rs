@@ -204,6 +204,14 @@ impl VectorTerrain {
     }
 }
 
+/// A traversal's visit of the leaf `node`: appends its supports' indices to `into` and goes on.
+fn collect_leaf(bvh: &Bvh2, node: u32, into: &mut Vec<u32>) -> bool {
+    let node = &bvh.nodes[node as usize];
+    let first = node.first_index as usize;
+    into.extend_from_slice(&bvh.primitive_indices[first..first + node.prim_count as usize]);
+    true
+}
+
 /// An f32 box that holds the f64 box `[lo, hi]`: widened by a relative 10⁻⁶, well above f32
 /// rounding, so a point inside the f64 box is never culled.
 fn outward_box(lo: DVec2, hi: DVec2) -> Aabb {
@@ -350,10 +358,7 @@ impl TerrainQuery {
         let (lo, hi) = (corner, corner + DVec2::splat(self.cell));
         let mut candidates = Vec::new();
         self.bvh.aabb_traverse(outward_box(lo - self.origin, hi - self.origin), |bvh, node| {
-            let node = &bvh.nodes[node as usize];
-            let first = node.first_index as usize;
-            candidates.extend_from_slice(&bvh.primitive_indices[first..first + node.prim_count as usize]);
-            true
+            collect_leaf(bvh, node, &mut candidates)
         });
         candidates.retain(|&k| self.items[k as usize].meets(lo, hi));
         candidates.sort_unstable();
@@ -405,12 +410,7 @@ impl TerrainQuery {
             let local = q - self.origin;
             let point = Vec3A::new(local.x as f32, local.y as f32, 0.0);
             let mut falloffs = Vec::new();
-            self.bvh.point_traverse(point, |bvh, node| {
-                let node = &bvh.nodes[node as usize];
-                let first = node.first_index as usize;
-                falloffs.extend_from_slice(&bvh.primitive_indices[first..first + node.prim_count as usize]);
-                true
-            });
+            self.bvh.point_traverse(point, |bvh, node| collect_leaf(bvh, node, &mut falloffs));
             falloffs.retain(|&k| k as usize >= self.gaussians);
             falloffs.sort_unstable();
             let under =
