@@ -137,19 +137,28 @@ fn raster_samples_on(arch: pulp::Arch, primitives: &[Gaussian], grid: &GridSpec,
         start[b + 1] += start[b];
     }
     let mut fill = start.clone();
-    let mut members = vec![0u32; start[bands]];
+    let mut members = vec![Member { index: 0, j0: 0, j1: 0 }; start[bands]];
     for (k, (j0, j1)) in spans.iter().enumerate().filter_map(|(k, s)| s.map(|s| (k, s))) {
         for b in j0 / BAND..=j1 / BAND {
-            members[fill[b]] = k as u32;
+            members[fill[b]] = Member { index: k as u32, j0: j0 as u32, j1: j1 as u32 };
             fill[b] += 1;
         }
     }
     let mut samples = vec![0.0f32; grid.len()];
     samples.par_chunks_mut(nx * BAND).enumerate().for_each(|(b, band)| {
         let members = &members[start[b]..start[b + 1]];
-        arch.dispatch(Band { b, samples: band, members, prepared: &prepared, spans: &spans, grid });
+        arch.dispatch(Band { b, samples: band, members, prepared: &prepared, grid });
     });
     samples
+}
+
+/// A primitive in a band's bin, with the grid rows it covers (kept beside the index so that a
+/// band reads them in order rather than from a table indexed at random).
+#[derive(Clone, Copy)]
+struct Member {
+    index: u32,
+    j0: u32,
+    j1: u32,
 }
 
 /// One band's work as a `pulp` operation: dispatched to the widest vector instructions the CPU
@@ -159,9 +168,8 @@ fn raster_samples_on(arch: pulp::Arch, primitives: &[Gaussian], grid: &GridSpec,
 struct Band<'a> {
     b: usize,
     samples: &'a mut [f32],
-    members: &'a [u32],
+    members: &'a [Member],
     prepared: &'a [Prepared],
-    spans: &'a [Option<(usize, usize)>],
     grid: &'a GridSpec,
 }
 
@@ -174,13 +182,11 @@ impl pulp::WithSimd for Band<'_> {
     )]
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let Band { b, samples: band, members, prepared, spans, grid } = self;
+        let Band { b, samples: band, members, prepared, grid } = self;
         let nx = grid.nx();
-        for &k in members {
-            let p = &prepared[k as usize];
-            // Binned primitives always have rows.
-            let Some((j0, j1)) = spans[k as usize] else { continue };
-            let rows = j0.max(b * BAND)..=j1.min(b * BAND + BAND - 1);
+        for m in members {
+            let p = &prepared[m.index as usize];
+            let rows = (m.j0 as usize).max(b * BAND)..=(m.j1 as usize).min(b * BAND + BAND - 1);
             for j in rows {
                 let r = j - b * BAND;
                 add_span(p, grid, j, &mut band[r * nx..(r + 1) * nx]);
