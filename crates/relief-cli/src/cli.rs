@@ -537,6 +537,10 @@ pub(crate) struct VectorizeArgs {
     /// to within f32 rounding; the JSON then carries the error map).
     #[arg(long, value_name = "CELLS")]
     pub(crate) details: Option<f64>,
+    /// Fit the paper's plain sum: no floor under flat low ground (a sea stored as 0), no penalty
+    /// beyond the DEM's range, no extra weight on flat ground (by default the fit keeps all three).
+    #[arg(long)]
+    pub(crate) plain: bool,
     /// Seed of the initial placement.
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u64,

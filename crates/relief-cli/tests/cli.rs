@@ -539,6 +539,32 @@ fn vectorize_then_rasterize_a_real_dem() {
     assert!(err.contains("--resolution") && err.contains("9216"), "{err}");
 }
 
+/// A coast whose sea is stored as 0: by default the terrain gets a floor at sea level and the
+/// rasterized sea is exactly 0; `--plain` fits the paper's plain sum, which digs below it.
+#[test]
+fn vectorize_keeps_a_flat_sea_unless_plain() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dem = root().join("fixtures/dem/salish-land.tif");
+    let run = |plain: bool| {
+        let json = tmp.path().join(format!("coast-{plain}.json"));
+        let exr = tmp.path().join(format!("coast-{plain}.exr"));
+        let mut args = vec!["vectorize", dem.to_str().unwrap(), "--primitives", "200", "--iterations", "60"];
+        if plain {
+            args.push("--plain");
+        }
+        args.extend(["-o", json.to_str().unwrap()]);
+        ok(&args);
+        ok(&["rasterize", json.to_str().unwrap(), "--size", "120x91", "-o", exr.to_str().unwrap()]);
+        let terrain: relief::gaussian_terrain::VectorTerrain =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        (terrain.floor, relief::io::read(&exr).unwrap().min_max().unwrap().0)
+    };
+    assert_eq!(run(false), (Some(0.0), 0.0));
+    let (floor, lowest) = run(true);
+    assert_eq!(floor, None);
+    assert!(lowest < -10.0, "the plain sum's lowest sample {lowest} m");
+}
+
 #[test]
 fn gis_flags_label_crs_pick_bands_and_channels_and_convert_keeps_the_crs() {
     let info = ok(&["info", "fixtures/gdal/tn-ftus.tif"]);

@@ -62,6 +62,7 @@ fn vectorize_options(args: &VectorizeArgs) -> Result<VectorizeOptions> {
         resolution: args.resolution,
         time_budget,
         detail_spacing: args.details,
+        keep_range: !args.plain,
         seed: args.seed,
         ..VectorizeOptions::default()
     })
