@@ -10,11 +10,6 @@
 use std::ops::ControlFlow;
 
 use relief_fixtures::fbm_dem;
-
-/// The allocator the `relief` binary uses (see its `main.rs`): glibc's would hand the fit's
-/// per-step buffers back to the system and fault them in again, a quarter of the time at 1024².
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 use relief_gaussian_terrain::{VectorizeOptions, vectorize};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

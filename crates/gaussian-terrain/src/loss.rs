@@ -57,11 +57,12 @@ pub struct LossTerms {
 
 const TAPS: usize = 2 * RADIUS + 1;
 
-/// Valid-mode 7 × 7 box mean of an `nx × ny` field: `(nx − 6) × (ny − 6)` outputs.
-fn filter_valid(f: &[f32], nx: usize, ny: usize) -> Vec<f32> {
+/// Valid-mode 7 × 7 box mean of an `nx × ny` field into `out`: `(nx − 6) × (ny − 6)` outputs;
+/// `rows` is scratch.
+fn filter_valid(f: &[f32], nx: usize, ny: usize, rows: &mut Vec<f32>, out: &mut Vec<f32>) {
     let w = 1.0 / TAPS as f32;
     let (ox, oy) = (nx - 2 * RADIUS, ny - 2 * RADIUS);
-    let mut rows = vec![0.0f32; ox * ny];
+    zeroed(rows, ox * ny);
     rows.par_chunks_mut(ox).enumerate().for_each(|(j, out)| {
         let src = &f[j * nx..(j + 1) * nx];
         for k in 0..TAPS {
@@ -70,7 +71,7 @@ fn filter_valid(f: &[f32], nx: usize, ny: usize) -> Vec<f32> {
             }
         }
     });
-    let mut out = vec![0.0f32; ox * oy];
+    zeroed(out, ox * oy);
     out.par_chunks_mut(ox).enumerate().for_each(|(j, o)| {
         for k in 0..TAPS {
             let src = &rows[(j + k) * ox..(j + k + 1) * ox];
@@ -79,15 +80,15 @@ fn filter_valid(f: &[f32], nx: usize, ny: usize) -> Vec<f32> {
             }
         }
     });
-    out
 }
 
-/// The adjoint of [`filter_valid`]: scatters a `(nx − 6) × (ny − 6)` field back onto `nx × ny`.
-fn filter_adjoint(g: &[f32], nx: usize, ny: usize) -> Vec<f32> {
+/// The adjoint of [`filter_valid`]: scatters a `(nx − 6) × (ny − 6)` field back onto `nx × ny`
+/// in `out`; `rows` is scratch.
+fn filter_adjoint(g: &[f32], nx: usize, ny: usize, rows: &mut Vec<f32>, out: &mut Vec<f32>) {
     let w = 1.0 / TAPS as f32;
     let (ox, oy) = (nx - 2 * RADIUS, ny - 2 * RADIUS);
     // Columns first (adjoint of the second pass), then rows.
-    let mut rows = vec![0.0f32; ox * ny];
+    zeroed(rows, ox * ny);
     rows.par_chunks_mut(ox).enumerate().for_each(|(j, out)| {
         for k in 0..TAPS {
             // Output row j0 = j − k contributed to input row j.
@@ -98,7 +99,7 @@ fn filter_adjoint(g: &[f32], nx: usize, ny: usize) -> Vec<f32> {
             }
         }
     });
-    let mut out = vec![0.0f32; nx * ny];
+    zeroed(out, nx * ny);
     out.par_chunks_mut(nx).enumerate().for_each(|(j, o)| {
         let src = &rows[j * ox..(j + 1) * ox];
         for k in 0..TAPS {
@@ -107,12 +108,24 @@ fn filter_adjoint(g: &[f32], nx: usize, ny: usize) -> Vec<f32> {
             }
         }
     });
-    out
+}
+
+/// `v` as `len` zeros, reusing its allocation.
+fn zeroed<T: Copy + Default>(v: &mut Vec<T>, len: usize) {
+    v.clear();
+    v.resize(len, T::default());
+}
+
+/// `out[k] = a[k]·b[k]`, reusing `out`'s allocation.
+fn product(a: &[f32], b: &[f32], out: &mut Vec<f32>) {
+    out.clear();
+    out.extend(a.iter().zip(b).map(|(p, q)| p * q));
 }
 
 /// The loss of `x` (the approximation) against `y` (the target), both `nx × ny` row-major, and
 /// with `want_gradient` its derivative with respect to every sample of `x` (else an empty
 /// vector).
+#[cfg(test)]
 pub(crate) fn loss(
     x: &[f32],
     y: &[f32],
@@ -121,92 +134,167 @@ pub(crate) fn loss(
     weights: &LossWeights,
     want_gradient: bool,
 ) -> (LossTerms, Vec<f32>) {
-    let n = (nx * ny) as f64;
-    let e: Vec<f64> = x.iter().zip(y).map(|(a, b)| f64::from(*a) - f64::from(*b)).collect();
-    let mut grad = want_gradient.then(|| vec![0.0f64; nx * ny]);
-
-    let l1 = e.iter().map(|v| v.abs()).sum::<f64>() / n;
-    if let Some(g) = grad.as_mut() {
-        let k = weights.l1 / n;
-        g.iter_mut().zip(&e).for_each(|(g, e)| *g += k * e.signum() * f64::from(u8::from(*e != 0.0)));
-    }
-
-    // Slope differences per 1/100 of the longer side; rows in parallel, each writing only its
-    // own gradient row, row sums added in order.
-    let scale = (nx.max(ny) - 1).max(1) as f64 / 100.0;
-    let sign = |t: f64| if t == 0.0 { 0.0 } else { t.signum() };
-    let row_sum = |j: usize| -> f64 {
-        let row = &e[j * nx..(j + 1) * nx];
-        let mut sum: f64 = row.windows(2).map(|p| (p[1] - p[0]).abs()).sum();
-        if j + 1 < ny {
-            sum += row.iter().zip(&e[(j + 1) * nx..(j + 2) * nx]).map(|(a, b)| (b - a).abs()).sum::<f64>();
-        }
-        sum
-    };
-    let gsum: f64 = (0..ny).into_par_iter().map(row_sum).collect::<Vec<f64>>().iter().sum();
-    if let Some(g) = grad.as_mut() {
-        let k = weights.gradient * scale / n;
-        g.par_chunks_mut(nx).enumerate().for_each(|(j, g)| {
-            let row = &e[j * nx..(j + 1) * nx];
-            for i in 0..nx {
-                let mut d = 0.0;
-                if i > 0 {
-                    d += sign(row[i] - row[i - 1]);
-                }
-                if i + 1 < nx {
-                    d -= sign(row[i + 1] - row[i]);
-                }
-                if j > 0 {
-                    d += sign(row[i] - e[(j - 1) * nx + i]);
-                }
-                if j + 1 < ny {
-                    d -= sign(e[(j + 1) * nx + i] - row[i]);
-                }
-                g[i] += k * d;
-            }
-        });
-    }
-    let gradient = scale * gsum / n;
-
-    let ssim = if nx > 2 * RADIUS && ny > 2 * RADIUS { ssim_term(x, y, nx, ny, weights, grad.as_mut()) } else { 0.0 };
-    let total = weights.l1 * l1 + weights.gradient * gradient + weights.ssim() * ssim;
-    (LossTerms { l1, gradient, ssim, total }, grad.map_or_else(Vec::new, |g| g.into_iter().map(|v| v as f32).collect()))
+    let mut grad = Vec::new();
+    let terms = Loss::new(y, nx, ny).evaluate(x, weights, want_gradient.then_some(&mut grad));
+    (terms, grad)
 }
 
-/// `1 − mean SSIM` over the valid windows; adds `weights.ssim() ×` its gradient to `grad`.
-fn ssim_term(x: &[f32], y: &[f32], nx: usize, ny: usize, weights: &LossWeights, grad: Option<&mut Vec<f64>>) -> f64 {
-    let prod = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(p, q)| p * q).collect::<Vec<f32>>();
-    let mx = filter_valid(x, nx, ny);
-    let my = filter_valid(y, nx, ny);
-    let exx = filter_valid(&prod(x, x), nx, ny);
-    let eyy = filter_valid(&prod(y, y), nx, ny);
-    let exy = filter_valid(&prod(x, y), nx, ny);
-    let count = mx.len() as f64;
-    let mut sum = 0.0;
-    let mut dm = vec![0.0f32; mx.len()];
-    let mut dp = vec![0.0f32; mx.len()];
-    let mut dq = vec![0.0f32; mx.len()];
-    for k in 0..mx.len() {
-        let (ux, uy) = (f64::from(mx[k]), f64::from(my[k]));
-        let a1 = 2.0 * ux * uy + C1;
-        let a2 = 2.0 * (f64::from(exy[k]) - ux * uy) + C2;
-        let b1 = ux * ux + uy * uy + C1;
-        let b2 = (f64::from(exx[k]) - ux * ux) + (f64::from(eyy[k]) - uy * uy) + C2;
-        let s = a1 * a2 / (b1 * b2);
-        sum += s;
-        // d(1 − S)/d(μx, E[x²], E[xy]) per window, over the window count.
-        let f = -weights.ssim() / count;
-        dm[k] = (f * s * (2.0 * uy / a1 - 2.0 * uy / a2 - 2.0 * ux / b1 + 2.0 * ux / b2)) as f32;
-        dp[k] = (f * (-s / b2)) as f32;
-        dq[k] = (f * (2.0 * s / a2)) as f32;
-    }
-    if let Some(g) = grad {
-        let (gm, gp, gq) = (filter_adjoint(&dm, nx, ny), filter_adjoint(&dp, nx, ny), filter_adjoint(&dq, nx, ny));
-        for k in 0..nx * ny {
-            g[k] += f64::from(gm[k] + 2.0 * x[k] * gp[k] + y[k] * gq[k]);
+/// The loss against one target, evaluated again and again (every step of a fit): the target's
+/// own SSIM statistics are computed once, and every buffer is kept between evaluations, so a
+/// step allocates nothing (with glibc's allocator, handing a fit's large buffers back to the
+/// system each step and faulting them in again cost a quarter of its time).
+pub(crate) struct Loss<'a> {
+    y: &'a [f32],
+    nx: usize,
+    ny: usize,
+    /// The target's 7 × 7 means and means of squares (empty on grids too small for SSIM).
+    my: Vec<f32>,
+    eyy: Vec<f32>,
+    scratch: Scratch,
+}
+
+/// The buffers of one evaluation.
+#[derive(Default)]
+struct Scratch {
+    e: Vec<f64>,
+    grad: Vec<f64>,
+    product: Vec<f32>,
+    rows: Vec<f32>,
+    mx: Vec<f32>,
+    exx: Vec<f32>,
+    exy: Vec<f32>,
+    dm: Vec<f32>,
+    dp: Vec<f32>,
+    dq: Vec<f32>,
+    gm: Vec<f32>,
+    gp: Vec<f32>,
+    gq: Vec<f32>,
+}
+
+impl<'a> Loss<'a> {
+    /// The loss against `y`, an `nx × ny` row-major target.
+    pub(crate) fn new(y: &'a [f32], nx: usize, ny: usize) -> Self {
+        let mut scratch = Scratch::default();
+        let (mut my, mut eyy) = (Vec::new(), Vec::new());
+        if has_ssim(nx, ny) {
+            filter_valid(y, nx, ny, &mut scratch.rows, &mut my);
+            product(y, y, &mut scratch.product);
+            filter_valid(&scratch.product, nx, ny, &mut scratch.rows, &mut eyy);
         }
+        Self { y, nx, ny, my, eyy, scratch }
     }
-    1.0 - sum / count
+
+    /// The loss of `x`, and with `grad` its derivative with respect to every sample of `x`
+    /// written there.
+    pub(crate) fn evaluate(&mut self, x: &[f32], weights: &LossWeights, grad: Option<&mut Vec<f32>>) -> LossTerms {
+        let (nx, ny, y) = (self.nx, self.ny, self.y);
+        let n = (nx * ny) as f64;
+        let want_gradient = grad.is_some();
+        let sc = &mut self.scratch;
+        sc.e.clear();
+        sc.e.extend(x.iter().zip(y).map(|(a, b)| f64::from(*a) - f64::from(*b)));
+        zeroed(&mut sc.grad, if want_gradient { nx * ny } else { 0 });
+        let e = &sc.e;
+
+        let l1 = e.iter().map(|v| v.abs()).sum::<f64>() / n;
+        if want_gradient {
+            let k = weights.l1 / n;
+            sc.grad.iter_mut().zip(e).for_each(|(g, e)| *g += k * e.signum() * f64::from(u8::from(*e != 0.0)));
+        }
+
+        // Slope differences per 1/100 of the longer side; rows in parallel, each writing only
+        // its own gradient row, row sums added in order.
+        let scale = (nx.max(ny) - 1).max(1) as f64 / 100.0;
+        let sign = |t: f64| if t == 0.0 { 0.0 } else { t.signum() };
+        let row_sum = |j: usize| -> f64 {
+            let row = &e[j * nx..(j + 1) * nx];
+            let mut sum: f64 = row.windows(2).map(|p| (p[1] - p[0]).abs()).sum();
+            if j + 1 < ny {
+                sum += row.iter().zip(&e[(j + 1) * nx..(j + 2) * nx]).map(|(a, b)| (b - a).abs()).sum::<f64>();
+            }
+            sum
+        };
+        let gsum: f64 = (0..ny).into_par_iter().map(row_sum).collect::<Vec<f64>>().iter().sum();
+        if want_gradient {
+            let k = weights.gradient * scale / n;
+            sc.grad.par_chunks_mut(nx).enumerate().for_each(|(j, g)| {
+                let row = &e[j * nx..(j + 1) * nx];
+                for i in 0..nx {
+                    let mut d = 0.0;
+                    if i > 0 {
+                        d += sign(row[i] - row[i - 1]);
+                    }
+                    if i + 1 < nx {
+                        d -= sign(row[i + 1] - row[i]);
+                    }
+                    if j > 0 {
+                        d += sign(row[i] - e[(j - 1) * nx + i]);
+                    }
+                    if j + 1 < ny {
+                        d -= sign(e[(j + 1) * nx + i] - row[i]);
+                    }
+                    g[i] += k * d;
+                }
+            });
+        }
+        let gradient = scale * gsum / n;
+
+        let ssim = if has_ssim(nx, ny) { self.ssim_term(x, weights, want_gradient) } else { 0.0 };
+        let total = weights.l1 * l1 + weights.gradient * gradient + weights.ssim() * ssim;
+        if let Some(out) = grad {
+            out.clear();
+            out.extend(self.scratch.grad.iter().map(|&v| v as f32));
+        }
+        LossTerms { l1, gradient, ssim, total }
+    }
+
+    /// `1 − mean SSIM` over the valid windows; with `want_gradient`, adds `weights.ssim() ×`
+    /// its gradient to the scratch gradient.
+    fn ssim_term(&mut self, x: &[f32], weights: &LossWeights, want_gradient: bool) -> f64 {
+        let (nx, ny, y) = (self.nx, self.ny, self.y);
+        let (my, eyy) = (&self.my, &self.eyy);
+        let sc = &mut self.scratch;
+        filter_valid(x, nx, ny, &mut sc.rows, &mut sc.mx);
+        product(x, x, &mut sc.product);
+        filter_valid(&sc.product, nx, ny, &mut sc.rows, &mut sc.exx);
+        product(x, y, &mut sc.product);
+        filter_valid(&sc.product, nx, ny, &mut sc.rows, &mut sc.exy);
+        let (mx, exx, exy) = (&sc.mx, &sc.exx, &sc.exy);
+        let count = mx.len() as f64;
+        let mut sum = 0.0;
+        zeroed(&mut sc.dm, mx.len());
+        zeroed(&mut sc.dp, mx.len());
+        zeroed(&mut sc.dq, mx.len());
+        for k in 0..mx.len() {
+            let (ux, uy) = (f64::from(mx[k]), f64::from(my[k]));
+            let a1 = 2.0 * ux * uy + C1;
+            let a2 = 2.0 * (f64::from(exy[k]) - ux * uy) + C2;
+            let b1 = ux * ux + uy * uy + C1;
+            let b2 = (f64::from(exx[k]) - ux * ux) + (f64::from(eyy[k]) - uy * uy) + C2;
+            let s = a1 * a2 / (b1 * b2);
+            sum += s;
+            // d(1 − S)/d(μx, E[x²], E[xy]) per window, over the window count.
+            let f = -weights.ssim() / count;
+            sc.dm[k] = (f * s * (2.0 * uy / a1 - 2.0 * uy / a2 - 2.0 * ux / b1 + 2.0 * ux / b2)) as f32;
+            sc.dp[k] = (f * (-s / b2)) as f32;
+            sc.dq[k] = (f * (2.0 * s / a2)) as f32;
+        }
+        if want_gradient {
+            filter_adjoint(&sc.dm, nx, ny, &mut sc.rows, &mut sc.gm);
+            filter_adjoint(&sc.dp, nx, ny, &mut sc.rows, &mut sc.gp);
+            filter_adjoint(&sc.dq, nx, ny, &mut sc.rows, &mut sc.gq);
+            let (gm, gp, gq) = (&sc.gm, &sc.gp, &sc.gq);
+            for k in 0..nx * ny {
+                sc.grad[k] += f64::from(gm[k] + 2.0 * x[k] * gp[k] + y[k] * gq[k]);
+            }
+        }
+        1.0 - sum / count
+    }
+}
+
+/// Whether an `nx × ny` grid holds a 7 × 7 SSIM window.
+fn has_ssim(nx: usize, ny: usize) -> bool {
+    nx > 2 * RADIUS && ny > 2 * RADIUS
 }
 
 #[cfg(test)]

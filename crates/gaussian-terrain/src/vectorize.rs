@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::fastmath::{exp_neg, exp2_signed, log2};
 use crate::kernel::{Prepared, Span, raster_samples};
-use crate::loss::{LossTerms, LossWeights, loss};
+use crate::loss::{Loss, LossTerms, LossWeights};
 use crate::{Gaussian, GaussianError, MAX_PRIMITIVES, VectorTerrain};
 
 /// The paper's initial scales, as fractions of the domain, for about 10 000 primitives (§4).
@@ -377,6 +377,8 @@ fn fit(
     let (wx, wy) = (pixels.nx(), pixels.ny());
     let size = (wx.max(wy) - 1) as f64;
     let mut params = initialise(target, pixels, options);
+    let mut objective = Loss::new(target, wx, wy);
+    let mut grad = Vec::new();
     // Flat ground at the floor stays flat through the floor itself.
     let mut flats = flat_samples(target, wx, wy);
     if floored {
@@ -391,7 +393,7 @@ fn fit(
         for (a, _) in approx.iter_mut().zip(&below).filter(|(_, b)| **b) {
             *a = 0.0;
         }
-        let (terms, mut grad) = loss(&approx, target, wx, wy, &options.weights, true);
+        let terms = objective.evaluate(&approx, &options.weights, Some(&mut grad));
         for (g, _) in grad.iter_mut().zip(&below).filter(|(_, b)| **b) {
             *g = 0.0;
         }
@@ -823,6 +825,7 @@ fn densify(params: &mut Vec<Param>, back: &[Back], options: &VectorizeOptions, p
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::loss::loss;
 
     /// The range penalty's gradient: `RANGE_WEIGHT / n` up above 2, down below 0, nothing
     /// inside (0 and 2 included).

@@ -24,12 +24,6 @@ use std::process::ExitCode;
 use anyhow::{Context as _, Result};
 
 use crate::cli::{Cli, Command};
-
-/// mimalloc (a maintained allocator crate) instead of glibc's: glibc hands the large buffers
-/// that fits and generators free every step back to the system and faults them in again,
-/// which cost `relief vectorize` 15 % of its time at 1024² (docs/benchmarks.md).
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 use crate::commands::{analyze, dem, prominence, scenes, shell, vector};
 use crate::ui::{Ui, Verbosity};
 

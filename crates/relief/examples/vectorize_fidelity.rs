@@ -25,10 +25,6 @@ use std::path::{Path, PathBuf};
 use relief::gaussian_terrain::{Densify, RasterOptions, VectorizeOptions, rasterize, vectorize};
 use relief::heightfield::Heightfield;
 
-/// The allocator the `relief` binary uses (see its `main.rs`).
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let density: f64 = args.next().map(|a| a.parse()).transpose()?.unwrap_or(10.0);
