@@ -310,6 +310,19 @@ mod tests {
             .collect()
     }
 
+    /// SSIM needs one whole 7 × 7 window: it counts from 7 × 7 on, and is 0 on grids narrower
+    /// or shorter than that.
+    #[test]
+    fn ssim_counts_from_one_whole_window() {
+        let weights = LossWeights::default();
+        for (nx, ny, counts) in [(7, 7, true), (20, 7, true), (6, 6, false), (20, 6, false), (6, 20, false)] {
+            let (x, y) = (field(nx, ny, 0.3), field(nx, ny, 1.7));
+            let (t, g) = loss(&x, &y, nx, ny, &weights, true);
+            assert_eq!(t.ssim > 0.0, counts, "{nx} × {ny}: SSIM term {}", t.ssim);
+            assert!(t.ssim.is_finite() && g.iter().all(|v| v.is_finite()), "{nx} × {ny}");
+        }
+    }
+
     #[test]
     fn identical_fields_have_zero_loss() {
         let y = field(20, 17, 0.3);
