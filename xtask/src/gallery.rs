@@ -152,14 +152,15 @@ fn render(entries: &[Entry]) -> String {
                 ks = s["histogram_match"]["raster"].as_f64().unwrap_or(f64::NAN),
             )
         };
-        let mut comparison = comparison(&s["comparison"], &e.name);
-        if s["gaussian"].is_object() && e.dem_beside {
-            comparison = format!(
+        let comparison = if e.dem_beside {
+            format!(
                 " ![{name}: the DEM](gallery/{name}-dem.png)\n\nThe scene's vector terrain (left, after its edits) beside the DEM it was \
                  vectorized from (right).\n",
                 name = e.name
-            );
-        }
+            )
+        } else {
+            comparison(&s["comparison"], &e.name)
+        };
         let _ = write!(
             md,
             "\n## {name}\n\n{description}\n\n{source}{contours} contours on {levels} levels, {nx} × {ny} \

@@ -380,7 +380,7 @@ fn fit(
     let mut objective = Loss::new(target, wx, wy);
     let mut grad = Vec::new();
     // Flat ground at the floor stays flat through the floor itself.
-    let mut flats = flat_samples(target, wx, wy);
+    let mut flats = if options.keep_range { flat_samples(target, wx, wy) } else { Vec::new() };
     if floored {
         flats.retain(|&k| target[k as usize] > 0.0);
     }
@@ -465,7 +465,7 @@ fn flat_samples(target: &[f32], nx: usize, ny: usize) -> Vec<u32> {
 
 /// Weight of the extra ℓ₁ on flat ground, against ℓ₁'s `α₁` = 0.5 everywhere: an error over a
 /// lake costs nine times what it costs on a slope (4 cuts the largest error over the open flat
-/// of the real DEMs 3–15×, for at most 1.5 % more ℓ₁; docs/benchmarks.md).
+/// of Jacksboro and the Salish topobathy 3–7×, for at most 1.3 % more ℓ₁; docs/benchmarks.md).
 const FLAT_WEIGHT: f64 = 4.0;
 
 /// Adds the gradient of `FLAT_WEIGHT · Σ_flat |a − t| / n` (`n` all the samples): errors over

@@ -422,7 +422,7 @@ pub enum GaussianSource {
         /// Keep the fit within the DEM's elevation range, with a flat floor where its lowest
         /// ground is flat (default true; false fits the paper's plain sum) —
         /// [`crate::gaussian_terrain::VectorizeOptions::keep_range`].
-        #[serde(default = "keep_range", skip_serializing_if = "is_true")]
+        #[serde(default = "super::default_true", skip_serializing_if = "is_true")]
         keep_range: bool,
         /// Add error-map detail primitives at this Poisson spacing in DEM cells, so the vector
         /// terrain restores the DEM (2 restores it to f32 rounding; default none) —
@@ -432,9 +432,6 @@ pub enum GaussianSource {
     },
 }
 
-fn keep_range() -> bool {
-    true
-}
 #[allow(clippy::trivially_copy_pass_by_ref, reason = "serde's skip_serializing_if passes a reference")]
 fn is_true(b: &bool) -> bool {
     *b
