@@ -4,6 +4,7 @@
 //! around them.
 
 use glam::DVec2;
+use rayon::prelude::*;
 use relief_heightfield::GridSpec;
 
 use crate::DiffusionError;
@@ -16,9 +17,11 @@ use crate::solver::{DiffusionProblem, SolveOptions};
 /// [`DiffusionError::CurveTooLong`] before any is allocated.
 pub const MAX_STATIONS: usize = 1 << 23;
 
-/// Accumulators while painting.
+/// Accumulators while painting one band of rows `j0..j1` (row-major from row `j0`).
 struct Canvas {
     grid: GridSpec,
+    j0: usize,
+    j1: usize,
     elev: Vec<(f64, u32)>,
     amp: Vec<(f64, u32)>,
     rough: Vec<(f64, u32)>,
@@ -53,9 +56,56 @@ impl ConstraintMaps {
                 return Err(DiffusionError::CurveTooLong { curve: k, stations, max: MAX_STATIONS });
             }
         }
+        let stations: Vec<(Vec<Station>, bool)> =
+            curves.par_iter().map(|c| (c.stations(step), c.has_elevation())).collect();
+        // Each band paints every segment's samples in its rows, in curve order: the same
+        // accumulation per sample as one canvas over the whole grid, for any number of bands.
+        let rows = grid.ny().div_ceil(BANDS).max(MIN_BAND_ROWS);
+        let bands: Vec<Canvas> = (0..grid.ny())
+            .step_by(rows)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|j0| Canvas::paint(grid, j0, (j0 + rows).min(grid.ny()), &stations))
+            .collect();
+        let mut maps = ConstraintMaps::from_bands(grid, bands);
+        fill_holes(&mut maps);
+        Ok(maps)
+    }
+
+    /// The maps of the painted bands, top to bottom.
+    fn from_bands(grid: &GridSpec, bands: Vec<Canvas>) -> Self {
         let n = grid.len();
+        let mut maps = ConstraintMaps {
+            grid: *grid,
+            kind: Vec::with_capacity(n),
+            elevation: Vec::with_capacity(n),
+            gradient: Vec::with_capacity(n),
+            normal: Vec::with_capacity(n),
+            amplitude: Vec::with_capacity(n),
+            roughness: Vec::with_capacity(n),
+        };
+        for band in bands {
+            band.finish_into(&mut maps);
+        }
+        maps
+    }
+}
+
+/// Bands of rows the painting is split into (at most), so that a few run on each core.
+const BANDS: usize = 32;
+
+/// Fewest rows in a band: thinner ones would repeat every segment's set-up for little work.
+const MIN_BAND_ROWS: usize = 16;
+
+impl Canvas {
+    /// Paints the stations of every curve (with whether it is anchored by an elevation) on rows
+    /// `j0..j1` of `grid`.
+    fn paint(grid: &GridSpec, j0: usize, j1: usize, stations: &[(Vec<Station>, bool)]) -> Self {
+        let n = (j1 - j0) * grid.nx();
         let mut canvas = Canvas {
             grid: *grid,
+            j0,
+            j1,
             elev: vec![(0.0, 0); n],
             amp: vec![(0.0, 0); n],
             rough: vec![(0.0, 0); n],
@@ -65,21 +115,17 @@ impl ConstraintMaps {
         };
         let cell = grid.cell_size();
         let min_r = 0.75 * cell.x.max(cell.y);
-        for (id, curve) in curves.iter().enumerate() {
-            let stations = curve.stations(step);
-            let anchored = curve.has_elevation();
+        for (id, (stations, anchored)) in stations.iter().enumerate() {
             for w in stations.windows(2) {
-                canvas.segment(id as u32, anchored, w[0], w[1], min_r);
+                canvas.segment(id as u32, *anchored, w[0], w[1], min_r);
             }
             if stations.len() == 1 {
-                canvas.segment(id as u32, anchored, stations[0], stations[0], min_r);
+                canvas.segment(id as u32, *anchored, stations[0], stations[0], min_r);
             }
         }
-        Ok(canvas.finish())
+        canvas
     }
-}
 
-impl Canvas {
     /// Paints one segment of a curve: the elevation band, the two slope bands, the noise.
     fn segment(&mut self, id: u32, anchored: bool, s0: Station, s1: Station, min_r: f64) {
         let r = |s: &Station| s.elevation.map_or(0.0, |e| e.r).max(min_r);
@@ -140,7 +186,7 @@ impl Canvas {
             // work, unlike a bounding box around a long slanted band).
             let g = [self.grid.grid_coords(a), self.grid.grid_coords(b), self.grid.grid_coords(c)];
             let (ylo, yhi) = (g[0].y.min(g[1].y).min(g[2].y), g[0].y.max(g[1].y).max(g[2].y));
-            let (j0, j1) = (ylo.ceil().max(0.0), yhi.floor().min(self.grid.ny() as f64 - 1.0));
+            let (j0, j1) = (ylo.ceil().max(self.j0 as f64), yhi.floor().min(self.j1 as f64 - 1.0));
             if j1 < j0 {
                 continue;
             }
@@ -169,7 +215,7 @@ impl Canvas {
                     let l1 = ((c - p).perp_dot(a - p) / area).clamp(0.0, 1.0);
                     let l2 = (1.0 - l0 - l1).max(0.0);
                     // A sample on the shared diagonal is painted twice with the same values.
-                    let k = self.grid.index(i, j);
+                    let k = (j - self.j0) * self.grid.nx() + i;
                     let mut w = [0.0; 4];
                     w[t[0]] += l0;
                     w[t[1]] += l1;
@@ -203,33 +249,27 @@ impl Canvas {
         }
     }
 
-    fn finish(self) -> ConstraintMaps {
+    /// Appends this band's rows to `maps`: the means of what was painted, and each sample's kind.
+    fn finish_into(self, maps: &mut ConstraintMaps) {
         let mean = |(s, c): (f64, u32)| if c == 0 { f32::NAN } else { (s / f64::from(c)) as f32 };
-        let elevation: Vec<f32> = self.elev.iter().map(|&e| mean(e)).collect();
-        let kind: Vec<CellKind> = (0..elevation.len())
-            .map(|k| {
-                if !elevation[k].is_nan() {
-                    CellKind::Elevation
-                } else if self.hole[k] {
-                    CellKind::Hole
-                } else if self.writer[k] != NONE {
-                    CellKind::Gradient
-                } else {
-                    CellKind::Free
-                }
-            })
-            .collect();
-        let mut maps = ConstraintMaps {
-            grid: self.grid,
-            gradient: self.grad.iter().map(|g| g.0).collect(),
-            normal: self.grad.iter().map(|g| g.1).collect(),
-            elevation,
-            kind,
-            amplitude: self.amp.iter().map(|&a| mean(a)).collect(),
-            roughness: self.rough.iter().map(|&r| mean(r)).collect(),
-        };
-        fill_holes(&mut maps);
-        maps
+        let start = maps.elevation.len();
+        maps.elevation.extend(self.elev.iter().map(|&e| mean(e)));
+        let elevation = &maps.elevation[start..];
+        maps.kind.extend((0..elevation.len()).map(|k| {
+            if !elevation[k].is_nan() {
+                CellKind::Elevation
+            } else if self.hole[k] {
+                CellKind::Hole
+            } else if self.writer[k] != NONE {
+                CellKind::Gradient
+            } else {
+                CellKind::Free
+            }
+        }));
+        maps.gradient.extend(self.grad.iter().map(|g| g.0));
+        maps.normal.extend(self.grad.iter().map(|g| g.1));
+        maps.amplitude.extend(self.amp.iter().map(|&a| mean(a)));
+        maps.roughness.extend(self.rough.iter().map(|&r| mean(r)));
     }
 }
 
@@ -249,20 +289,32 @@ enum Paint {
 /// 4-connected group of holes is solved on its own bounding box grown by a margin, with the slope
 /// samples there as fixed values and everything else free, by the same multigrid solver as the
 /// elevation.
+///
+/// The solves read only slope samples, which no fill changes, so they run in parallel (a few
+/// windows at a time, to bound the memory their solutions take); the fills are then written in
+/// the order of the groups, the same for any thread count.
 fn fill_holes(maps: &mut ConstraintMaps) {
     let (nx, ny) = (maps.grid.nx(), maps.grid.ny());
     let mut seen = vec![false; nx * ny];
     let mut stack = Vec::new();
+    let mut windows = Vec::new();
     for start in 0..nx * ny {
         if seen[start] || maps.kind[start] != CellKind::Hole {
             continue;
         }
         let group = hole_group_bounds(maps, start, &mut seen, &mut stack);
-        if let Some(window) = Window::around(group, nx, ny) {
-            fill_window(maps, &window);
+        windows.extend(Window::around(group, nx, ny));
+    }
+    for batch in windows.chunks(WINDOWS_AT_ONCE) {
+        let fills: Vec<Fill> = batch.par_iter().map(|window| Fill::solve(maps, window)).collect();
+        for (window, fill) in batch.iter().zip(&fills) {
+            fill.write(maps, window);
         }
     }
 }
+
+/// Hole windows solved at once by [`fill_holes`].
+const WINDOWS_AT_ONCE: usize = 8;
 
 /// Marks the 4-connected group of holes containing `start` as `seen` (depth-first, on `stack`)
 /// and returns its bounding box `[i0, j0, i1, j1]`, bounds included.
@@ -320,24 +372,45 @@ impl Window {
     }
 }
 
-/// Diffuses the gradient step and both normal components over `window` and writes them into its
-/// holes: the normal capped at unit length, the step scaled by the cap's square. A field whose
-/// solve fails (no slope sample in the window) fills with zeros.
-fn fill_window(maps: &mut ConstraintMaps, window: &Window) {
-    let g = diffuse_slope_samples(maps, window, |k| maps.gradient[k]);
-    let x = diffuse_slope_samples(maps, window, |k| maps.normal[k][0]);
-    let y = diffuse_slope_samples(maps, window, |k| maps.normal[k][1]);
-    for c in 0..window.w * window.h {
-        let k = window.full_index(c);
-        if maps.kind[k] != CellKind::Hole {
-            continue;
+/// The gradient step and both normal components diffused over one window; `None` where a solve
+/// failed (no slope sample in the window).
+struct Fill {
+    gradient: Option<Vec<f32>>,
+    x: Option<Vec<f32>>,
+    y: Option<Vec<f32>>,
+}
+
+impl Fill {
+    /// The three solves of `window`, side by side.
+    fn solve(maps: &ConstraintMaps, window: &Window) -> Self {
+        let (gradient, (x, y)) = rayon::join(
+            || diffuse_slope_samples(maps, window, |k| maps.gradient[k]),
+            || {
+                rayon::join(
+                    || diffuse_slope_samples(maps, window, |k| maps.normal[k][0]),
+                    || diffuse_slope_samples(maps, window, |k| maps.normal[k][1]),
+                )
+            },
+        );
+        Self { gradient, x, y }
+    }
+
+    /// Writes the fill into the window's holes: the normal capped at unit length, the step scaled
+    /// by the cap's square; zeros for a failed solve.
+    fn write(&self, maps: &mut ConstraintMaps, window: &Window) {
+        let (g, x, y) = (&self.gradient, &self.x, &self.y);
+        for c in 0..window.w * window.h {
+            let k = window.full_index(c);
+            if maps.kind[k] != CellKind::Hole {
+                continue;
+            }
+            maps.gradient[k] = g.as_ref().map_or(0.0, |g| g[c]);
+            let (a, b) = (x.as_ref().map_or(0.0, |x| x[c]), y.as_ref().map_or(0.0, |y| y[c]));
+            let len = a.hypot(b);
+            let keep = len.min(1.0);
+            maps.normal[k] = if len > 1e-6 { [a / len * keep, b / len * keep] } else { [0.0, 0.0] };
+            maps.gradient[k] *= keep * keep;
         }
-        maps.gradient[k] = g.as_ref().map_or(0.0, |g| g[c]);
-        let (a, b) = (x.as_ref().map_or(0.0, |x| x[c]), y.as_ref().map_or(0.0, |y| y[c]));
-        let len = a.hypot(b);
-        let keep = len.min(1.0);
-        maps.normal[k] = if len > 1e-6 { [a / len * keep, b / len * keep] } else { [0.0, 0.0] };
-        maps.gradient[k] *= keep * keep;
     }
 }
 

@@ -127,25 +127,27 @@ impl DiffusionProblem {
         let n = nx * ny;
         let mut g = vec![[0i16; 2]; n];
         let mut b = vec![0.0f32; n];
-        for k in 0..n {
-            let (i, j) = (k % nx, k / nx);
-            let border = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
-            match maps.kind[k] {
-                CellKind::Elevation => {
-                    g[k] = [FIXED, 0];
-                    b[k] = maps.elevation[k];
+        g.par_chunks_mut(nx).zip(b.par_chunks_mut(nx)).enumerate().for_each(|(j, (g, b))| {
+            for i in 0..nx {
+                let k = j * nx + i;
+                let border = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
+                match maps.kind[k] {
+                    CellKind::Elevation => {
+                        g[i] = [FIXED, 0];
+                        b[i] = maps.elevation[k];
+                    }
+                    CellKind::Gradient | CellKind::Hole if !border => {
+                        // Half gradient along the normal: weights n²/2 per axis, upwind against the
+                        // normal (a shorter normal leaves the rest to the Laplacian).
+                        let [x, y] = maps.normal[k];
+                        let len2 = (x * x + y * y).max(1.0);
+                        g[i] = [quantize(-0.5 * x * x.abs() / len2), quantize(-0.5 * y * y.abs() / len2)];
+                        b[i] = 0.5 * maps.gradient[k];
+                    }
+                    _ => {}
                 }
-                CellKind::Gradient | CellKind::Hole if !border => {
-                    // Half gradient along the normal: weights n²/2 per axis, upwind against the
-                    // normal (a shorter normal leaves the rest to the Laplacian).
-                    let [x, y] = maps.normal[k];
-                    let len2 = (x * x + y * y).max(1.0);
-                    g[k] = [quantize(-0.5 * x * x.abs() / len2), quantize(-0.5 * y * y.abs() / len2)];
-                    b[k] = 0.5 * maps.gradient[k];
-                }
-                _ => {}
             }
-        }
+        });
         Ok(Self::with_coarse(Level::new(nx, ny, &g, &b)))
     }
 
@@ -507,14 +509,7 @@ fn stencil(g: [i16; 2], west: f32, east: f32, south: f32, north: f32, rhs: f32) 
 impl Level {
     /// A level from row-major weights and right-hand side.
     fn new(nx: usize, ny: usize, g: &[[i16; 2]], b: &[f32]) -> Self {
-        let w = nx.div_ceil(2);
-        let mut split = [vec![[0i16; 2]; w * ny], vec![[0i16; 2]; w * ny]];
-        for j in 0..ny {
-            for i in 0..nx {
-                split[(i + j) & 1][j * w + (i >> 1)] = g[j * nx + i];
-            }
-        }
-        Self { nx, ny, w, g: split, b: Field::from_full(nx, ny, b) }
+        Self { nx, ny, w: nx.div_ceil(2), g: split_colours(nx, ny, g, [0, 0]), b: Field::from_full(nx, ny, b) }
     }
 
     #[inline]
@@ -553,9 +548,9 @@ impl Level {
         let (cx, cy) = (self.nx.div_ceil(2), self.ny.div_ceil(2));
         let mut g = vec![[0i16; 2]; cx * cy];
         let mut b = vec![0.0f32; cx * cy];
-        for jc in 0..cy {
+        let row = |(jc, (g, b)): (usize, (&mut [[i16; 2]], &mut [f32]))| {
             for ic in 0..cx {
-                let k = jc * cx + ic;
+                let k = ic;
                 let (fi, fj) = (2 * ic, 2 * jc);
                 let (mut fixed_w, mut h) = (0.0f32, 0.0f32);
                 for (di, dj) in [(0i64, 0i64), (-1, 0), (1, 0), (0, -1), (0, 1)] {
@@ -587,6 +582,11 @@ impl Level {
                 g[k] = [quantize(dx / m), quantize(dy / m)];
                 b[k] = rhs / m;
             }
+        };
+        if self.parallel() {
+            g.par_chunks_mut(cx).zip(b.par_chunks_mut(cx)).enumerate().for_each(row);
+        } else {
+            g.chunks_mut(cx).zip(b.chunks_mut(cx)).enumerate().for_each(row);
         }
         Self::new(cx, cy, &g, &b)
     }
@@ -656,10 +656,21 @@ impl Level {
         for c in 0..2 {
             let [x0, x1] = &mut x.c;
             let (mine, other) = if c == 0 { (x0, &*x1) } else { (x1, &*x0) };
-            mine.par_chunks_mut(w).zip(rhs.c[c].par_chunks(w)).enumerate().for_each(|(j, (row, r))| {
-                self.stencil_row(c, j, other, r, row);
-            });
+            let row = |(j, (row, r)): (usize, (&mut [f32], &[f32]))| self.stencil_row(c, j, other, r, row);
+            if self.parallel() {
+                mine.par_chunks_mut(w).zip(rhs.c[c].par_chunks(w)).enumerate().for_each(row);
+            } else {
+                mine.chunks_mut(w).zip(rhs.c[c].chunks(w)).enumerate().for_each(row);
+            }
         }
+    }
+
+    /// Whether a pass over this level is worth spreading over rayon's threads: below
+    /// [`PARALLEL_MIN`] samples, handing the rows to the pool and waiting for them costs more than
+    /// the pass itself (small hole-filling solves spent most of their time there). The rows are
+    /// independent either way, so the result is the same.
+    fn parallel(&self) -> bool {
+        self.nx * self.ny >= PARALLEL_MIN
     }
 
     /// One Jacobi sweep from `x` into `out`.
@@ -667,9 +678,12 @@ impl Level {
         let w = self.w;
         for (c, mine) in out.c.iter_mut().enumerate() {
             let other = &x.c[1 - c];
-            mine.par_chunks_mut(w).zip(self.b.c[c].par_chunks(w)).enumerate().for_each(|(j, (row, r))| {
-                self.stencil_row(c, j, other, r, row);
-            });
+            let row = |(j, (row, r)): (usize, (&mut [f32], &[f32]))| self.stencil_row(c, j, other, r, row);
+            if self.parallel() {
+                mine.par_chunks_mut(w).zip(self.b.c[c].par_chunks(w)).enumerate().for_each(row);
+            } else {
+                mine.chunks_mut(w).zip(self.b.c[c].chunks(w)).enumerate().for_each(row);
+            }
         }
     }
 
@@ -677,14 +691,18 @@ impl Level {
     fn residual_colour(&self, c: usize, x: &Field, rhs: &Field) -> Vec<f32> {
         let w = self.w;
         let mut out = vec![0.0f32; x.c[c].len()];
-        out.par_chunks_mut(w).zip(rhs.c[c].par_chunks(w)).zip(x.c[c].par_chunks(w)).enumerate().for_each(
-            |(j, ((row, r), xs))| {
-                self.stencil_row(c, j, &x.c[1 - c], r, row);
-                for (o, &v) in row.iter_mut().zip(xs) {
-                    *o -= v;
-                }
-            },
-        );
+        let row = |(j, row): (usize, &mut [f32])| {
+            let (r, xs) = (&rhs.c[c][j * w..(j + 1) * w], &x.c[c][j * w..(j + 1) * w]);
+            self.stencil_row(c, j, &x.c[1 - c], r, row);
+            for (o, &v) in row.iter_mut().zip(xs) {
+                *o -= v;
+            }
+        };
+        if self.parallel() {
+            out.par_chunks_mut(w).enumerate().for_each(row);
+        } else {
+            out.chunks_mut(w).enumerate().for_each(row);
+        }
         out
     }
 
@@ -706,7 +724,7 @@ impl Level {
         let mut out = Field::zeros(self.nx, self.ny);
         let (cw, fw) = (self.w, fine.w);
         let [o0, o1] = &mut out.c;
-        o0.par_chunks_mut(cw).zip(o1.par_chunks_mut(cw)).enumerate().for_each(|(jc, (row0, row1))| {
+        let row = |(jc, (row0, row1)): (usize, (&mut [f32], &mut [f32]))| {
             let fj = 2 * jc;
             let (south, north) = (fj > 0, fj + 1 < fine.ny);
             let wj = 0.5 + 0.25 * (f32::from(u8::from(south)) + f32::from(u8::from(north)));
@@ -736,7 +754,12 @@ impl Level {
                 let v = growth * s / (wi * wj);
                 if (ic + jc) & 1 == 0 { row0[ic >> 1] = v } else { row1[ic >> 1] = v }
             }
-        });
+        };
+        if fine.parallel() {
+            o0.par_chunks_mut(cw).zip(o1.par_chunks_mut(cw)).enumerate().for_each(row);
+        } else {
+            o0.chunks_mut(cw).zip(o1.chunks_mut(cw)).enumerate().for_each(row);
+        }
         out
     }
 }
@@ -864,13 +887,17 @@ const SWEEPS: usize = 2;
 /// Chunk length of the deterministic reductions.
 const CHUNK: usize = 1 << 14;
 
+/// Samples from which a pass over a level runs in parallel (see [`Level::parallel`]).
+const PARALLEL_MIN: usize = 1 << 16;
+
 /// ⟨a, b⟩ in f64, summed per chunk then in chunk order (the same for any thread count).
 fn dot_slices(a: &[f32], b: &[f32]) -> f64 {
-    let parts: Vec<f64> = a
-        .par_chunks(CHUNK)
-        .zip(b.par_chunks(CHUNK))
-        .map(|(x, y)| x.iter().zip(y).map(|(&u, &v)| f64::from(u) * f64::from(v)).sum())
-        .collect();
+    let chunk = |(x, y): (&[f32], &[f32])| -> f64 { x.iter().zip(y).map(|(&u, &v)| f64::from(u) * f64::from(v)).sum() };
+    let parts: Vec<f64> = if 2 * a.len() >= PARALLEL_MIN {
+        a.par_chunks(CHUNK).zip(b.par_chunks(CHUNK)).map(chunk).collect()
+    } else {
+        a.chunks(CHUNK).zip(b.chunks(CHUNK)).map(chunk).collect()
+    };
     parts.iter().sum()
 }
 
@@ -886,6 +913,27 @@ fn norm(a: &Field) -> f64 {
 /// ‖r0‖₂ of a colour-0 residual (the whole residual right after a sweep).
 fn norm_after_sweep(r0: &[f32]) -> f64 {
     dot_slices(r0, r0).sqrt()
+}
+
+/// The row-major `nx × ny` values `v` split by colour, `c[(i + j) % 2][j·w + i/2]` with
+/// `w = ⌈nx/2⌉`, the padding slots at `pad`.
+fn split_colours<T: Copy + Send + Sync>(nx: usize, ny: usize, v: &[T], pad: T) -> [Vec<T>; 2] {
+    let w = nx.div_ceil(2);
+    let mut split = [vec![pad; w * ny], vec![pad; w * ny]];
+    let [c0, c1] = &mut split;
+    let row = |(j, (r0, r1)): (usize, (&mut [T], &mut [T]))| {
+        // Row j's colour-0 samples sit at i ≡ j (mod 2), its colour-1 ones at the other parity.
+        let (even, odd) = if j & 1 == 0 { (r0, r1) } else { (r1, r0) };
+        for (i, &x) in v[j * nx..(j + 1) * nx].iter().enumerate() {
+            if i & 1 == 0 { even[i >> 1] = x } else { odd[i >> 1] = x }
+        }
+    };
+    if nx * ny >= PARALLEL_MIN {
+        c0.par_chunks_mut(w).zip(c1.par_chunks_mut(w)).enumerate().for_each(row);
+    } else {
+        c0.chunks_mut(w).zip(c1.chunks_mut(w)).enumerate().for_each(row);
+    }
+    split
 }
 
 /// A grid function stored by colour: `c[(i + j) % 2][j·w + i/2]`, so a sweep of one colour
@@ -905,23 +953,23 @@ impl Field {
     }
 
     fn from_full(nx: usize, ny: usize, v: &[f32]) -> Self {
-        let mut f = Self::zeros(nx, ny);
-        for j in 0..ny {
-            for i in 0..nx {
-                f.c[(i + j) & 1][j * f.w + (i >> 1)] = v[j * nx + i];
-            }
-        }
-        f
+        Self { nx, ny, w: nx.div_ceil(2), c: split_colours(nx, ny, v, 0.0) }
     }
 
     /// `self = f(self, other)` sample by sample.
     fn map2(&mut self, other: &Field, f: impl Fn(f32, f32) -> f32 + Sync) {
+        let parallel = self.nx * self.ny >= PARALLEL_MIN;
         for (a, b) in self.c.iter_mut().zip(&other.c) {
-            a.par_chunks_mut(CHUNK).zip(b.par_chunks(CHUNK)).for_each(|(a, b)| {
+            let chunk = |(a, b): (&mut [f32], &[f32])| {
                 for (x, &y) in a.iter_mut().zip(b) {
                     *x = f(*x, y);
                 }
-            });
+            };
+            if parallel {
+                a.par_chunks_mut(CHUNK).zip(b.par_chunks(CHUNK)).for_each(chunk);
+            } else {
+                a.chunks_mut(CHUNK).zip(b.chunks(CHUNK)).for_each(chunk);
+            }
         }
     }
 
@@ -932,11 +980,16 @@ impl Field {
 
     fn to_full(&self) -> Vec<f32> {
         let mut out = vec![0.0; self.nx * self.ny];
-        out.par_chunks_mut(self.nx).enumerate().for_each(|(j, row)| {
+        let row = |(j, row): (usize, &mut [f32])| {
             for (i, v) in row.iter_mut().enumerate() {
                 *v = self.get(i, j);
             }
-        });
+        };
+        if self.nx * self.ny >= PARALLEL_MIN {
+            out.par_chunks_mut(self.nx).enumerate().for_each(row);
+        } else {
+            out.chunks_mut(self.nx).enumerate().for_each(row);
+        }
         out
     }
 
@@ -949,7 +1002,7 @@ impl Field {
         let (cnx, cny) = (e.nx, e.ny);
         for (colour, c) in self.c.iter_mut().enumerate() {
             let g = &level.g[colour];
-            c.par_chunks_mut(w).zip(g.par_chunks(w)).enumerate().for_each(|(j, (row, g))| {
+            let row = |(j, (row, g)): (usize, (&mut [f32], &[[i16; 2]]))| {
                 // Vertex-centred: even fine indices sit on coarse samples, odd ones halfway.
                 let j0 = (j / 2).min(cny - 1);
                 let j1 = if j % 2 == 1 { (j0 + 1).min(cny - 1) } else { j0 };
@@ -971,7 +1024,12 @@ impl Field {
                         None => row[h] = v,
                     }
                 }
-            });
+            };
+            if level.parallel() {
+                c.par_chunks_mut(w).zip(g.par_chunks(w)).enumerate().for_each(row);
+            } else {
+                c.chunks_mut(w).zip(g.chunks(w)).enumerate().for_each(row);
+            }
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use glam::DVec2;
 use rayon::prelude::*;
-use relief_heightfield::noise::gradient_noise;
+use relief_heightfield::noise::{NoiseLattice, gradient_noise};
 use relief_heightfield::{GridSpec, Heightfield};
 use serde::{Deserialize, Serialize};
 
@@ -95,7 +95,7 @@ pub fn generate(
         let size = grid.extent().size();
         let wavelength =
             if options.noise_wavelength > 0.0 { options.noise_wavelength } else { size.x.max(size.y) / 16.0 };
-        let detail = Detail { wavelength, octaves: options.noise_octaves, seed: options.seed };
+        let detail = Detail::new(wavelength, options.noise_octaves, options.seed, grid);
         let samples = heightfield.samples_mut();
         samples.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
             for (i, h) in row.iter_mut().enumerate() {
@@ -112,21 +112,52 @@ pub fn generate(
 }
 
 /// The multi-fractal noise of §4.3: N = A·Σₖ 2^(−k(1−R))·S(2ᵏ·p), S gradient (Perlin) noise.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 struct Detail {
     wavelength: f64,
-    octaves: u32,
     seed: u64,
+    /// Per octave, its gradient lattice over the grid when that has fewer points than the grid has
+    /// samples (most octaves: then each lattice corner serves many samples); else `None`, hashed.
+    lattices: Vec<Option<NoiseLattice>>,
 }
 
 impl Detail {
+    fn new(wavelength: f64, octaves: u32, seed: u64, grid: &GridSpec) -> Self {
+        let extent = grid.extent();
+        let lattices = (0..octaves)
+            .map(|k| {
+                let f = Self::frequency(k);
+                // The same operations as `sample`, so the lattice covers every point it is asked for.
+                let (lo, hi) = (extent.min / wavelength * f, extent.max / wavelength * f);
+                let cells = (hi - lo).ceil() + 2.0;
+                (cells.x * cells.y <= grid.len() as f64)
+                    .then(|| NoiseLattice::new(lo, hi, Self::octave_seed(seed, k)))
+                    .flatten()
+            })
+            .collect();
+        Self { wavelength, seed, lattices }
+    }
+
+    fn frequency(k: u32) -> f64 {
+        f64::from(1u32 << k.min(30))
+    }
+
+    fn octave_seed(seed: u64, k: u32) -> u64 {
+        seed.wrapping_add(u64::from(k))
+    }
+
     /// Σₖ 2^(−k(1−R))·S(2ᵏ p / wavelength), without the amplitude.
     fn sample(&self, p: DVec2, roughness: f64) -> f64 {
         let q = p / self.wavelength;
-        (0..self.octaves)
-            .map(|k| {
-                let f = f64::from(1u32 << k.min(30));
-                f.powf(-(1.0 - roughness)) * gradient_noise(q * f, self.seed.wrapping_add(u64::from(k)))
+        (0..)
+            .zip(&self.lattices)
+            .map(|(k, lattice)| {
+                let f = Self::frequency(k);
+                let s = match lattice {
+                    Some(lattice) => lattice.sample(q * f),
+                    None => gradient_noise(q * f, Self::octave_seed(self.seed, k)),
+                };
+                f.powf(-(1.0 - roughness)) * s
             })
             .sum()
     }

@@ -148,8 +148,12 @@ fn same_seed_same_bytes_for_any_thread_count() {
         presets::crack(&[DVec2::new(500.0, 100.0), DVec2::new(500.0, 900.0)], 20.0, 60.0),
         presets::hill(&[DVec2::new(0.0, 0.0), DVec2::new(1000.0, 0.0)], 0.0, 0.0),
     ];
-    let g = grid(129, 1000.0);
+    // Large enough (321² > 2¹⁶ samples) that the finest level's passes, the banded painting and
+    // the hole fills run in parallel.
+    let g = grid(321, 1000.0);
     let options = TerrainOptions { seed: 5, ..TerrainOptions::default() };
+    let maps = relief_diffusion_multigrid::ConstraintMaps::rasterize(&curves, &g).unwrap();
+    assert!(maps.counts().3 > 0, "the crack crosses the ridge's slopes: holes to fill");
     let run = || generate(&curves, &g, &options).unwrap().heightfield;
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(run);
     let two = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap().install(run);

@@ -34,14 +34,81 @@ fn fade(t: f64) -> f64 {
 /// 2-D gradient noise at `p` for `seed`, in about [−1, 1] (scaled by √2 from Perlin's ±√½), zero at
 /// every lattice point, C² continuous.
 pub fn gradient_noise(p: DVec2, seed: u64) -> f64 {
+    noise_with(p, |i, j| gradient(i, j, seed))
+}
+
+/// Gradient noise at `p` with the lattice gradients from `gradient(i, j)`.
+#[inline]
+fn noise_with(p: DVec2, gradient: impl Fn(i64, i64) -> DVec2) -> f64 {
     let cell = p.floor();
     let (i, j) = (cell.x as i64, cell.y as i64);
     let f = p - cell;
-    let dot = |di: i64, dj: i64| gradient(i + di, j + dj, seed).dot(f - DVec2::new(di as f64, dj as f64));
+    let dot = |di: i64, dj: i64| gradient(i + di, j + dj).dot(f - DVec2::new(di as f64, dj as f64));
     let (u, v) = (fade(f.x), fade(f.y));
     let bottom = dot(0, 0) + u * (dot(1, 0) - dot(0, 0));
     let top = dot(0, 1) + u * (dot(1, 1) - dot(0, 1));
     std::f64::consts::SQRT_2 * (bottom + v * (top - bottom))
+}
+
+/// Most lattice points a [`NoiseLattice`] holds: 2²², 64 MiB of gradients.
+pub const MAX_LATTICE_POINTS: usize = 1 << 22;
+
+/// [`gradient_noise`] of one seed over a rectangle of the plane, with the lattice gradients there
+/// computed once: the same values, bit for bit, without a hash, a sine and a cosine per lattice
+/// corner of every sample. Worth it when many samples share each lattice cell (an octave coarser
+/// than the grid it is sampled on); points outside the rectangle are hashed as usual.
+///
+/// ```
+/// use glam::DVec2;
+/// use relief_heightfield::noise::{NoiseLattice, gradient_noise};
+///
+/// let lattice = NoiseLattice::new(DVec2::ZERO, DVec2::splat(8.0), 7).expect("81 points");
+/// for p in [DVec2::new(0.3, 5.9), DVec2::new(7.99, 0.01), DVec2::new(-3.5, 20.0)] {
+///     assert_eq!(lattice.sample(p).to_bits(), gradient_noise(p, 7).to_bits());
+/// }
+/// ```
+#[derive(Debug, Clone)]
+pub struct NoiseLattice {
+    /// Lattice coordinates of the first stored point.
+    i0: i64,
+    j0: i64,
+    /// Stored points along each axis.
+    nx: i64,
+    ny: i64,
+    seed: u64,
+    /// Row-major gradients.
+    gradients: Vec<DVec2>,
+}
+
+impl NoiseLattice {
+    /// The lattice of `seed` over every cell that a point of the rectangle `lo`–`hi` falls in
+    /// (corners included); `None` when a bound is not finite or it would hold more than
+    /// [`MAX_LATTICE_POINTS`].
+    pub fn new(lo: DVec2, hi: DVec2, seed: u64) -> Option<Self> {
+        if !(lo.is_finite() && hi.is_finite()) {
+            return None;
+        }
+        let (a, b) = (lo.min(hi).floor(), lo.max(hi).floor() + 1.0);
+        let size = b - a + 1.0;
+        if size.x * size.y > MAX_LATTICE_POINTS as f64 {
+            return None;
+        }
+        let (i0, j0, nx, ny) = (a.x as i64, a.y as i64, size.x as i64, size.y as i64);
+        let gradients = (0..ny).flat_map(|j| (0..nx).map(move |i| gradient(i0 + i, j0 + j, seed))).collect();
+        Some(Self { i0, j0, nx, ny, seed, gradients })
+    }
+
+    /// [`gradient_noise`]`(p, seed)`.
+    pub fn sample(&self, p: DVec2) -> f64 {
+        noise_with(p, |i, j| {
+            let (a, b) = (i.wrapping_sub(self.i0), j.wrapping_sub(self.j0));
+            if (0..self.nx).contains(&a) && (0..self.ny).contains(&b) {
+                self.gradients[(b * self.nx + a) as usize]
+            } else {
+                gradient(i, j, self.seed)
+            }
+        })
+    }
 }
 
 /// Fractional Brownian motion: a sum of octaves of [`gradient_noise`],
@@ -113,6 +180,20 @@ mod tests {
         assert!(hi - lo > 1.0, "noise too flat: [{lo}, {hi}]");
         assert_eq!(gradient_noise(DVec2::new(3.0, -7.0), 1), 0.0);
         assert_ne!(gradient_noise(DVec2::new(0.5, 0.5), 1), gradient_noise(DVec2::new(0.5, 0.5), 2));
+    }
+
+    #[test]
+    fn a_lattice_gives_the_hashed_noise_bit_for_bit() {
+        let lattice = NoiseLattice::new(DVec2::new(-3.2, 4.0), DVec2::new(5.5, 9.75), 11).unwrap();
+        // Inside, on its edges and cells, and outside the rectangle (hashed there).
+        for k in 0..10_000 {
+            let p = DVec2::new(f64::from(k % 100) * 0.11 - 4.0, f64::from(k / 100) * 0.07 + 3.0);
+            assert_eq!(lattice.sample(p).to_bits(), gradient_noise(p, 11).to_bits(), "{p}");
+        }
+        assert!(NoiseLattice::new(DVec2::ZERO, DVec2::splat(f64::INFINITY), 1).is_none());
+        assert!(NoiseLattice::new(DVec2::ZERO, DVec2::splat(1e4), 1).is_none(), "10⁸ points");
+        let one = NoiseLattice::new(DVec2::splat(0.5), DVec2::splat(0.5), 1).unwrap();
+        assert_eq!(one.gradients.len(), 4, "one cell: its four corners");
     }
 
     #[test]
