@@ -61,34 +61,55 @@ impl ConstraintMaps {
         // Each band paints every segment's samples in its rows, in curve order: the same
         // accumulation per sample as one canvas over the whole grid, for any number of bands.
         let rows = grid.ny().div_ceil(BANDS).max(MIN_BAND_ROWS);
-        let bands: Vec<Canvas> = (0..grid.ny())
-            .step_by(rows)
-            .collect::<Vec<_>>()
-            .into_par_iter()
-            .map(|j0| Canvas::paint(grid, j0, (j0 + rows).min(grid.ny()), &stations))
-            .collect();
-        let mut maps = ConstraintMaps::from_bands(grid, bands);
+        let n = grid.len();
+        let mut maps = ConstraintMaps {
+            grid: *grid,
+            kind: vec![CellKind::Free; n],
+            elevation: vec![0.0; n],
+            gradient: vec![0.0; n],
+            normal: vec![[0.0; 2]; n],
+            amplitude: vec![0.0; n],
+            roughness: vec![0.0; n],
+        };
+        maps.bands(rows).into_par_iter().enumerate().for_each(|(b, mut band)| {
+            let j0 = b * rows;
+            Canvas::paint(grid, j0, (j0 + rows).min(grid.ny()), &stations).finish(&mut band);
+        });
         fill_holes(&mut maps);
         Ok(maps)
     }
 
-    /// The maps of the painted bands, top to bottom.
-    fn from_bands(grid: &GridSpec, bands: Vec<Canvas>) -> Self {
-        let n = grid.len();
-        let mut maps = ConstraintMaps {
-            grid: *grid,
-            kind: Vec::with_capacity(n),
-            elevation: Vec::with_capacity(n),
-            gradient: Vec::with_capacity(n),
-            normal: Vec::with_capacity(n),
-            amplitude: Vec::with_capacity(n),
-            roughness: Vec::with_capacity(n),
-        };
-        for band in bands {
-            band.finish_into(&mut maps);
-        }
-        maps
+    /// The maps cut into bands of `rows` rows, top to bottom.
+    fn bands(&mut self, rows: usize) -> Vec<Band<'_>> {
+        let len = rows * self.grid.nx();
+        let mut kind = self.kind.chunks_mut(len);
+        let mut elevation = self.elevation.chunks_mut(len);
+        let mut gradient = self.gradient.chunks_mut(len);
+        let mut normal = self.normal.chunks_mut(len);
+        let mut amplitude = self.amplitude.chunks_mut(len);
+        let mut roughness = self.roughness.chunks_mut(len);
+        std::iter::from_fn(|| {
+            Some(Band {
+                kind: kind.next()?,
+                elevation: elevation.next()?,
+                gradient: gradient.next()?,
+                normal: normal.next()?,
+                amplitude: amplitude.next()?,
+                roughness: roughness.next()?,
+            })
+        })
+        .collect()
     }
+}
+
+/// The rows of [`ConstraintMaps`] one [`Canvas`] band fills.
+struct Band<'a> {
+    kind: &'a mut [CellKind],
+    elevation: &'a mut [f32],
+    gradient: &'a mut [f32],
+    normal: &'a mut [[f32; 2]],
+    amplitude: &'a mut [f32],
+    roughness: &'a mut [f32],
 }
 
 /// Bands of rows the painting is split into (at most), so that a few run on each core.
@@ -249,14 +270,13 @@ impl Canvas {
         }
     }
 
-    /// Appends this band's rows to `maps`: the means of what was painted, and each sample's kind.
-    fn finish_into(self, maps: &mut ConstraintMaps) {
+    /// Writes the band's rows of the maps: the means of what was painted, and each sample's kind.
+    fn finish(self, band: &mut Band<'_>) {
         let mean = |(s, c): (f64, u32)| if c == 0 { f32::NAN } else { (s / f64::from(c)) as f32 };
-        let start = maps.elevation.len();
-        maps.elevation.extend(self.elev.iter().map(|&e| mean(e)));
-        let elevation = &maps.elevation[start..];
-        maps.kind.extend((0..elevation.len()).map(|k| {
-            if !elevation[k].is_nan() {
+        for k in 0..band.kind.len() {
+            let elevation = mean(self.elev[k]);
+            band.elevation[k] = elevation;
+            band.kind[k] = if !elevation.is_nan() {
                 CellKind::Elevation
             } else if self.hole[k] {
                 CellKind::Hole
@@ -264,12 +284,11 @@ impl Canvas {
                 CellKind::Gradient
             } else {
                 CellKind::Free
-            }
-        }));
-        maps.gradient.extend(self.grad.iter().map(|g| g.0));
-        maps.normal.extend(self.grad.iter().map(|g| g.1));
-        maps.amplitude.extend(self.amp.iter().map(|&a| mean(a)));
-        maps.roughness.extend(self.rough.iter().map(|&r| mean(r)));
+            };
+            (band.gradient[k], band.normal[k]) = self.grad[k];
+            band.amplitude[k] = mean(self.amp[k]);
+            band.roughness[k] = mean(self.rough[k]);
+        }
     }
 }
 
@@ -383,14 +402,24 @@ struct Fill {
 impl Fill {
     /// The three solves of `window`, side by side.
     fn solve(maps: &ConstraintMaps, window: &Window) -> Self {
+        let values = |field: &dyn Fn(usize) -> f32| -> Vec<f32> {
+            (0..window.w * window.h)
+                .map(|c| {
+                    let k = window.full_index(c);
+                    if maps.kind[k] == CellKind::Gradient { field(k) } else { f32::NAN }
+                })
+                .collect()
+        };
+        // The three fields are fixed on the same slope samples: one hierarchy serves them all.
+        let Some(problem) = DiffusionProblem::laplace(window.w, window.h, &values(&|k| maps.gradient[k])) else {
+            return Self { gradient: None, x: None, y: None };
+        };
+        let options = SolveOptions { tolerance: 1e-3, ..SolveOptions::default() };
+        let solve = |p: &DiffusionProblem| p.solve(&options).ok().map(|(x, _)| x);
+        let like = |field: &dyn Fn(usize) -> f32| problem.laplace_like(&values(field)).as_ref().and_then(solve);
         let (gradient, (x, y)) = rayon::join(
-            || diffuse_slope_samples(maps, window, |k| maps.gradient[k]),
-            || {
-                rayon::join(
-                    || diffuse_slope_samples(maps, window, |k| maps.normal[k][0]),
-                    || diffuse_slope_samples(maps, window, |k| maps.normal[k][1]),
-                )
-            },
+            || solve(&problem),
+            || rayon::join(|| like(&|k| maps.normal[k][0]), || like(&|k| maps.normal[k][1])),
         );
         Self { gradient, x, y }
     }
@@ -412,18 +441,4 @@ impl Fill {
             maps.gradient[k] *= keep * keep;
         }
     }
-}
-
-/// Laplace diffusion over `window` of `field` (by full-grid index), fixed on the slope samples
-/// and free elsewhere, to a relative residual of 1e-3; `None` if the window has no slope sample
-/// or the solve fails.
-fn diffuse_slope_samples(maps: &ConstraintMaps, window: &Window, field: impl Fn(usize) -> f32) -> Option<Vec<f32>> {
-    let values: Vec<f32> = (0..window.w * window.h)
-        .map(|c| {
-            let k = window.full_index(c);
-            if maps.kind[k] == CellKind::Gradient { field(k) } else { f32::NAN }
-        })
-        .collect();
-    let options = SolveOptions { tolerance: 1e-3, ..SolveOptions::default() };
-    DiffusionProblem::laplace(window.w, window.h, &values)?.solve(&options).ok().map(|(x, _)| x)
 }

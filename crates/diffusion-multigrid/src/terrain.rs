@@ -85,13 +85,18 @@ pub fn generate(
         reason: "produced a non-finite elevation",
     })?;
     let (nx, ny) = (grid.nx(), grid.ny());
-    let diffuse = |v: &[f32]| -> Result<Option<Vec<f32>>, DiffusionError> {
-        DiffusionProblem::laplace(nx, ny, v).map(|p| p.solve(&options.solve).map(|(x, _)| x)).transpose()
-    };
-    let amplitude = diffuse(&maps.amplitude)?;
     let mut heightfield = smooth.clone();
-    if let Some(amplitude) = amplitude {
-        let roughness = diffuse(&maps.roughness)?.unwrap_or_else(|| vec![0.5; grid.len()]);
+    if let Some(amplitude_problem) = DiffusionProblem::laplace(nx, ny, &maps.amplitude) {
+        // Amplitude and roughness are painted together, so they share their free samples and
+        // one hierarchy (the paper diffuses them in one shader for the same reason).
+        let roughness_problem = amplitude_problem
+            .laplace_like(&maps.roughness)
+            .or_else(|| DiffusionProblem::laplace(nx, ny, &maps.roughness));
+        let amplitude = amplitude_problem.solve(&options.solve)?.0;
+        let roughness = match roughness_problem {
+            Some(p) => p.solve(&options.solve)?.0,
+            None => vec![0.5; grid.len()],
+        };
         let size = grid.extent().size();
         let wavelength =
             if options.noise_wavelength > 0.0 { options.noise_wavelength } else { size.x.max(size.y) / 16.0 };
