@@ -8,7 +8,7 @@ use std::process::Command;
 
 use anyhow::{Context, Result};
 
-use crate::references::{REFERENCES, Reference};
+use crate::references::{GROUP_NOTES, REFERENCES, Reference};
 
 /// Runs the benches (shorter warm-up and measurement with `quick`; only `packages` when given) and
 /// writes the report from every median under `target/criterion`, so a partial run refreshes its
@@ -207,6 +207,9 @@ fn render(medians: &BTreeMap<String, f64>, quick: bool) -> String {
     }
     for (group, rows) in by_crate {
         let _ = writeln!(md, "## {group}\n");
+        for (_, note) in GROUP_NOTES.iter().filter(|(g, _)| *g == group) {
+            let _ = writeln!(md, "{note}\n");
+        }
         let _ = writeln!(md, "| benchmark | ours | reference | reference time | ratio |");
         let _ = writeln!(md, "|---|---:|---|---:|---:|");
         for (id, s) in rows {

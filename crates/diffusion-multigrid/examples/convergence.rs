@@ -1,6 +1,8 @@
 //! Residual against time for both solvers on a ridge scene.
 //!
-//! `cargo run --release -p relief-diffusion-multigrid --example convergence -- [size] [gradient]`
+//! `cargo run --release -p relief-diffusion-multigrid --example convergence -- [size] [gradient]`;
+//! `MG_ONLY=1` skips the Jacobi pyramid, `ACCURACY=1` also prints how far the solve stops from
+//! the converged solution.
 
 use std::time::Instant;
 
@@ -33,12 +35,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         vec![Solver::Multigrid, Solver::JacobiPyramid]
     };
     for solver in solvers {
-        let t = Instant::now();
         let opts = SolveOptions {
             solver,
             max_iterations: Some(if solver == Solver::Multigrid { 60 } else { 2000 }),
             ..SolveOptions::default()
         };
+        // ACCURACY=1: how far the solve to the tolerance stops from the converged solution.
+        if std::env::var_os("ACCURACY").is_some() {
+            let (x, _) = problem.solve(&SolveOptions { max_iterations: None, ..opts })?;
+            let tight = SolveOptions { tolerance: 1e-7, max_iterations: Some(60), ..SolveOptions::default() };
+            let (exact, _) = problem.solve(&tight)?;
+            let e: Vec<f64> = x.iter().zip(&exact).map(|(a, b)| f64::from((a - b).abs())).collect();
+            println!(
+                "  error {:.2} m mean, {:.2} m worst",
+                e.iter().sum::<f64>() / e.len() as f64,
+                e.iter().copied().fold(0.0, f64::max)
+            );
+        }
+        let t = Instant::now();
         let (_, report) = problem.solve(&opts)?;
         let h: Vec<String> = report.history.iter().take(12).map(|r| format!("{r:.1e}")).collect();
         println!(

@@ -390,6 +390,28 @@ fn diffusion_scenes_run_through_the_same_pipeline() {
     );
 }
 
+#[test]
+fn scenes_choose_the_papers_fixed_jacobi_budget() {
+    let text = std::fs::read_to_string(root().join("fixtures/scenes/mountain-ridges.json")).unwrap();
+    let mut scene = Scene::from_json(&text).unwrap();
+    scene.reconstruction.resolution = [129, 129];
+    let Generator::Diffusion(g) = &mut scene.generator else { panic!("a diffusion scene") };
+    g.solver = relief::diffusion::Solver::JacobiPyramid;
+    g.max_iterations = Some(0);
+    let paper = generate(&scene, &root(), &mut ()).unwrap();
+    let report = paper.summary.diffusion.as_ref().unwrap();
+    // The pyramid's 5·(l − i) sweeps per level and nothing more: no finest-level sweep after
+    // it, whatever residual that leaves.
+    assert_eq!((report.iterations, report.history.len()), (0, 1), "{report:?}");
+    assert!(!report.converged && report.relative_residual > 1e-4, "{report:?}");
+    let Generator::Diffusion(g) = &mut scene.generator else { unreachable!() };
+    g.max_iterations = None;
+    let converged = generate(&scene, &root(), &mut ()).unwrap();
+    let report = converged.summary.diffusion.as_ref().unwrap();
+    assert!(report.converged && report.iterations > 0, "{report:?}");
+    assert_ne!(paper.heightfield, converged.heightfield);
+}
+
 /// The endorheic check on the generation graph itself (the TIN's node heights and CSR adjacency):
 /// Open Eden Growth leaves no node without a non-ascending path to Ω's outside, unless a region is
 /// a depression.

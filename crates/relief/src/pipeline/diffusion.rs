@@ -27,7 +27,7 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
             let points = bounds(g.curves.iter().flat_map(|c| c.points.iter().copied()));
             default_domain(points, scene.reconstruction.resolution)
         });
-        let solve = SolveOptions { solver: g.solver, tolerance: g.tolerance, max_iterations: None };
+        let solve = SolveOptions { solver: g.solver, tolerance: g.tolerance, max_iterations: g.max_iterations };
         let options = TerrainOptions {
             solve,
             noise_wavelength: g.noise_wavelength.unwrap_or(0.0),

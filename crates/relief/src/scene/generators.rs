@@ -312,6 +312,12 @@ pub struct DiffusionGenerator {
     /// Relative residual at which the solve stops (default 1e-4).
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
+    /// At most this many iterations after the start: V-cycles (multigrid, default 60) or finest
+    /// Jacobi sweeps after the pyramid (`jacobi_pyramid`, default 20 000). `0` with
+    /// `jacobi_pyramid` is the paper's own fixed budget: 5·(l − i) sweeps on each level i of l,
+    /// whatever residual that leaves (the run then warns that it stopped above the tolerance).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_iterations: Option<usize>,
     /// Wavelength of the first detail-noise octave, world units (default: 1/16 of the domain).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub noise_wavelength: Option<f64>,
