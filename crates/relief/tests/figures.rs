@@ -1,5 +1,5 @@
-//! The contours paper's figures as scenes behave as the paper describes: the Fig. 27 editing
-//! session step by step, the teaser's label map.
+//! Papers' figures as scenes behave as the papers describe: the contours paper's Fig. 27 editing
+//! session step by step and its teaser's label map; Hnaidi et al.'s Fig. 8, noise alone.
 
 use std::path::{Path, PathBuf};
 
@@ -76,4 +76,37 @@ fn multilevel_generation_runs_its_coarse_passes_first() {
         let err = Scene::from_json(&value.to_string()).unwrap_err();
         assert!(err.to_string().contains("generator.contours.multilevel"), "{err}");
     }
+}
+
+#[test]
+fn fig_8_noise_alone_follows_its_amplitude_and_roughness() {
+    // No elevation anywhere: the border is the 0 m base level and the noise is the terrain.
+    let scene = load_scene(scenes().join("noise-control.json")).unwrap();
+    let terrain = generate(&scene, &scenes(), &mut ()).unwrap();
+    assert!(terrain.summary.diffusion.as_ref().unwrap().converged);
+    let hf = &terrain.heightfield;
+    // The samples of the columns between x0 and x1 (metres), row by row.
+    let band = |x0: f64, x1: f64| -> Vec<Vec<f64>> {
+        (0..hf.ny())
+            .map(|j| {
+                (0..hf.nx())
+                    .filter(|&i| (x0..x1).contains(&hf.grid().position(i, j).x))
+                    .map(|i| f64::from(hf.get(i, j).unwrap()))
+                    .collect()
+            })
+            .collect()
+    };
+    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+    let all = |rows: &[Vec<f64>]| rows.concat();
+    // Amplitude 0 on the west edge, 120 m at x = 2800.
+    let (west, east) = (rms(&all(&band(0.0, 300.0))), rms(&all(&band(2500.0, 2800.0))));
+    assert!(west < 0.2 * east && east > 20.0, "detail {west:.1} m in the west, {east:.1} m at A = 120");
+    // Roughness 0 at x = 3200, 1 at x = 5900, same amplitude: the second differences (fine
+    // detail) grow against the detail itself.
+    let fine = |rows: Vec<Vec<f64>>| {
+        let second: Vec<f64> = rows.iter().flat_map(|r| r.windows(3).map(|w| w[0] - 2.0 * w[1] + w[2])).collect();
+        rms(&second) / rms(&rows.concat())
+    };
+    let (smooth, rough) = (fine(band(3200.0, 3700.0)), fine(band(5400.0, 5900.0)));
+    assert!(rough > 1.5 * smooth, "fine detail share {smooth:.3} at R = 0, {rough:.3} at R = 1");
 }

@@ -60,8 +60,12 @@ fn with_border(g: &DiffusionGenerator, grid: &GridSpec) -> Result<Vec<FeatureCur
         Some(Border::Held { elevation, noise }) => (elevation, noise),
         None => {
             let mut heights = constraints().filter_map(|c| c.elevation.map(|e| e.h));
-            let first = heights.next();
-            let flat = first.is_some() && heights.all(|h| Some(h) == first) && constraints().all(|c| c.slope.is_none());
+            let Some(first) = heights.next() else {
+                // No elevation at all (noise or slopes only, the paper's Fig. 8): the border is
+                // the base level the rest stands on, and leaves the noise to the curves.
+                return Ok(with_ring(g, grid, g.sea_level.unwrap_or(0.0), None));
+            };
+            let flat = heights.all(|h| h == first) && constraints().all(|c| c.slope.is_none());
             if !flat {
                 return Ok(g.curves.clone());
             }
@@ -75,6 +79,12 @@ fn with_border(g: &DiffusionGenerator, grid: &GridSpec) -> Result<Vec<FeatureCur
         };
         return Err(E::at(format!("{GENERATOR}.border"), error));
     }
+    Ok(with_ring(g, grid, elevation, noise))
+}
+
+/// The scene's curves and a closed curve round the domain at `elevation`, with detail-noise
+/// amplitude `noise` (free if `None`).
+fn with_ring(g: &DiffusionGenerator, grid: &GridSpec, elevation: f64, noise: Option<f64>) -> Vec<FeatureCurve> {
     let e = grid.extent();
     let ring = [e.min, DVec2::new(e.max.x, e.min.y), e.max, DVec2::new(e.min.x, e.max.y), e.min];
     let constraint = Constraint {
@@ -85,11 +95,15 @@ fn with_border(g: &DiffusionGenerator, grid: &GridSpec) -> Result<Vec<FeatureCur
     };
     let mut curves = g.curves.clone();
     curves.push(FeatureCurve::polyline(&ring, vec![constraint]));
-    Ok(curves)
+    curves
 }
 
-/// A warning when the detail noise is as tall as the relief the curves give, which hides them.
+/// A warning when the detail noise is as tall as the relief the curves give, which hides them;
+/// none when no curve carries an elevation (then the noise is the terrain, as in Fig. 8).
 fn noise_warning(g: &DiffusionGenerator, smooth: &Heightfield) -> Option<String> {
+    if !g.curves.iter().any(FeatureCurve::has_elevation) {
+        return None;
+    }
     let amplitude =
         g.curves.iter().flat_map(|c| &c.constraints).filter_map(|c| c.noise.map(|n| n.amplitude)).fold(0.0, f64::max);
     let (lo, hi) = smooth.min_max()?;

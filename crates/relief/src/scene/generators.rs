@@ -329,7 +329,9 @@ pub struct DiffusionGenerator {
     pub sea_level: Option<f64>,
     /// What holds the domain's border. Default: free (the paper), unless the curves alone would
     /// make the terrain flat (one elevation, no slope constraint): then the border is held at
-    /// `sea_level` (or 0) with no detail noise, so that a first curve stands out.
+    /// `sea_level` (or 0) with no detail noise, so that a first curve stands out. A scene with no
+    /// elevation at all (noise or slopes only, as the paper's Fig. 8) has its border held at
+    /// `sea_level` (or 0) as the base level, the noise left to the curves.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub border: Option<Border>,
     /// Contours drawn from the result (default 20 evenly spaced levels).
