@@ -182,6 +182,23 @@ fn a_cubic_bezier_is_painted_along_the_curve_not_its_chord() {
     assert_eq!(maps.kind[index(50, 50)], CellKind::Free);
 }
 
+#[test]
+fn noise_parameters_run_linearly_along_a_curve() {
+    let key = |u: f64, amplitude: f64, roughness: f64| Constraint {
+        u,
+        noise: Some(Noise { amplitude, roughness }),
+        ..Constraint::default()
+    };
+    let mut c = curve(&[[0.0, 500.0], [1000.0, 500.0]], 0.0, 0.0, None);
+    c.constraints.extend([key(0.0, 0.0, 1.0), key(1.0, 100.0, 0.0)]);
+    let maps = ConstraintMaps::rasterize(&[c], &grid()).unwrap();
+    for i in [10usize, 25, 60, 90] {
+        let u = i as f32 / 100.0;
+        let (a, r) = (maps.amplitude[index(i, 50)], maps.roughness[index(i, 50)]);
+        assert!((a - 100.0 * u).abs() < 1e-3 && (r - (1.0 - u)).abs() < 1e-5, "u = {u}: A {a}, R {r}");
+    }
+}
+
 /// The terrain of a flat line at 0 along y = 0 carrying noise (A, R) everywhere, and its detail
 /// (terrain minus smooth part).
 fn detail(amplitude: f64, roughness: f64) -> (Vec<f32>, TerrainOptions) {

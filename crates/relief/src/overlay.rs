@@ -105,9 +105,10 @@ pub fn scene_marks(scene: &Scene) -> Vec<Mark> {
             .collect(),
         Generator::Island(g) => island_marks(&g.operations),
         Generator::Diffusion(g) => {
-            let (lo, hi) = g.curves.iter().flat_map(|c| &c.points).fold((DVec2::INFINITY, DVec2::NEG_INFINITY), grow);
+            let curves = g.all_curves();
+            let (lo, hi) = curves.iter().flat_map(|c| &c.points).fold((DVec2::INFINITY, DVec2::NEG_INFINITY), grow);
             let step = ((hi - lo).max_element() / 1000.0).max(f64::MIN_POSITIVE);
-            g.curves.iter().map(|c| Mark::line(Role::Curve, c.centre_line(step), false)).collect()
+            curves.iter().map(|c| Mark::line(Role::Curve, c.centre_line(step), false)).collect()
         }
         Generator::Gaussian(g) => g.operations.iter().flat_map(tool_marks).collect(),
         Generator::Orometry(g) => {

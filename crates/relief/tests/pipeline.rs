@@ -391,6 +391,53 @@ fn diffusion_scenes_run_through_the_same_pipeline() {
 }
 
 #[test]
+fn presets_by_name_are_their_curves() {
+    let generator = |curves: serde_json::Value, presets: serde_json::Value| {
+        let json = serde_json::json!({
+            "version": 1,
+            "domain": { "min": [0, 0], "max": [2000, 2000] },
+            "generator": { "diffusion": { "curves": curves, "presets": presets } },
+            "reconstruction": { "resolution": [96, 96] }
+        });
+        Scene::from_json(&json.to_string())
+    };
+    let named = generator(
+        serde_json::json!([]),
+        serde_json::json!([
+            { "ridge": { "points": [[200, 1000], [1800, 1200]], "start_h": 300, "peak_h": 900, "end_h": 400,
+                         "angle": 25, "extent": 300, "noise": { "amplitude": 20, "roughness": 0.6 } } },
+            { "crack": { "points": [[1000, 200], [1000, 1800]], "angle": 20, "extent": 80 } }
+        ]),
+    )
+    .unwrap();
+    let ridge = relief::diffusion::presets::ridge(
+        &[DVec2::new(200.0, 1000.0), DVec2::new(1800.0, 1200.0)],
+        300.0,
+        900.0,
+        400.0,
+        25.0,
+        300.0,
+    );
+    let crack = relief::diffusion::presets::crack(&[DVec2::new(1000.0, 200.0), DVec2::new(1000.0, 1800.0)], 20.0, 80.0);
+    let curves = vec![relief::diffusion::presets::with_noise(ridge, 20.0, 0.6), crack];
+    let written = generator(serde_json::to_value(curves).unwrap(), serde_json::json!([])).unwrap();
+    let a = generate(&named, &root(), &mut ()).unwrap();
+    let b = generate(&written, &root(), &mut ()).unwrap();
+    assert_eq!(a.heightfield, b.heightfield);
+    // A preset's bad value is an error at the preset.
+    let bad = generator(
+        serde_json::json!([]),
+        serde_json::json!([{ "hill": { "points": [[0, 0], [100, 0]], "h": 10, "extent": -5 } }]),
+    )
+    .unwrap();
+    let err = generate(&bad, &root(), &mut ()).unwrap_err();
+    let path = err.scene_path().unwrap_or_default().to_owned();
+    assert!(path.starts_with("generator.diffusion.presets[0]"), "{path}: {err}");
+    let unknown = generator(serde_json::json!([]), serde_json::json!([{ "volcano": { "points": [[0, 0], [1, 1]] } }]));
+    assert!(unknown.is_err(), "an unknown preset name is refused");
+}
+
+#[test]
 fn scenes_choose_the_papers_fixed_jacobi_budget() {
     let text = std::fs::read_to_string(root().join("fixtures/scenes/mountain-ridges.json")).unwrap();
     let mut scene = Scene::from_json(&text).unwrap();

@@ -17,14 +17,19 @@ const GENERATOR: &str = "generator.diffusion";
 /// catches curves built in code), rasterized and diffused on the scene's grid.
 pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<'_>) -> Result<Generated, ReliefError> {
     let (grid, options) = timer.step("inputs", || -> Result<_, ReliefError> {
-        if g.curves.is_empty() {
-            return Err(E::at(format!("{GENERATOR}.curves"), SceneError::Missing("at least one curve")));
+        if g.curves.is_empty() && g.presets.is_empty() {
+            return Err(E::at(format!("{GENERATOR}.curves"), SceneError::Missing("at least one curve or preset")));
         }
         for (k, c) in g.curves.iter().enumerate() {
             c.validate(k).map_err(|e| E::located(GENERATOR, e))?;
         }
+        for (p, preset) in g.presets.iter().enumerate() {
+            for (k, c) in preset.curves().iter().enumerate() {
+                c.validate(k).map_err(|e| E::located(&format!("{GENERATOR}.presets[{p}]"), e))?;
+            }
+        }
         let extent = scene.domain.unwrap_or_else(|| {
-            let points = bounds(g.curves.iter().flat_map(|c| c.points.iter().copied()));
+            let points = bounds(g.all_curves().iter().flat_map(|c| c.points.iter().copied()));
             default_domain(points, scene.reconstruction.resolution)
         });
         let solve = SolveOptions { solver: g.solver, tolerance: g.tolerance, max_iterations: g.max_iterations };
@@ -36,11 +41,11 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
         };
         Ok((raster_grid(scene, extent)?, options))
     })?;
-    let curves = with_border(g, &grid)?;
+    let curves = with_border(g, g.all_curves(), &grid)?;
     let terrain = timer
         .step("diffusion", || diffusion::generate(&curves, &grid, &options))
         .map_err(|e| E::located(GENERATOR, e))?;
-    let warnings = noise_warning(g, &terrain.smooth).into_iter().collect();
+    let warnings = noise_warning(&curves, &terrain.smooth).into_iter().collect();
     Ok(Generated {
         heightfield: terrain.heightfield,
         sea_level: g.sea_level,
@@ -51,23 +56,27 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
     })
 }
 
-/// The scene's curves, plus a closed curve along the domain's border when it is held (see
+/// The scene's curves (`curves`, presets expanded), plus a closed curve along the domain's border when it is held (see
 /// [`DiffusionGenerator::border`] for the default).
-fn with_border(g: &DiffusionGenerator, grid: &GridSpec) -> Result<Vec<FeatureCurve>, ReliefError> {
-    let constraints = || g.curves.iter().flat_map(|c| c.constraints.iter());
+fn with_border(
+    g: &DiffusionGenerator,
+    curves: Vec<FeatureCurve>,
+    grid: &GridSpec,
+) -> Result<Vec<FeatureCurve>, ReliefError> {
+    let constraints = || curves.iter().flat_map(|c| c.constraints.iter());
     let (elevation, noise) = match g.border {
-        Some(Border::Free) => return Ok(g.curves.clone()),
+        Some(Border::Free) => return Ok(curves),
         Some(Border::Held { elevation, noise }) => (elevation, noise),
         None => {
             let mut heights = constraints().filter_map(|c| c.elevation.map(|e| e.h));
             let Some(first) = heights.next() else {
                 // No elevation at all (noise or slopes only, the paper's Fig. 8): the border is
                 // the base level the rest stands on, and leaves the noise to the curves.
-                return Ok(with_ring(g, grid, g.sea_level.unwrap_or(0.0), None));
+                return Ok(with_ring(curves, grid, g.sea_level.unwrap_or(0.0), None));
             };
             let flat = heights.all(|h| h == first) && constraints().all(|c| c.slope.is_none());
             if !flat {
-                return Ok(g.curves.clone());
+                return Ok(curves);
             }
             (g.sea_level.unwrap_or(0.0), Some(0.0))
         }
@@ -79,12 +88,12 @@ fn with_border(g: &DiffusionGenerator, grid: &GridSpec) -> Result<Vec<FeatureCur
         };
         return Err(E::at(format!("{GENERATOR}.border"), error));
     }
-    Ok(with_ring(g, grid, elevation, noise))
+    Ok(with_ring(curves, grid, elevation, noise))
 }
 
-/// The scene's curves and a closed curve round the domain at `elevation`, with detail-noise
-/// amplitude `noise` (free if `None`).
-fn with_ring(g: &DiffusionGenerator, grid: &GridSpec, elevation: f64, noise: Option<f64>) -> Vec<FeatureCurve> {
+/// `curves` and a closed curve round the domain at `elevation`, with detail-noise amplitude
+/// `noise` (free if `None`).
+fn with_ring(mut curves: Vec<FeatureCurve>, grid: &GridSpec, elevation: f64, noise: Option<f64>) -> Vec<FeatureCurve> {
     let e = grid.extent();
     let ring = [e.min, DVec2::new(e.max.x, e.min.y), e.max, DVec2::new(e.min.x, e.max.y), e.min];
     let constraint = Constraint {
@@ -93,19 +102,18 @@ fn with_ring(g: &DiffusionGenerator, grid: &GridSpec, elevation: f64, noise: Opt
         slope: None,
         noise: noise.map(|amplitude| Noise { amplitude, roughness: 0.5 }),
     };
-    let mut curves = g.curves.clone();
     curves.push(FeatureCurve::polyline(&ring, vec![constraint]));
     curves
 }
 
 /// A warning when the detail noise is as tall as the relief the curves give, which hides them;
 /// none when no curve carries an elevation (then the noise is the terrain, as in Fig. 8).
-fn noise_warning(g: &DiffusionGenerator, smooth: &Heightfield) -> Option<String> {
-    if !g.curves.iter().any(FeatureCurve::has_elevation) {
+fn noise_warning(curves: &[FeatureCurve], smooth: &Heightfield) -> Option<String> {
+    if !curves.iter().any(FeatureCurve::has_elevation) {
         return None;
     }
     let amplitude =
-        g.curves.iter().flat_map(|c| &c.constraints).filter_map(|c| c.noise.map(|n| n.amplitude)).fold(0.0, f64::max);
+        curves.iter().flat_map(|c| &c.constraints).filter_map(|c| c.noise.map(|n| n.amplitude)).fold(0.0, f64::max);
     let (lo, hi) = smooth.min_max()?;
     let relief = f64::from(hi - lo);
     (amplitude > 0.0 && amplitude >= 0.5 * relief).then(|| {

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::HistogramSource;
 use crate::contours::Levels;
+use crate::diffusion::presets::Preset;
 use crate::diffusion::{FeatureCurve, SolveOptions, Solver, TerrainOptions as DiffusionOptions};
 use crate::eden_growth::{FbmProbability, Fronts, Region};
 use crate::gaussian_terrain::{SkeletonOptions, Tool, VectorTerrain};
@@ -304,8 +305,13 @@ fn unit_exponent() -> f64 {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DiffusionGenerator {
-    /// The feature curves (at least one must carry an elevation).
+    /// The feature curves (with `presets`, at least one).
+    #[serde(default)]
     pub curves: Vec<FeatureCurve>,
+    /// Landforms by name (`ridge`, `multiple_ridges`, `riverbed`, `cliff`, `hill`, `crack`), each
+    /// expanded into its curves after `curves`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub presets: Vec<Preset>,
     /// Solver of the diffusion equations (default multigrid).
     #[serde(default)]
     pub solver: Solver,
@@ -337,6 +343,14 @@ pub struct DiffusionGenerator {
     /// Contours drawn from the result (default 20 evenly spaced levels).
     #[serde(default = "raster_levels")]
     pub levels: Levels,
+}
+
+impl DiffusionGenerator {
+    /// The curves, then those of each preset in order: what is diffused (before any border).
+    pub fn all_curves(&self) -> Vec<FeatureCurve> {
+        let presets = self.presets.iter().flat_map(Preset::curves);
+        self.curves.iter().cloned().chain(presets).collect()
+    }
 }
 
 /// The domain's border in a diffusion scene.
