@@ -16,6 +16,22 @@ struct Entry {
     summary: serde_json::Value,
     /// Whether `{name}-dem.png`, the source DEM's preview, was written.
     dem_beside: bool,
+    /// For a feature-curve scene, Table 1's statistics: its curves (presets expanded) and their
+    /// size as compact JSON, in bytes.
+    curves: Option<(usize, usize)>,
+}
+
+/// Table 1 of Hnaidi et al. for a scene: the number of feature curves (a `multiple_ridges` preset
+/// counts one per ridge) and the bytes of the curves and presets written as compact JSON.
+fn curve_statistics(scene: &serde_json::Value) -> Option<(usize, usize)> {
+    let g = scene["generator"]["diffusion"].as_object()?;
+    let empty = Vec::new();
+    let curves = g.get("curves").and_then(|c| c.as_array()).unwrap_or(&empty);
+    let presets = g.get("presets").and_then(|p| p.as_array()).unwrap_or(&empty);
+    let expanded: usize = presets.iter().map(|p| p["multiple_ridges"]["ends"].as_array().map_or(1, Vec::len)).sum();
+    let bytes = serde_json::to_string(curves).ok()?.len()
+        + if presets.is_empty() { 0 } else { serde_json::to_string(presets).ok()?.len() };
+    Some((curves.len() + expanded, bytes))
 }
 
 pub(crate) fn run(root: &Path) -> Result<()> {
@@ -70,6 +86,7 @@ pub(crate) fn run(root: &Path) -> Result<()> {
         }
         let summary: serde_json::Value = serde_json::from_str(&fs::read_to_string(out.join("summary.json"))?)?;
         entries.push(Entry {
+            curves: curve_statistics(&json),
             dem_beside: vectorized.is_some(),
             scene: scene.strip_prefix(root).unwrap_or(scene).display().to_string(),
             description: json["description"].as_str().unwrap_or("").to_owned(),
@@ -96,8 +113,11 @@ fn render(entries: &[Entry]) -> String {
         let total_ms: f64 = s["timings_ms"].as_array().map_or(0.0, |t| t.iter().filter_map(|x| x["ms"].as_f64()).sum());
         let source = if s["diffusion"].is_object() {
             format!(
-                "`relief diffuse {scene}`: {solver} solve in {it} iterations (relative residual {res:.1e}), ",
+                "`relief diffuse {scene}`: {curves} feature curves, {kb:.2} kB as JSON (Table 1's statistics), \
+                 {solver} solve in {it} iterations (relative residual {res:.1e}), ",
                 scene = e.scene,
+                curves = e.curves.map_or(0, |c| c.0),
+                kb = e.curves.map_or(0.0, |c| c.1 as f64 / 1000.0),
                 solver = s["diffusion"]["solver"].as_str().unwrap_or("?"),
                 it = s["diffusion"]["iterations"],
                 res = s["diffusion"]["relative_residual"].as_f64().unwrap_or(f64::NAN),

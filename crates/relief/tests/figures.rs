@@ -1,5 +1,6 @@
 //! Papers' figures as scenes behave as the papers describe: the contours paper's Fig. 27 editing
-//! session step by step and its teaser's label map; Hnaidi et al.'s Fig. 8, noise alone.
+//! session step by step and its teaser's label map; Hnaidi et al.'s Figs. 5–7 (single landforms from
+//! presets) and Fig. 8 (noise alone).
 
 use std::path::{Path, PathBuf};
 
@@ -109,4 +110,29 @@ fn fig_8_noise_alone_follows_its_amplitude_and_roughness() {
     };
     let (smooth, rough) = (fine(band(3200.0, 3700.0)), fine(band(5400.0, 5900.0)));
     assert!(rough > 1.5 * smooth, "fine detail share {smooth:.3} at R = 0, {rough:.3} at R = 1");
+}
+
+#[test]
+fn figs_5_6_7_single_landforms_from_presets() {
+    let run = |name: &str| {
+        let scene = load_scene(scenes().join(format!("{name}.json"))).unwrap();
+        let terrain = generate(&scene, &scenes(), &mut ()).unwrap();
+        assert!(terrain.summary.diffusion.as_ref().unwrap().converged, "{name}");
+        move |x: f64, y: f64| f64::from(terrain.heightfield.sample_bilinear(DVec2::new(x, y)).unwrap())
+    };
+    // Fig. 5: the ridge's crest halfway along, the shared summit of the multiple ridges.
+    let h = run("landforms-ridges");
+    assert!((h(2000.0, 2300.0) - 1200.0).abs() < 60.0 && (h(6000.0, 2000.0) - 1400.0).abs() < 60.0);
+    assert!(h(2000.0, 3300.0) < 900.0 && h(6000.0, 3000.0) < h(6000.0, 2000.0) - 300.0, "flanks fall away");
+    // Fig. 6: the riverbed lies below its banks; the cliff drops on its left (north-east) side.
+    let h = run("landforms-riverbed-cliff");
+    // Halfway along the course's second leg, and 250 m out on either bank.
+    let bed = h(1950.0, 2000.0);
+    assert!(h(2133.0, 2170.0) > bed + 8.0 && h(1767.0, 1830.0) > bed + 8.0, "bed {bed:.0} not below its banks");
+    let (edge, left, right) = (h(6000.0, 2100.0), h(6200.0, 2300.0), h(5800.0, 1900.0));
+    assert!(left < edge - 150.0 && (right - edge).abs() < 60.0, "cliff {left:.0} | {edge:.0} | {right:.0}");
+    // Fig. 7: the hill stays level beside its crest; the crack cuts below its walls.
+    let h = run("landforms-hill-crack");
+    assert!((h(2000.0, 2300.0) - 500.0).abs() < 30.0, "level beside the hill: {}", h(2000.0, 2300.0));
+    assert!(h(6000.0, 2100.0) < h(5880.0, 2220.0) - 40.0, "the crack below its wall");
 }
