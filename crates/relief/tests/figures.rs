@@ -85,6 +85,11 @@ fn fig_8_noise_alone_follows_its_amplitude_and_roughness() {
     let scene = load_scene(scenes().join("noise-control.json")).unwrap();
     let terrain = generate(&scene, &scenes(), &mut ()).unwrap();
     assert!(terrain.summary.diffusion.as_ref().unwrap().converged);
+    assert!(
+        terrain.summary.warnings.is_empty(),
+        "noise alone is no noise hiding relief: {:?}",
+        terrain.summary.warnings
+    );
     let hf = &terrain.heightfield;
     // The samples of the columns between x0 and x1 (metres), row by row.
     let band = |x0: f64, x1: f64| -> Vec<Vec<f64>> {

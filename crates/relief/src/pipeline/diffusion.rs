@@ -45,7 +45,7 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
     let terrain = timer
         .step("diffusion", || diffusion::generate(&curves, &grid, &options))
         .map_err(|e| E::located(GENERATOR, e))?;
-    let warnings = noise_warning(&curves, &terrain.smooth).into_iter().collect();
+    let warnings = noise_warning(&g.all_curves(), &terrain.smooth).into_iter().collect();
     Ok(Generated {
         heightfield: terrain.heightfield,
         sea_level: g.sea_level,
