@@ -128,6 +128,24 @@ fn left_and_right_slopes_follow_theta_and_phi() {
 }
 
 #[test]
+fn free_standing_curves_propagate_inwards() {
+    // A crack has no elevation: its slope bands carry the elevation towards the curve (the normal
+    // points at it) and the step rises by the slope, where an anchored curve's falls away.
+    let crack = FeatureCurve::polyline(
+        &[DVec2::new(-50.0, 500.0), DVec2::new(1050.0, 500.0)],
+        vec![Constraint { u: 0.0, slope: Some(slope(100.0, 100.0, 20.0, 20.0)), ..Constraint::default() }],
+    );
+    let maps = ConstraintMaps::rasterize(&[crack], &grid()).unwrap();
+    for (j, n) in [(55usize, DVec2::NEG_Y), (45, DVec2::Y)] {
+        let k = index(50, j);
+        let want = -expected_step(20.0, 50.0, MIN_R, 100.0, n);
+        let got = f64::from(maps.gradient[k]);
+        assert!((got - want).abs() < 1e-4, "row {j}: step {got:.5}, want {want:.5}");
+        assert_eq!(maps.normal[k], [n.x as f32, n.y as f32], "row {j}: the normal points at the curve");
+    }
+}
+
+#[test]
 fn the_plateau_radius_holds_the_elevation() {
     let plateau = curve(&[[-50.0, 500.0], [1050.0, 500.0]], 300.0, 50.0, Some(slope(100.0, 100.0, 20.0, 20.0)));
     let maps = ConstraintMaps::rasterize(&[plateau], &grid()).unwrap();
@@ -189,25 +207,33 @@ fn noise_parameters_run_linearly_along_a_curve() {
         noise: Some(Noise { amplitude, roughness }),
         ..Constraint::default()
     };
-    let mut c = curve(&[[0.0, 500.0], [1000.0, 500.0]], 0.0, 0.0, None);
+    // A 50 m plateau: the noise band is as wide, the same across it.
+    let mut c = curve(&[[0.0, 500.0], [1000.0, 500.0]], 0.0, 50.0, None);
     c.constraints.extend([key(0.0, 0.0, 1.0), key(1.0, 100.0, 0.0)]);
     let maps = ConstraintMaps::rasterize(&[c], &grid()).unwrap();
     for i in [10usize, 25, 60, 90] {
         let u = i as f32 / 100.0;
-        let (a, r) = (maps.amplitude[index(i, 50)], maps.roughness[index(i, 50)]);
-        assert!((a - 100.0 * u).abs() < 1e-3 && (r - (1.0 - u)).abs() < 1e-5, "u = {u}: A {a}, R {r}");
+        for j in [46, 50, 53] {
+            let (a, r) = (maps.amplitude[index(i, j)], maps.roughness[index(i, j)]);
+            assert!((a - 100.0 * u).abs() < 1e-3 && (r - (1.0 - u)).abs() < 1e-5, "u = {u}, row {j}: A {a}, R {r}");
+        }
     }
 }
 
 /// The terrain of a flat line at 0 along y = 0 carrying noise (A, R) everywhere, and its detail
 /// (terrain minus smooth part).
 fn detail(amplitude: f64, roughness: f64) -> (Vec<f32>, TerrainOptions) {
+    detail_at(amplitude, roughness, 250.0)
+}
+
+/// [`detail`] with the first octave's `wavelength`.
+fn detail_at(amplitude: f64, roughness: f64, wavelength: f64) -> (Vec<f32>, TerrainOptions) {
     let noise = Some(Noise { amplitude, roughness });
     let c = FeatureCurve::polyline(
         &[DVec2::new(-50.0, 0.0), DVec2::new(1050.0, 0.0)],
         vec![Constraint { u: 0.0, elevation: Some(Elevation { h: 0.0, r: 0.0 }), noise, ..Constraint::default() }],
     );
-    let options = TerrainOptions { noise_wavelength: 250.0, seed: 3, ..TerrainOptions::default() };
+    let options = TerrainOptions { noise_wavelength: wavelength, seed: 3, ..TerrainOptions::default() };
     let t = generate(&[c], &grid(), &options).unwrap();
     let d = t.heightfield.samples().iter().zip(t.smooth.samples()).map(|(a, b)| a - b).collect();
     (d, options)
@@ -216,7 +242,15 @@ fn detail(amplitude: f64, roughness: f64) -> (Vec<f32>, TerrainOptions) {
 #[test]
 fn detail_is_the_papers_multifractal_sum() {
     let (a, r) = (40.0, 0.3);
-    let (d, options) = detail(a, r);
+    // 250 m: every octave's gradients come from a precomputed lattice; 5 m (finer than the
+    // grid): they are hashed per sample.
+    for wavelength in [250.0, 5.0] {
+        check_multifractal(a, r, wavelength);
+    }
+}
+
+fn check_multifractal(a: f64, r: f64, wavelength: f64) {
+    let (d, options) = detail_at(a, r, wavelength);
     let g = grid();
     for (i, j) in [(3, 7), (50, 50), (77, 12), (99, 100)] {
         let q = g.position(i, j) / options.noise_wavelength;
