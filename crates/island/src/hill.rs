@@ -136,3 +136,60 @@ impl Shape {
         Some((self.center.x + (-b - r) / a, self.center.x + (-b + r) / a))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The point at `(x, y)` in the hill's own frame (its `a` axis rotated by `rotation`).
+    fn local(h: &Hill, x: f64, y: f64) -> DVec2 {
+        let (s, c) = h.rotation.to_radians().sin_cos();
+        DVec2::from(h.center) + DVec2::new(c * x - s * y, s * x + c * y)
+    }
+
+    #[test]
+    fn a_hill_is_the_elliptic_paraboloid_in_its_rotated_frame() {
+        let h = Hill { center: [300.0, -50.0], radii: [100.0, 50.0], rotation: 30.0, height: 40.0 };
+        // z = h·(1 − x²/a² − y²/b²): 40·(1 − 0.36 − 0.16) = 19.2 at (60, 20).
+        for (x, y, z) in
+            [(0.0, 0.0, 40.0), (60.0, 20.0, 19.2), (-60.0, -20.0, 19.2), (0.0, 25.0, 30.0), (80.0, 0.0, 14.4)]
+        {
+            let got = h.at(local(&h, x, y));
+            assert!((got - z).abs() < 1e-9, "({x}, {y}): {got}, want {z}");
+        }
+        // The rotation matters: the same offsets unrotated fall elsewhere on the surface.
+        let unrotated = DVec2::from(h.center) + DVec2::new(60.0, 20.0);
+        assert!((h.at(unrotated) - 19.2).abs() > 1.0);
+        // Zero on and beyond the ellipse, along either axis.
+        for (x, y) in [(100.0, 0.0), (0.0, 50.0), (0.0, 51.0), (101.0, 0.0), (75.0, 40.0)] {
+            assert_eq!(h.at(local(&h, x, y)), 0.0, "({x}, {y})");
+        }
+        // A negative height is the same cup upside down (a lake, a crater).
+        let hollow = Hill { height: -40.0, ..h };
+        assert!((hollow.at(local(&h, 60.0, 20.0)) + 19.2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn rows_and_bounds_agree_with_single_points() {
+        let h = Hill { center: [10.0, 20.0], radii: [80.0, 30.0], rotation: 65.0, height: 12.0 };
+        let shape = Shape::new(&h);
+        let (lo, hi) = h.bounds();
+        // The bounds touch the ellipse: its extreme points along x and y.
+        let extreme = (0..3600)
+            .map(|k| {
+                local(
+                    &h,
+                    80.0 * (f64::from(k) * 0.1f64).to_radians().cos(),
+                    30.0 * (f64::from(k) * 0.1f64).to_radians().sin(),
+                )
+            })
+            .fold((DVec2::INFINITY, DVec2::NEG_INFINITY), |(a, b), p| (a.min(p), b.max(p)));
+        assert!((extreme.0 - lo).abs().max_element() < 1e-3 && (extreme.1 - hi).abs().max_element() < 1e-3);
+        let mut row = vec![0.0; 40];
+        shape.add_row(-60.0, 3.0, 25.0, 0, &mut row);
+        for (k, v) in row.iter().enumerate() {
+            let p = DVec2::new(-60.0 + 3.0 * k as f64, 25.0);
+            assert!((v - h.at(p)).abs() < 1e-9, "sample {k}");
+        }
+    }
+}

@@ -43,11 +43,39 @@ pub struct IslandSettings {
     /// Perturbation heights as fractions of their radius, up or down at random (default
     /// [0.02, 0.08]: wider than tall, as §3.4 wants).
     pub filter_height: [f64; 2],
+    /// The new heights `H_n` a coastline edit blends in (default [`NewHeights::Cone`]).
+    pub new_heights: NewHeights,
+}
+
+/// The new heights `H_n` of §3.2, which `H = H_o·(1 − W) + H_n·W` blends in after a coastline
+/// edit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum NewHeights {
+    /// A cone over the whole coastline: `height ×` the distance to the nearest coast, new or
+    /// unchanged, over its largest value on land. Zero at every shore, so the unchanged coast
+    /// stays at sea level. The default, because it looks better: see [`NewHeights::Paper`].
+    #[default]
+    Cone,
+    /// The paper's rule: `H_n = height × D_n`, proportional to the scaled distance to the new
+    /// pieces of coast. On an unchanged shore far from the edit `D_o = 0` and `D_n ≈ 1`, so
+    /// `W = ½ + ½·tanh(−1) ≈ 0.12` and `H ≈ 0.12 × height`: the old coastline rises into a low
+    /// cliff (13.5 % of the height on average along a circle's shore opposite a straight cut;
+    /// the cone leaves 1 % there, what the land floor and the blend keep).
+    Paper,
 }
 
 impl Default for IslandSettings {
     fn default() -> Self {
-        Self { height: 100.0, snap: None, land_floor: 0.1, filter_radius: [0.03, 0.1], filter_height: [0.02, 0.08] }
+        Self {
+            height: 100.0,
+            snap: None,
+            land_floor: 0.1,
+            filter_radius: [0.03, 0.1],
+            filter_height: [0.02, 0.08],
+            new_heights: NewHeights::Cone,
+        }
     }
 }
 
@@ -311,10 +339,10 @@ impl Island {
 
     /// §3.2: `H = H_o·(1 − W) + H_n·W` with `W = ½ + ½·tanh(D_o² − D_n)`, where `D_o` and `D_n`
     /// are the distances to the unchanged and to the new pieces of the coastline, each scaled to
-    /// [0, 1] over the land. `H_n` is the height a fresh island with this coastline would have:
-    /// `height ×` distance to the coast / its largest value (a cone; the paper says only
-    /// "proportional"). Next to a cut W ≥ ½, so the new coast keeps up to half the old height:
-    /// cuts leave cliffs, as in the paper's figures. Sea samples get 0. Returns false when no sample is on land (and changes
+    /// [0, 1] over the land. `H_n` follows [`IslandSettings::new_heights`]: by default the height
+    /// a fresh island with this coastline would have (`height ×` distance to the coast / its
+    /// largest value, a cone), or the paper's `height × D_n`. Next to a cut W ≥ ½, so the new
+    /// coast keeps up to half the old height: cuts leave cliffs, as in the paper's figures. Sea samples get 0. Returns false when no sample is on land (and changes
     /// nothing then).
     fn update_heights(&mut self) -> bool {
         let land = self.mask();
@@ -352,7 +380,12 @@ impl Island {
                 // Land lies inside the window.
                 let k = (j - j0) * w + (i - i0);
                 let (dn, dold) = (f64::from(d_new[k]), f64::from(d_old[k]));
-                let hn = scale * dn.min(dold);
+                let hn = match self.settings.new_heights {
+                    NewHeights::Cone => scale * dn.min(dold),
+                    // With no new piece W is 0 and H_n unused.
+                    NewHeights::Paper if dn.is_finite() => self.settings.height * dn * to_new,
+                    NewHeights::Paper => 0.0,
+                };
                 let wt = if dold.is_finite() {
                     let (dn, dold) = (dn * to_new, dold * to_old);
                     // ½ + ½·tanh(x) = 1 / (1 + e^(−2x)): one exponential instead of a tanh.
@@ -1028,6 +1061,146 @@ mod tests {
     use relief_heightfield::{Extent, GridSpec};
 
     use super::*;
+
+    /// An island cut by a vertical stroke at x = 350, and what the blend of §3.2 saw.
+    struct Cut {
+        island: Island,
+        /// Base heights before the cut.
+        before: Vec<f32>,
+        /// Per sample, on land, the distances to the new and to the unchanged coast.
+        distances: Vec<Option<(f64, f64)>>,
+        /// Their largest values over the land.
+        largest: (f64, f64),
+    }
+
+    fn cut(rule: NewHeights) -> Cut {
+        let grid = GridSpec::from_extent(257, 257, Extent::new(DVec2::ZERO, DVec2::splat(1000.0))).unwrap();
+        let settings = IslandSettings { new_heights: rule, ..IslandSettings::default() };
+        let mut island = Island::new(grid, settings, 1).unwrap();
+        let before = island.heights.clone();
+        island.stroke(&[DVec2::new(350.0, -10.0), DVec2::new(350.0, 1010.0)]).unwrap();
+        let land = island.mask();
+        let window = island.coast_window();
+        let (d_new, d_old) = (island.distance_to(true, window, &land), island.distance_to(false, window, &land));
+        let finite = |v: &f32| if v.is_finite() { f64::from(*v) } else { 0.0 };
+        let (m_new, m_old) = (
+            d_new
+                .iter()
+                .zip(&land_in(&land, window, 257))
+                .filter(|(_, l)| **l)
+                .map(|(v, _)| finite(v))
+                .fold(0.0, f64::max),
+            d_old
+                .iter()
+                .zip(&land_in(&land, window, 257))
+                .filter(|(_, l)| **l)
+                .map(|(v, _)| finite(v))
+                .fold(0.0, f64::max),
+        );
+        let w = window.1 - window.0 + 1;
+        let scaled = (0..257 * 257)
+            .map(|k| {
+                let (i, j) = (k % 257, k / 257);
+                land[k].then(|| {
+                    let c = (j - window.2) * w + (i - window.0);
+                    (f64::from(d_new[c]), f64::from(d_old[c]))
+                })
+            })
+            .collect();
+        Cut { island, before, distances: scaled, largest: (m_new, m_old) }
+    }
+
+    /// `land` cut to `window`, row-major in it.
+    fn land_in(land: &[bool], (i0, i1, j0, j1): (usize, usize, usize, usize), nx: usize) -> Vec<bool> {
+        (j0..=j1).flat_map(|j| (i0..=i1).map(move |i| land[j * nx + i])).collect()
+    }
+
+    #[test]
+    fn a_coastline_edit_blends_by_the_papers_tanh() {
+        for rule in [NewHeights::Cone, NewHeights::Paper] {
+            let Cut { island, before, distances, largest: (m_new, m_old) } = cut(rule);
+            let height = island.settings.height;
+            // The cone's H_n: a fresh island's heights over the whole coast.
+            let cone_max = distances.iter().flatten().map(|&(a, b)| a.min(b)).fold(0.0, f64::max);
+            let (mut worst, mut linear_off, mut n) = (0.0f64, 0.0f64, 0);
+            for (k, d) in distances.iter().enumerate() {
+                let Some((to_new, to_old)) = *d else { continue };
+                let (dn, dold) = (to_new / m_new, to_old / m_old);
+                let hn = match rule {
+                    NewHeights::Cone => height * to_new.min(to_old) / cone_max,
+                    NewHeights::Paper => height * dn,
+                };
+                let ho = f64::from(before[k]);
+                let w = 0.5 + 0.5 * (dold * dold - dn).tanh();
+                let h = ho * (1.0 - w) + hn * w;
+                worst = worst.max((f64::from(island.heights[k]) - h).abs());
+                let linear = (0.5 + 0.5 * (dold * dold - dn)).clamp(0.0, 1.0);
+                linear_off = linear_off.max((ho * (1.0 - linear) + hn * linear - h).abs());
+                n += 1;
+            }
+            assert!(n > 20_000);
+            assert!(
+                worst < 1e-3 * height,
+                "{rule:?}: {worst} m from H = H_o(1 − W) + H_n·W, W = ½ + ½·tanh(D_o² − D_n)"
+            );
+            assert!(linear_off > 0.05 * height, "{rule:?}: a linear W would be at most {linear_off} m off");
+        }
+    }
+
+    #[test]
+    fn the_papers_new_heights_lift_the_unchanged_shore() {
+        // Land within two cells of the unchanged eastern shore, far from the cut.
+        let shore = |rule| {
+            let Cut { island, distances: scaled, .. } = cut(rule);
+            let g = island.grid;
+            let heights: Vec<f64> = (0..g.len())
+                .filter(|&k| {
+                    let p = g.position(k % g.nx(), k / g.nx());
+                    scaled[k].is_some() && p.x > 750.0 && (p.distance(DVec2::splat(500.0)) - 400.0).abs() < 8.0
+                })
+                .map(|k| f64::from(island.heights[k]))
+                .collect();
+            assert!(heights.len() > 50);
+            heights.iter().sum::<f64>() / heights.len() as f64 / island.settings.height
+        };
+        let (cone, paper) = (shore(NewHeights::Cone), shore(NewHeights::Paper));
+        assert!(cone < 0.03, "the cone keeps the shore at sea level: {cone:.3} of the height");
+        assert!(paper > 0.08 && paper < 0.18, "H_n ∝ D_n lifts it by about 13 %: {paper:.3} of the height");
+    }
+
+    #[test]
+    fn filters_follow_section_3_4() {
+        let grid = GridSpec::from_extent(129, 129, Extent::new(DVec2::ZERO, DVec2::splat(1000.0))).unwrap();
+        let mut island = Island::new(grid, IslandSettings::default(), 7).unwrap();
+        let area = island.area();
+        // The count is proportional to the island's area: coverage × area / the mean
+        // perturbation area, whose radii scale with the island's equivalent radius.
+        let r_eq = (area / std::f64::consts::PI).sqrt();
+        let mean = |[lo, hi]: [f64; 2]| 0.5 * (lo + hi);
+        let mean_area = std::f64::consts::PI * (mean(island.settings.filter_radius) * r_eq).powi(2);
+        let added = island.add_filters(3.0).unwrap();
+        assert_eq!(added as f64, (3.0 * area / mean_area).round(), "count = coverage × area / mean perturbation area");
+        let filters = island.filters().to_vec();
+        let (up, down) =
+            (filters.iter().filter(|f| f.height > 0.0).count(), filters.iter().filter(|f| f.height < 0.0).count());
+        assert!(up > added / 3 && down > added / 3, "bumps and dents at random: {up} up, {down} down");
+        for f in &filters {
+            let [a, b] = f.radii;
+            assert!(a >= b && b >= 0.5 * a, "radii {a}, {b}");
+            assert!(f.height.abs() < b, "wider than tall: radius {b}, height {}", f.height);
+            assert!((0.03 * r_eq..=0.1 * r_eq).contains(&a), "radius {a} outside [0.03, 0.1] × {r_eq}");
+            assert!(ring_contains(&island.coast.points, DVec2::from(f.center)), "centre {:?} at sea", f.center);
+        }
+        // A second batch differs from the first (a new stream); removing it leaves the first.
+        let first = island.terrain().to_vec();
+        let more = island.add_filters(1.0).unwrap();
+        assert!(more > 0 && island.filters()[added..] != filters[..more], "a new batch draws new perturbations");
+        assert_eq!(island.remove_filters(more), more);
+        assert_eq!(island.filters(), &filters[..]);
+        assert_eq!(island.terrain(), &first[..]);
+        assert_eq!(island.remove_filters(usize::MAX), added, "removing more than there are removes all");
+        assert!(island.filters().is_empty());
+    }
 
     /// Regression: an edit's window used to start a paraboloid's row walk at the window's edge
     /// instead of the span's first sample, so sums over a clipped span differed from a rebuild's
