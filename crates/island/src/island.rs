@@ -35,7 +35,8 @@ pub struct IslandSettings {
     /// drawn coastline's ends must be to count as closed, world units (default: 2 % of the
     /// domain's shorter side).
     pub snap: Option<f64>,
-    /// Land never goes below this height, so only the coastline is at sea level (default 0.1).
+    /// Land never goes below this height, so only the coastline is at sea level, except in the
+    /// hollows of negative hills (lakes and craters may go under it, §3.3; default 0.1).
     pub land_floor: f64,
     /// Perturbation radii as fractions of the island's equivalent radius `√(area / π)`
     /// (default [0.03, 0.1]).
@@ -266,7 +267,8 @@ impl Island {
         &self.heights
     }
 
-    /// The final grid: heights + hills + filters on land (at least `land_floor`), exactly 0 at sea.
+    /// The final grid: heights + hills + filters on land (at least `land_floor`, except in the
+    /// hollows of negative hills), exactly 0 at sea.
     pub fn terrain(&self) -> &[f32] {
         &self.terrain
     }
@@ -617,7 +619,8 @@ impl Island {
     /// - every hill and perturbation is valid ([`Hill::validate`]);
     /// - the land mask is the coastline's scanline fill: O(rows × coast edges);
     /// - sea samples are exactly +0 in the heights and the terrain; land samples are finite and at
-    ///   least `land_floor` (rounded to f32, as the terrain stores it); the hills and filters grids
+    ///   least `land_floor` (rounded to f32, as the terrain stores it) unless the hills sum below
+    ///   zero there (a hollow: lakes and craters may go under the floor); the hills and filters grids
     ///   are finite and the terrain is their sum with the heights: O(samples).
     ///
     /// Not checked here, because it costs a full rebuild: that incremental edits equal
@@ -667,15 +670,15 @@ impl Island {
         self.check_samples()
     }
 
-    /// Sea samples exactly +0, land samples finite and at least the land floor, layers finite,
-    /// and the terrain the sum of the layers the grids hold.
+    /// Sea samples exactly +0, land samples finite and at least the land floor (unless a hollow
+    /// digs there), layers finite, and the terrain the sum of the layers the grids hold.
     fn check_samples(&self) -> Result<(), IslandError> {
         let land_floor = self.settings.land_floor;
         let floor = land_floor as f32;
         for k in 0..self.grid.len() {
             let (h, z, a, b) = (self.heights[k], self.terrain[k], self.hills_grid[k], self.filters_grid[k]);
             let sample_ok = if self.land[k] {
-                h.is_finite() && z.is_finite() && z >= floor
+                h.is_finite() && z.is_finite() && (z >= floor || a < 0.0)
             } else {
                 h.to_bits() == 0 && z.to_bits() == 0
             };
@@ -954,11 +957,14 @@ fn measure_land(coarse: &Coarse, label: &[u32], edges: &EdgeDistance, land: &[bo
 }
 
 /// The final grid's value at a sample: heights + hills + filters on land, at least `land_floor`,
-/// exactly +0 at sea.
+/// exactly +0 at sea. Where the hills sum below zero (a hollow the user placed: a valley, lake or
+/// crater, §3.3) the floor holds the ground under the hollow and the hollow is dug below it, so a
+/// lake can go under sea level and hold water; nothing else takes land below the floor.
 #[inline]
 fn terrain_sample(on_land: bool, height: f32, hills: f64, filters: f64, land_floor: f64) -> f32 {
-    let z = (f64::from(height) + hills + filters).max(land_floor) as f32;
-    if on_land { z } else { 0.0 }
+    let ground = f64::from(height) + filters;
+    let z = if hills >= 0.0 { (ground + hills).max(land_floor) } else { ground.max(land_floor) + hills };
+    if on_land { z as f32 } else { 0.0 }
 }
 
 /// "land" or "sea", for messages.

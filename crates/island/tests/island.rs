@@ -27,15 +27,18 @@ fn at(island: &Island, p: [f64; 2]) -> (bool, f32) {
 }
 
 /// The island's own invariants ([`Island::check_invariants`]), then sea exactly +0 and land
-/// above 0 as this suite states them.
+/// above 0 (but in the hollows of negative hills: lakes and craters) as this suite states them.
 #[track_caller]
 fn check_island(island: &Island) {
     if let Err(e) = island.check_invariants() {
         panic!("{e}");
     }
+    let g = *island.grid();
     for (k, (&land, &h)) in island.land().iter().zip(island.terrain()).enumerate() {
         if land {
-            assert!(h > 0.0, "land sample {k} at {h}");
+            let p = g.position(k % g.nx(), k / g.nx());
+            let hollow: f64 = island.hills().iter().map(|hill| hill.at(p)).sum();
+            assert!(h > 0.0 || hollow < 0.0, "land sample {k} at {h}");
         } else {
             assert!(h == 0.0 && h.is_sign_positive(), "sea sample {k} at {h}");
         }
@@ -123,6 +126,23 @@ fn heights_by_unchanged_coast_stay_and_a_cut_keeps_at_most_half() {
         }
     }
     assert!(checked > 50);
+}
+
+#[test]
+fn a_hollow_below_sea_level_holds_a_lake() {
+    // §3.3: paraboloids opening upwards make valleys, lakes and craters. A hollow 60 m deep in
+    // ground about 40 m high goes under the sea: a lake, where the land floor used to flatten it
+    // to 0.1 m.
+    let mut i = island(257);
+    let center = DVec2::new(500.0, 500.0);
+    let ground = f64::from(at(&i, [500.0, 500.0]).1);
+    i.add_hill(Hill::round(center, 120.0, -(ground + 20.0))).unwrap();
+    check_island(&i);
+    let (land, bottom) = at(&i, [500.0, 500.0]);
+    assert!(land && (f64::from(bottom) + 20.0).abs() < 0.5, "the lake bottom at {bottom}, want −20");
+    // Its shore, where the hollow has not yet reached the sea, stays on the ground.
+    let (_, rim) = at(&i, [500.0 + 119.0, 500.0]);
+    assert!(rim > 1.0, "rim {rim}");
 }
 
 #[test]
