@@ -1,6 +1,6 @@
 //! Papers' figures as scenes behave as the papers describe: the contours paper's Fig. 27 editing
 //! session step by step and its teaser's label map; Hnaidi et al.'s Figs. 5–7 (single landforms from
-//! presets) and Fig. 8 (noise alone).
+//! presets) and Fig. 8 (noise alone); Puig-Centelles et al.'s Fig. 10 (a coastline traced from a map).
 
 use std::path::{Path, PathBuf};
 
@@ -140,4 +140,72 @@ fn figs_5_6_7_single_landforms_from_presets() {
     let h = run("landforms-hill-crack");
     assert!((h(2000.0, 2300.0) - 500.0).abs() < 30.0, "level beside the hill: {}", h(2000.0, 2300.0));
     assert!(h(6000.0, 2100.0) < h(5880.0, 2220.0) - 40.0, "the crack below its wall");
+}
+
+/// The island-from-image scene with its `coastline_image` changed by `edit`, run.
+fn island_from_image(
+    edit: impl FnOnce(&mut relief::scene::CoastlineImage),
+) -> Result<relief::Terrain, relief::ReliefError> {
+    let mut scene = load_scene(scenes().join("island-from-image.json")).unwrap();
+    let Generator::Island(g) = &mut scene.generator else { panic!("an island scene") };
+    edit(g.coastline_image.as_mut().unwrap());
+    generate(&scene, &scenes(), &mut ())
+}
+
+#[test]
+fn island_fig_10_a_coastline_traced_from_a_map() {
+    // The authors' La Réunion mask: light land on a dark sea, 500 × 500 pixels over 60 km.
+    let terrain = island_from_image(|_| {}).unwrap();
+    let hf = &terrain.heightfield;
+    let land = |p: [f64; 2]| hf.sample_bilinear(DVec2::from(p)).unwrap() > 0.0;
+    assert!(land([30000.0, 30000.0]) && !land([1000.0, 1000.0]) && !land([59000.0, 59000.0]));
+    // The land covers what the mask's light pixels cover, in the same place: the image's rows
+    // run from north to south, the grid's from south to north.
+    let mask = image::open(scenes().join("inputs/reunion.png")).unwrap().into_luma16();
+    let (w, h) = mask.dimensions();
+    let (mut both, mut either) = (0usize, 0usize);
+    for j in 0..hf.ny() {
+        for i in 0..hf.nx() {
+            let p = hf.grid().position(i, j);
+            let (px, py) =
+                ((p.x / 60000.0 * f64::from(w - 1)).round() as u32, (p.y / 60000.0 * f64::from(h - 1)).round() as u32);
+            let light = mask.get_pixel(px, h - 1 - py)[0] > 32767;
+            let on_land = hf.get(i, j).unwrap() > 0.0;
+            both += usize::from(light && on_land);
+            either += usize::from(light || on_land);
+        }
+    }
+    let overlap = both as f64 / either as f64;
+    assert!(overlap > 0.97, "land and the mask's light pixels overlap by {overlap:.3}");
+    // The crater hollow dips below sea level: a lake, not ground flattened at the land floor.
+    let lake = hf.sample_bilinear(DVec2::new(40000.0, 21000.0)).unwrap();
+    assert!(lake < 0.0, "crater lake bottom at {lake}");
+}
+
+#[test]
+fn island_coastline_images_say_what_is_wrong() {
+    // A threshold outside the image's gray levels: an error at the scene value, not an empty island.
+    let err = island_from_image(|c| c.threshold = Some(2.0)).unwrap_err();
+    assert_eq!(err.scene_path(), Some("generator.island.coastline_image"), "{err}");
+    // A dark island drawn on white paper, as a paint program leaves it (a soft, anti-aliased
+    // edge): a disc of radius 100 pixels in a 400-pixel square over the scene's 60 km.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("disc.png");
+    let disc = image::GrayImage::from_fn(400, 400, |x, y| {
+        let r = (f64::from(x) - 199.5).hypot(f64::from(y) - 199.5);
+        image::Luma([((r - 99.5).clamp(0.0, 1.0) * 255.0) as u8])
+    });
+    disc.save(&path).unwrap();
+    let dark = island_from_image(|c| {
+        c.path = path.clone();
+        c.land = relief::scene::LandTone::Dark;
+    })
+    .unwrap();
+    let cell = 60000.0 / 255.0;
+    // Sea is exactly 0; land is not (a crater lake dips below it).
+    let area = dark.heightfield.samples().iter().filter(|&&v| v != 0.0).count() as f64 * cell * cell;
+    let want = std::f64::consts::PI * (100.0 * 60000.0 / 399.0f64).powi(2);
+    assert!((area / want - 1.0).abs() < 0.03, "a {area:.3e} m² island, the disc is {want:.3e} m²");
+    let err = island_from_image(|c| c.path = "inputs/no-such-map.png".into()).unwrap_err();
+    assert_eq!(err.scene_path(), Some("generator.island.coastline_image.path"), "{err}");
 }

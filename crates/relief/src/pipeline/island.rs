@@ -2,21 +2,29 @@
 
 use glam::DVec2;
 
-use super::inputs::raster_grid;
+use super::inputs::{Env, raster_grid};
 use super::progress::Timer;
 use super::summary::IslandSummary;
 use super::{Generated, Report};
-use crate::heightfield::Extent;
+use crate::contours::extract_dem;
+use crate::error::SceneError;
+use crate::heightfield::{Extent, GridSpec, Heightfield};
 use crate::island::{EditKind, Hill, Island, IslandError, Operation};
-use crate::scene::{IslandGenerator, Scene};
+use crate::scene::{CoastlineImage, IslandGenerator, LandTone, Scene};
 use crate::{ReliefError, ReliefError as E};
 
 const GENERATOR: &str = "generator.island";
 
 /// The island generator's run. Sea is exactly 0 and land at least `land_floor`, so half the floor
 /// is the sea level.
-pub(super) fn generate(scene: &Scene, g: &IslandGenerator, timer: &mut Timer<'_>) -> Result<Generated, ReliefError> {
+pub(super) fn generate(
+    scene: &Scene,
+    g: &IslandGenerator,
+    env: &Env<'_>,
+    timer: &mut Timer<'_>,
+) -> Result<Generated, ReliefError> {
     let extent = scene.domain.unwrap_or_else(|| Extent::new(DVec2::ZERO, DVec2::splat(1000.0)));
+    let traced = g.coastline_image.as_ref().map(|image| traced_coastline(image, extent, env)).transpose()?;
     let grid = raster_grid(scene, extent)?;
     // The grid is the scene's resolution: the one error not about the generator's own values.
     let fail = |e: IslandError| match e {
@@ -25,6 +33,9 @@ pub(super) fn generate(scene: &Scene, g: &IslandGenerator, timer: &mut Timer<'_>
     };
     let (island, mut warnings) = timer.counted("island", g.operations.len() as u64, |tick| {
         let mut island = Island::new(grid, g.settings, scene.seed).map_err(fail)?;
+        if let Some(points) = &traced {
+            island.set_coastline(points).map_err(|e| E::at(format!("{GENERATOR}.coastline_image"), e))?;
+        }
         let mut warnings = Vec::new();
         for (index, op) in g.operations.iter().enumerate() {
             let before = island.area();
@@ -50,6 +61,59 @@ pub(super) fn generate(scene: &Scene, g: &IslandGenerator, timer: &mut Timer<'_>
     });
     let sea_level = Some(0.5 * g.settings.land_floor);
     Ok(Generated { heightfield: island.heightfield(), sea_level, contours: None, report, warnings, vector: None })
+}
+
+/// The outline of the largest piece of land in `spec`'s image, counter-clockwise and closed (its
+/// first point repeated), traced by marching squares at the threshold gray level: the image's
+/// pixel centres span `spec.extent` (or the scene's domain). The image is framed by a pixel of
+/// sea, so land running off its edge (a cropped map) ends in a straight coast half a pixel
+/// beyond it. Errors name `generator.island.coastline_image`: an unreadable image, a flat one,
+/// no land.
+fn traced_coastline(spec: &CoastlineImage, domain: Extent, env: &Env<'_>) -> Result<Vec<DVec2>, ReliefError> {
+    let at = format!("{GENERATOR}.coastline_image");
+    let bad = |rule: &'static str, value: String| E::at(at.clone(), SceneError::OutOfRange { value, rule });
+    let image = env.read_gray(&spec.path).map_err(|e| E::at(format!("{at}.path"), e))?;
+    let grid = GridSpec::from_extent(image.nx(), image.ny(), spec.extent.unwrap_or(domain))
+        .map_err(|e| E::at(format!("{at}.extent"), e))?;
+    let gray = Heightfield::from_samples(grid, image.into_samples()).map_err(|e| E::at(format!("{at}.path"), e))?;
+    let (lo, hi) = gray.min_max().ok_or_else(|| bad("an image with pixels", "no pixel".into()))?;
+    let (lo, hi) = (f64::from(lo), f64::from(hi));
+    let threshold = spec.threshold.unwrap_or(0.5 * (lo + hi));
+    if !(threshold > lo && threshold < hi) {
+        let value = format!("threshold {threshold} for gray levels {lo} to {hi}");
+        return Err(bad("a threshold strictly between the image's darkest and lightest pixels", value));
+    }
+    // Light land: its outlines run counter-clockwise (higher inside); dark land: clockwise.
+    let light = spec.land == LandTone::Light;
+    let sign = if light { 1.0 } else { -1.0 };
+    let framed = framed(&gray, if light { lo } else { hi } as f32).map_err(|e| E::at(at.clone(), e))?;
+    let set = extract_dem(&framed, &[threshold]).map_err(|e| E::at(at.clone(), e))?;
+    let outline = set
+        .contours()
+        .iter()
+        .filter(|c| c.closed && sign * c.signed_area() > 0.0)
+        .max_by(|a, b| a.signed_area().abs().total_cmp(&b.signed_area().abs()));
+    let Some(outline) = outline else {
+        return Err(bad("an image with land in it", format!("no pixel on the land side of {threshold}")));
+    };
+    let mut points = outline.points.clone();
+    if sign < 0.0 {
+        points.reverse();
+    }
+    points.push(points[0]);
+    Ok(points)
+}
+
+/// `hf` with a one-sample frame of `sea` around it (the grid grown by a cell on every side).
+fn framed(hf: &Heightfield, sea: f32) -> Result<Heightfield, crate::heightfield::HeightfieldError> {
+    let (nx, ny) = (hf.nx(), hf.ny());
+    let cell = hf.grid().cell_size();
+    let grid = GridSpec::new(nx + 2, ny + 2, hf.grid().origin() - cell, cell)?;
+    let mut samples = vec![sea; (nx + 2) * (ny + 2)];
+    for (j, row) in hf.samples().chunks(nx).enumerate() {
+        samples[(j + 1) * (nx + 2) + 1..(j + 1) * (nx + 2) + 1 + nx].copy_from_slice(row);
+    }
+    Heightfield::from_samples(grid, samples)
 }
 
 /// A stroke that left less than half the land: most likely drawn the other way round from what

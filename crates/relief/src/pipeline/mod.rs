@@ -151,7 +151,7 @@ pub fn generate_with(
     let generated = match &scene.generator {
         Generator::Contours(g) => contours::generate(scene, g, env, &mut timer),
         Generator::Diffusion(g) => diffusion::generate(scene, g, &mut timer),
-        Generator::Island(g) => island::generate(scene, g, &mut timer),
+        Generator::Island(g) => island::generate(scene, g, env, &mut timer),
         Generator::Gaussian(g) => gaussian::generate(scene, g, env, &mut timer),
         Generator::Orometry(g) => orometry::generate(scene, g, env, &mut timer),
     }?;

@@ -385,13 +385,49 @@ pub struct IslandGenerator {
     /// Island height, snap distance, land floor and perturbation sizes.
     #[serde(default)]
     pub settings: IslandSettings,
+    /// The start coastline traced from an image (a map or a paint-program mask used as a guide,
+    /// the paper's §4.3 and Fig. 10) instead of the circle: the first operation of the session.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coastline_image: Option<CoastlineImage>,
     /// The operations, replayed in order on the start state (a circle of radius 0.4 × the
-    /// domain's shorter side, centred, over a cone of `settings.height`).
+    /// domain's shorter side, centred, over a cone of `settings.height`; or `coastline_image`).
     #[serde(default)]
     pub operations: Vec<Operation>,
     /// Contours drawn from the result (default 20 evenly spaced levels).
     #[serde(default = "raster_levels")]
     pub levels: Levels,
+}
+
+/// An image whose land outline becomes an island's coastline.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CoastlineImage {
+    /// The image (any PNG colour type, read as gray levels, or any heightfield format), relative to
+    /// the scene file.
+    pub path: PathBuf,
+    /// Where the image lies in the world (its pixel centres span this rectangle; default: the
+    /// scene's domain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extent: Option<Extent>,
+    /// Which side of the outline is land (default `light`: light land on a dark sea, as label
+    /// images have it).
+    #[serde(default)]
+    pub land: LandTone,
+    /// The gray level of the coastline, 0 (black) to 1 (white) (default: halfway between the
+    /// image's darkest and lightest pixels, so anti-aliased edges split evenly).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threshold: Option<f64>,
+}
+
+/// Which tone of a coastline image is land.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum LandTone {
+    /// Land is lighter than the threshold.
+    #[default]
+    Light,
+    /// Land is darker than the threshold (a dark island drawn on white paper).
+    Dark,
 }
 
 /// A vector terrain and the tools applied to it. The domain defaults to the source terrain's

@@ -27,9 +27,9 @@ use crate::hydrology::{StreamPower, Thermal};
 use crate::warp::{PathWarp, SlopeModulation};
 
 pub use generators::{
-    Border, ContourInput, ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource, Generator,
-    IslandGenerator, LabelImage, LabelLevelSpec, LabelValue, Multilevel, OrometryGenerator, OrometrySource,
-    OrometryTypes, Probability,
+    Border, CoastlineImage, ContourInput, ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource,
+    Generator, IslandGenerator, LabelImage, LabelLevelSpec, LabelValue, LandTone, Multilevel, OrometryGenerator,
+    OrometrySource, OrometryTypes, Probability,
 };
 pub use histogram::HistogramSource;
 pub use inputs::InputOptions;
