@@ -48,6 +48,17 @@ pub struct IslandSettings {
     pub new_heights: NewHeights,
 }
 
+/// The layers of an island's heights ([`Island::layers`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct IslandLayers {
+    /// The heights the coastline gives (the cone and the blends of its edits), 0 at sea.
+    pub base: Heightfield,
+    /// The sum of the hills (negative in hollows).
+    pub hills: Heightfield,
+    /// The sum of the perturbations.
+    pub filters: Heightfield,
+}
+
 /// The new heights `H_n` of §3.2, which `H = H_o·(1 − W) + H_n·W` blends in after a coastline
 /// edit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -255,6 +266,23 @@ impl Island {
     /// The perturbations of the filters, in order of addition.
     pub fn filters(&self) -> &[Hill] {
         &self.filters
+    }
+
+    /// The grids the final one adds up (the paper's Fig. 13): the coastline's heights (0 at
+    /// sea), the hills' sum and the perturbations' sum, each over the whole grid. On land the
+    /// terrain is their sum, held at the land floor but in hollows; at sea it is 0.
+    ///
+    /// # Panics
+    /// Never in practice: every layer is finite (parameters are checked on entry) and the grid is
+    /// the island's own.
+    pub fn layers(&self) -> IslandLayers {
+        let grid = |v: Vec<f32>| Heightfield::from_samples(self.grid, v).expect("finite layers on the island's grid");
+        let narrow = |v: &[f64]| v.iter().map(|&x| x as f32).collect();
+        IslandLayers {
+            base: grid(self.heights.clone()),
+            hills: grid(narrow(&self.hills_grid)),
+            filters: grid(narrow(&self.filters_grid)),
+        }
     }
 
     /// Per sample: inside the coastline.

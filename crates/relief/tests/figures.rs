@@ -209,3 +209,32 @@ fn island_coastline_images_say_what_is_wrong() {
     let err = island_from_image(|c| c.path = "inputs/no-such-map.png".into()).unwrap_err();
     assert_eq!(err.scene_path(), Some("generator.island.coastline_image.path"), "{err}");
 }
+
+#[test]
+fn island_fig_13_the_final_grid_is_the_sum_of_its_layers() {
+    let scene = load_scene(scenes().join("island-from-image.json")).unwrap();
+    let out = tempfile::tempdir().unwrap();
+    let (terrain, written) = relief::pipeline::run(&scene, &scenes(), out.path(), &mut ()).unwrap();
+    let layers = terrain.layers.as_ref().unwrap();
+    for (name, layer) in [("base", &layers.base), ("hills", &layers.hills), ("filters", &layers.filters)] {
+        let path = out.path().join(format!("layers-{name}.exr"));
+        assert!(written.contains(&path), "{name} written");
+        assert_eq!(&relief::io::read(&path).unwrap().into_samples(), layer.samples(), "{name} reads back");
+    }
+    // On land, where nothing is held at the land floor, the terrain is base + hills + filters.
+    let (mut summed, mut hills, mut filters) = (0, 0, 0);
+    for (k, &z) in terrain.heightfield.samples().iter().enumerate() {
+        let (b, h, f) = (layers.base.samples()[k], layers.hills.samples()[k], layers.filters.samples()[k]);
+        if z == 0.0 || b + f < 1.0 {
+            continue;
+        }
+        assert!((z - (b + h + f)).abs() < 1e-3 * z.abs().max(1.0), "sample {k}: {z} is not {b} + {h} + {f}");
+        summed += 1;
+        hills += usize::from(h.abs() > 1.0);
+        filters += usize::from(f.abs() > 0.1);
+    }
+    assert!(
+        summed > 20_000 && hills > 5_000 && filters > 5_000,
+        "{summed} samples, {hills} with hills, {filters} with filters"
+    );
+}

@@ -141,7 +141,15 @@ pub(super) fn generate(
         contour_input,
         reference,
     };
-    Ok(Generated { heightfield, sea_level: Some(sea_level), contours: Some(contours), report, warnings, vector: None })
+    Ok(Generated {
+        heightfield,
+        sea_level: Some(sea_level),
+        contours: Some(contours),
+        report,
+        warnings,
+        vector: None,
+        layers: None,
+    })
 }
 
 /// Seed of the growth, decorrelated from the sampling's.

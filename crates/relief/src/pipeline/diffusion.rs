@@ -53,6 +53,7 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
         report: Report::Diffusion(terrain.report),
         warnings,
         vector: None,
+        layers: None,
     })
 }
 

@@ -40,7 +40,7 @@ pub(super) fn generate(
     let extent = grid.extent();
     terrain.domain = Some([extent.min.to_array(), extent.max.to_array()]);
     let vector = Some(super::VectorResult { terrain, skeleton: g.skeleton, atlas });
-    Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new(), vector })
+    Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new(), vector, layers: None })
 }
 
 /// The starting vector terrain: written in the scene, read from a file, or fitted to a DEM.

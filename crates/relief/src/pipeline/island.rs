@@ -60,7 +60,15 @@ pub(super) fn generate(
         perturbations: island.filters().len(),
     });
     let sea_level = Some(0.5 * g.settings.land_floor);
-    Ok(Generated { heightfield: island.heightfield(), sea_level, contours: None, report, warnings, vector: None })
+    Ok(Generated {
+        heightfield: island.heightfield(),
+        sea_level,
+        contours: None,
+        report,
+        warnings,
+        vector: None,
+        layers: Some(island.layers()),
+    })
 }
 
 /// The outline of the largest piece of land in `spec`'s image, counter-clockwise and closed (its

@@ -60,6 +60,8 @@ pub(crate) struct Generated {
     pub(crate) warnings: Vec<String>,
     /// The gaussian generator's vector terrain.
     pub(crate) vector: Option<VectorResult>,
+    /// The island generator's layers.
+    pub(crate) layers: Option<crate::island::IslandLayers>,
 }
 
 /// A gaussian scene's vector terrain after its tools, with how its crest skeleton is extracted.
@@ -112,6 +114,8 @@ pub struct Terrain {
     pub summary: Summary,
     /// The vector terrain of a gaussian scene (before any post step).
     pub vector: Option<VectorResult>,
+    /// The layers of an island scene's heights (the paper's Fig. 13; before any post step).
+    pub layers: Option<crate::island::IslandLayers>,
 }
 
 /// Reads a scene file.
@@ -161,7 +165,7 @@ pub fn generate_with(
 /// The shared end of every run: post-processes, drainage, the contours of a raster generator at
 /// its levels, and the summary.
 fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<Terrain, ReliefError> {
-    let Generated { heightfield, sea_level, contours, report, mut warnings, mut vector } = generated;
+    let Generated { heightfield, sea_level, contours, report, mut warnings, mut vector, layers } = generated;
     let detailed = matches!(scene.post.last(), Some(PostProcess::Details { .. }));
     let written = scene.outputs.vector_terrain.is_some() || scene.outputs.skeleton.is_some();
     if vector.is_some() && !scene.post.is_empty() && !detailed && written {
@@ -204,7 +208,7 @@ fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<
     let mut summary = Summary::new(scene, report, &heightfield, &contours, sea_level, drainage, timings);
     summary.comparison = comparison;
     summary.warnings = warnings;
-    Ok(Terrain { heightfield, contours, histogram, sea_level, summary, vector })
+    Ok(Terrain { heightfield, contours, histogram, sea_level, summary, vector, layers })
 }
 
 /// The contours of a raster generator's heightfield at the generator's levels.

@@ -56,7 +56,15 @@ pub(super) fn generate(
     let terrain = timer.step("terrain orometry", || terrain_orometry(&heightfield, &target, &analysis));
     let types = g.types.as_ref().map_or(1, |t| t.sources.len() + 1);
     let report = Report::Orometry(summary(tree, &target, types, terrain));
-    Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new(), vector: None })
+    Ok(Generated {
+        heightfield,
+        sea_level: None,
+        contours: None,
+        report,
+        warnings: Vec::new(),
+        vector: None,
+        layers: None,
+    })
 }
 
 /// The prominence of the tree's least prominent peak (not counting its tops).

@@ -27,6 +27,11 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
             ));
         }
     }
+    if let Some(path) = &outputs.island_layers
+        && !Format::from_extension(path).is_some_and(Format::is_writable)
+    {
+        return Err(E::at("outputs.island_layers", SceneError::UnknownExtension { path: path.clone() }));
+    }
     let text = [
         ("contours_geojson", &outputs.contours_geojson, "GeoJSON", &["geojson", "json"][..]),
         ("contours_svg", &outputs.contours_svg, "SVG", &["svg"]),
@@ -51,7 +56,9 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
         let error = SceneError::OutOfRange { value: format!("[{min}, {max}]"), rule: "must be finite with min < max" };
         return Err(E::at("outputs.range", error));
     }
+    let layers = outputs.island_layers.as_deref().map(layer_files).unwrap_or_default();
     let mut names: Vec<&Path> = outputs.heightfield.iter().map(PathBuf::as_path).collect();
+    names.extend(layers.iter().map(PathBuf::as_path));
     names.extend(
         [
             &outputs.contours_geojson,
@@ -188,6 +195,15 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
     if let Some(vector) = &terrain.vector {
         written.extend(write_vector(terrain, vector, outputs, out_dir)?);
     }
+    if let (Some(name), Some(layers)) = (&outputs.island_layers, &terrain.layers) {
+        for (path, layer) in layer_files(name).into_iter().zip([&layers.base, &layers.hills, &layers.filters]) {
+            let path = out_dir.join(path);
+            crate::io::write_with(&path, layer, &crate::io::WriteOptions::default())?;
+            let format = Format::from_extension(&path);
+            written.extend(format.map(|f| crate::io::companion_files(&path, f)).unwrap_or_default());
+            written.push(path);
+        }
+    }
     if let Some(name) = &outputs.preview {
         let path = out_dir.join(name);
         let image = crate::export::preview_image(&terrain.heightfield, Some(&terrain.contours), terrain.sea_level);
@@ -195,6 +211,14 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         written.push(path);
     }
     Ok(written)
+}
+
+/// The files `outputs.island_layers` names: `NAME-base.EXT`, `NAME-hills.EXT`, `NAME-filters.EXT`
+/// beside `NAME.EXT`.
+fn layer_files(name: &Path) -> Vec<PathBuf> {
+    let stem = name.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let extension = name.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
+    ["base", "hills", "filters"].map(|layer| name.with_file_name(format!("{stem}-{layer}{extension}"))).to_vec()
 }
 
 /// A gaussian scene's vector terrain (compact JSON), crest skeleton and session atlas, as asked.

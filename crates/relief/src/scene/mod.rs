@@ -230,6 +230,12 @@ pub struct Outputs {
     /// `atlas` reads (gaussian generator only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub atlas: Option<PathBuf>,
+    /// The layers the final grid adds up, as the island paper's Fig. 13 shows them (island
+    /// generator only): `layers.exr` writes `layers-base.exr` (the coastline's heights),
+    /// `layers-hills.exr` and `layers-filters.exr` (the sums of the hills and of the
+    /// perturbations), in the heightfield format of the extension.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub island_layers: Option<PathBuf>,
     /// Run summary: parameters, counts, timings, histogram match error.
     #[serde(default = "default_summary")]
     pub summary: Option<PathBuf>,
@@ -267,6 +273,7 @@ impl Default for Outputs {
             vector_terrain: None,
             skeleton: None,
             atlas: None,
+            island_layers: None,
             summary: default_summary(),
         }
     }
