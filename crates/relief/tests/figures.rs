@@ -238,3 +238,19 @@ fn island_fig_13_the_final_grid_is_the_sum_of_its_layers() {
         "{summed} samples, {hills} with hills, {filters} with filters"
     );
 }
+
+#[test]
+fn fig_12_volcanic_island_at_the_papers_scale() {
+    let mut scene = load_scene(scenes().join("volcanic-island-48.json")).unwrap();
+    let Generator::Diffusion(g) = &scene.generator else { panic!("a diffusion scene") };
+    assert_eq!(g.all_curves().len(), 48, "Table 1: the paper's volcanic island has 48 curves");
+    scene.reconstruction.resolution = [256, 256];
+    let terrain = generate(&scene, &scenes(), &mut ()).unwrap();
+    assert!(terrain.summary.diffusion.as_ref().unwrap().converged);
+    let h = |x: f64, y: f64| f64::from(terrain.heightfield.sample_bilinear(DVec2::new(x, y)).unwrap());
+    // The crater floor lies below its rim; the flanks fall to the sea; the sea floor is deep.
+    let (floor, rim) = (h(300.0, 200.0), h(300.0 + 950.0, 200.0));
+    assert!(floor < rim - 150.0 && rim > 1000.0, "crater floor {floor:.0}, rim {rim:.0}");
+    assert!(h(300.0 + 2200.0, 200.0) < rim - 500.0 && h(300.0 + 2200.0, 200.0) > 0.0);
+    assert!(h(-4800.0, -4800.0) < -150.0);
+}
