@@ -8,6 +8,7 @@
 use std::time::Instant;
 
 use glam::DVec2;
+use relief_diffusion_multigrid::presets::Preset;
 use relief_diffusion_multigrid::{
     ConstraintMaps, DiffusionProblem, FeatureCurve, SolveOptions, TerrainOptions, generate,
 };
@@ -22,7 +23,9 @@ fn main() -> Result<()> {
     let runs: usize = args.next().map_or(Ok(5), |s| s.parse())?;
     let scene: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path)?)?;
     let generator = &scene["generator"]["diffusion"];
-    let curves: Vec<FeatureCurve> = serde_json::from_value(generator["curves"].clone())?;
+    let mut curves: Vec<FeatureCurve> = serde_json::from_value(generator["curves"].clone())?;
+    let presets: Vec<Preset> = serde_json::from_value(generator["presets"].clone()).unwrap_or_default();
+    curves.extend(presets.iter().flat_map(Preset::curves));
     let corner = |key: &str| -> Result<DVec2> {
         let v: [f64; 2] = serde_json::from_value(scene["domain"][key].clone())?;
         Ok(DVec2::from(v))

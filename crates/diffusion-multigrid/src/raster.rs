@@ -71,9 +71,10 @@ impl ConstraintMaps {
             amplitude: vec![0.0; n],
             roughness: vec![0.0; n],
         };
-        maps.bands(rows).into_par_iter().enumerate().for_each(|(b, mut band)| {
+        let pieces = pieces_by_band(grid, &stations, rows);
+        maps.bands(rows).into_par_iter().zip(pieces).enumerate().for_each(|(b, (mut band, pieces))| {
             let j0 = b * rows;
-            Canvas::paint(grid, j0, (j0 + rows).min(grid.ny()), &stations).finish(&mut band);
+            Canvas::paint(grid, j0, (j0 + rows).min(grid.ny()), &stations, &pieces).finish(&mut band);
         });
         fill_holes(&mut maps);
         Ok(maps)
@@ -112,6 +113,49 @@ struct Band<'a> {
     roughness: &'a mut [f32],
 }
 
+/// One segment of a curve to paint: curve `id`, from station `from` to station `to` (the same
+/// station twice for a curve of one station).
+#[derive(Debug, Clone, Copy)]
+struct Piece {
+    id: u32,
+    from: u32,
+    to: u32,
+}
+
+/// For each band of `rows` rows, the segments whose paint may reach it, in curve and station
+/// order (so each band paints its samples in the same order as one canvas over the whole grid
+/// would). Everything a segment paints lies within its stations' largest elevation radius plus
+/// slope extent of its two station points.
+fn pieces_by_band(grid: &GridSpec, stations: &[(Vec<Station>, bool)], rows: usize) -> Vec<Vec<Piece>> {
+    let bands = grid.ny().div_ceil(rows);
+    let mut out = vec![Vec::new(); bands];
+    let cell = grid.cell_size();
+    let min_r = 0.75 * cell.x.max(cell.y);
+    let reach = |s: &Station| {
+        let r = s.elevation.map_or(0.0, |e| e.r).max(min_r);
+        r + s.slope.map_or(0.0, |g| g.a.max(g.b).max(0.0))
+    };
+    for (id, (stations, _)) in stations.iter().enumerate() {
+        let pairs = (1..stations.len()).map(|k| (k - 1, k)).chain((stations.len() == 1).then_some((0, 0)));
+        for (from, to) in pairs {
+            let (a, b) = (&stations[from], &stations[to]);
+            let r = reach(a).max(reach(b));
+            let (lo, hi) = (a.p.y.min(b.p.y) - r, a.p.y.max(b.p.y) + r);
+            let (j_lo, j_hi) = (grid.grid_coords(DVec2::new(0.0, lo)).y, grid.grid_coords(DVec2::new(0.0, hi)).y);
+            if !(j_lo.is_finite() && j_hi.is_finite()) || j_hi < -1.0 || j_lo > grid.ny() as f64 {
+                continue;
+            }
+            let first = (j_lo.floor() - 1.0).max(0.0) as usize / rows;
+            let last = ((j_hi.ceil() + 1.0).min(grid.ny() as f64 - 1.0).max(0.0) as usize / rows).min(bands - 1);
+            let piece = Piece { id: id as u32, from: from as u32, to: to as u32 };
+            for band in &mut out[first..=last] {
+                band.push(piece);
+            }
+        }
+    }
+    out
+}
+
 /// Bands of rows the painting is split into (at most), so that a few run on each core.
 const BANDS: usize = 32;
 
@@ -119,9 +163,9 @@ const BANDS: usize = 32;
 const MIN_BAND_ROWS: usize = 16;
 
 impl Canvas {
-    /// Paints the stations of every curve (with whether it is anchored by an elevation) on rows
-    /// `j0..j1` of `grid`.
-    fn paint(grid: &GridSpec, j0: usize, j1: usize, stations: &[(Vec<Station>, bool)]) -> Self {
+    /// Paints `pieces` of the curves' stations (each with whether its curve is anchored by an
+    /// elevation) on rows `j0..j1` of `grid`.
+    fn paint(grid: &GridSpec, j0: usize, j1: usize, stations: &[(Vec<Station>, bool)], pieces: &[Piece]) -> Self {
         let n = (j1 - j0) * grid.nx();
         let mut canvas = Canvas {
             grid: *grid,
@@ -136,13 +180,9 @@ impl Canvas {
         };
         let cell = grid.cell_size();
         let min_r = 0.75 * cell.x.max(cell.y);
-        for (id, (stations, anchored)) in stations.iter().enumerate() {
-            for w in stations.windows(2) {
-                canvas.segment(id as u32, *anchored, w[0], w[1], min_r);
-            }
-            if stations.len() == 1 {
-                canvas.segment(id as u32, *anchored, stations[0], stations[0], min_r);
-            }
+        for p in pieces {
+            let (curve, anchored) = &stations[p.id as usize];
+            canvas.segment(p.id, *anchored, curve[p.from as usize], curve[p.to as usize], min_r);
         }
         canvas
     }
