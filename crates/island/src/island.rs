@@ -1116,21 +1116,12 @@ mod tests {
         let land = island.mask();
         let window = island.coast_window();
         let (d_new, d_old) = (island.distance_to(true, window, &land), island.distance_to(false, window, &land));
-        let finite = |v: &f32| if v.is_finite() { f64::from(*v) } else { 0.0 };
-        let (m_new, m_old) = (
-            d_new
-                .iter()
-                .zip(&land_in(&land, window, 257))
-                .filter(|(_, l)| **l)
-                .map(|(v, _)| finite(v))
-                .fold(0.0, f64::max),
-            d_old
-                .iter()
-                .zip(&land_in(&land, window, 257))
-                .filter(|(_, l)| **l)
-                .map(|(v, _)| finite(v))
-                .fold(0.0, f64::max),
-        );
+        // The largest finite distance over the land of the window.
+        let on_land = land_in(&land, window, 257);
+        let largest = |d: &[f32]| {
+            d.iter().zip(&on_land).filter(|(v, l)| **l && v.is_finite()).map(|(v, _)| f64::from(*v)).fold(0.0, f64::max)
+        };
+        let (m_new, m_old) = (largest(&d_new), largest(&d_old));
         let w = window.1 - window.0 + 1;
         let scaled = (0..257 * 257)
             .map(|k| {
