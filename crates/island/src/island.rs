@@ -1216,6 +1216,21 @@ mod tests {
             assert!((0.03 * r_eq..=0.1 * r_eq).contains(&a), "radius {a} outside [0.03, 0.1] × {r_eq}");
             assert!(ring_contains(&island.coast.points, DVec2::from(f.center)), "centre {:?} at sea", f.center);
         }
+        // The perturbations add to the coastline's heights: the terrain is their sum on land.
+        let g = island.grid;
+        let mut checked = 0;
+        for k in (0..g.len()).filter(|&k| island.land[k] && island.heights[k] > 5.0) {
+            let p = g.position(k % g.nx(), k / g.nx());
+            let bumps: f64 = filters.iter().map(|f| f.at(p)).sum();
+            let want = f64::from(island.heights[k]) + bumps;
+            assert!(
+                (f64::from(island.terrain[k]) - want).abs() < 1e-3,
+                "sample {k}: {} is not {want}",
+                island.terrain[k]
+            );
+            checked += usize::from(bumps.abs() > 0.1);
+        }
+        assert!(checked > 1000, "{checked} samples under a perturbation");
         // A second batch differs from the first (a new stream); removing it leaves the first.
         let first = island.terrain().to_vec();
         let more = island.add_filters(1.0).unwrap();
