@@ -14,11 +14,10 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use glam::DVec2;
-use relief_diffusion_multigrid::presets::Preset;
-use relief_diffusion_multigrid::{
-    ConstraintMaps, DiffusionProblem, FeatureCurve, SolveOptions, Solver, TerrainOptions, generate,
-};
+use relief_diffusion_multigrid::{ConstraintMaps, DiffusionProblem, SolveOptions, Solver, generate};
 
+#[path = "common/fixture.rs"]
+mod fixture;
 #[path = "common/scene.rs"]
 mod scene;
 use relief_heightfield::GridSpec;
@@ -29,27 +28,11 @@ fn quick() -> bool {
     std::env::var_os("RELIEF_BENCH_QUICK").is_some()
 }
 
-/// The curves (presets expanded), domain corners and noise options of a fixture scene.
-fn fixture(name: &str) -> (Vec<FeatureCurve>, [DVec2; 2], TerrainOptions) {
-    let path = format!("{}/../../fixtures/scenes/{name}.json", env!("CARGO_MANIFEST_DIR"));
-    let scene: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).expect("scene")).expect("json");
-    let generator = &scene["generator"]["diffusion"];
-    let mut curves: Vec<FeatureCurve> = serde_json::from_value(generator["curves"].clone()).expect("curves");
-    let presets: Vec<Preset> = serde_json::from_value(generator["presets"].clone()).unwrap_or_default();
-    curves.extend(presets.iter().flat_map(Preset::curves));
-    let options = TerrainOptions {
-        noise_wavelength: generator["noise_wavelength"].as_f64().unwrap_or(0.0),
-        seed: scene["seed"].as_u64().unwrap_or(0),
-        ..TerrainOptions::default()
-    };
-    let corner = |k: &str| DVec2::from(serde_json::from_value::<[f64; 2]>(scene["domain"][k].clone()).expect("domain"));
-    (curves, [corner("min"), corner("max")], options)
-}
-
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("diffusion");
     group.sample_size(10);
-    let (island, [lo, hi], options) = fixture("volcanic-island-48");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/scenes/volcanic-island-48.json");
+    let (island, [lo, hi], options) = fixture::load(std::path::Path::new(path)).expect("the fixture scene");
     assert_eq!(island.len(), 48);
     let curves = scene_with(600.0);
     let largest = if quick() { 1024 } else { 4096 };

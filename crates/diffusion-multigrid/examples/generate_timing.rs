@@ -7,12 +7,11 @@
 
 use std::time::Instant;
 
-use glam::DVec2;
-use relief_diffusion_multigrid::presets::Preset;
-use relief_diffusion_multigrid::{
-    ConstraintMaps, DiffusionProblem, FeatureCurve, SolveOptions, TerrainOptions, generate,
-};
+use relief_diffusion_multigrid::{ConstraintMaps, DiffusionProblem, SolveOptions, generate};
 use relief_heightfield::GridSpec;
+
+#[path = "../benches/common/fixture.rs"]
+mod fixture;
 
 type Result<T> = std::result::Result<T, Box<dyn std::error::Error>>;
 
@@ -21,22 +20,8 @@ fn main() -> Result<()> {
     let path = args.next().ok_or("usage: generate_timing SCENE.json [size] [runs]")?;
     let n: usize = args.next().map_or(Ok(2048), |s| s.parse())?;
     let runs: usize = args.next().map_or(Ok(5), |s| s.parse())?;
-    let scene: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path)?)?;
-    let generator = &scene["generator"]["diffusion"];
-    let mut curves: Vec<FeatureCurve> = serde_json::from_value(generator["curves"].clone())?;
-    let presets: Vec<Preset> = serde_json::from_value(generator["presets"].clone()).unwrap_or_default();
-    curves.extend(presets.iter().flat_map(Preset::curves));
-    let corner = |key: &str| -> Result<DVec2> {
-        let v: [f64; 2] = serde_json::from_value(scene["domain"][key].clone())?;
-        Ok(DVec2::from(v))
-    };
-    let (lo, hi) = (corner("min")?, corner("max")?);
+    let (curves, [lo, hi], options) = fixture::load(std::path::Path::new(&path))?;
     let grid = GridSpec::new(n, n, lo, (hi - lo) / (n - 1) as f64)?;
-    let options = TerrainOptions {
-        noise_wavelength: generator["noise_wavelength"].as_f64().unwrap_or(0.0),
-        seed: scene["seed"].as_u64().unwrap_or(0),
-        ..TerrainOptions::default()
-    };
     let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
 
     let t = Instant::now();

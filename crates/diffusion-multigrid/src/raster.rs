@@ -129,12 +129,8 @@ struct Piece {
 fn pieces_by_band(grid: &GridSpec, stations: &[(Vec<Station>, bool)], rows: usize) -> Vec<Vec<Piece>> {
     let bands = grid.ny().div_ceil(rows);
     let mut out = vec![Vec::new(); bands];
-    let cell = grid.cell_size();
-    let min_r = 0.75 * cell.x.max(cell.y);
-    let reach = |s: &Station| {
-        let r = s.elevation.map_or(0.0, |e| e.r).max(min_r);
-        r + s.slope.map_or(0.0, |g| g.a.max(g.b).max(0.0))
-    };
+    let min_r = min_radius(grid);
+    let reach = |s: &Station| band_radius(s, min_r) + s.slope.map_or(0.0, |g| g.a.max(g.b).max(0.0));
     for (id, (stations, _)) in stations.iter().enumerate() {
         let pairs = (1..stations.len()).map(|k| (k - 1, k)).chain((stations.len() == 1).then_some((0, 0)));
         for (from, to) in pairs {
@@ -154,6 +150,18 @@ fn pieces_by_band(grid: &GridSpec, stations: &[(Vec<Station>, bool)], rows: usiz
         }
     }
     out
+}
+
+/// The least half-width of a curve's elevation and noise bands on `grid`: ¾ of a cell, so the
+/// centre line is always caught.
+fn min_radius(grid: &GridSpec) -> f64 {
+    0.75 * grid.cell_size().max_element()
+}
+
+/// The half-width of the elevation and noise bands at station `s`: its elevation radius r, at
+/// least `min_r`. The slope bands start there.
+fn band_radius(s: &Station, min_r: f64) -> f64 {
+    s.elevation.map_or(0.0, |e| e.r).max(min_r)
 }
 
 /// Bands of rows the painting is split into (at most), so that a few run on each core.
@@ -178,8 +186,7 @@ impl Canvas {
             writer: vec![NONE; n],
             hole: vec![false; n],
         };
-        let cell = grid.cell_size();
-        let min_r = 0.75 * cell.x.max(cell.y);
+        let min_r = min_radius(grid);
         for p in pieces {
             let (curve, anchored) = &stations[p.id as usize];
             canvas.segment(p.id, *anchored, curve[p.from as usize], curve[p.to as usize], min_r);
@@ -189,8 +196,7 @@ impl Canvas {
 
     /// Paints one segment of a curve: the elevation band, the two slope bands, the noise.
     fn segment(&mut self, id: u32, anchored: bool, s0: Station, s1: Station, min_r: f64) {
-        let r = |s: &Station| s.elevation.map_or(0.0, |e| e.r).max(min_r);
-        let (r0, r1) = (r(&s0), r(&s1));
+        let (r0, r1) = (band_radius(&s0, min_r), band_radius(&s1, min_r));
         for side in [1.0, -1.0] {
             let (o0, o1) = (s0.left * side, s1.left * side);
             let band = [s0.p, s1.p, s1.p + o1 * r1, s0.p + o0 * r0];

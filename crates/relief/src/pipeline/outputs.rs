@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use super::Terrain;
 use super::progress::{Progress, Timer};
 use crate::error::SceneError;
+use crate::heightfield::Heightfield;
 use crate::io::Format;
 use crate::scene::Outputs;
 use crate::{ReliefError, ReliefError as E};
@@ -168,11 +169,7 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         None => crate::io::WriteOptions::default(),
     };
     for name in &outputs.heightfield {
-        let path = out_dir.join(name);
-        crate::io::write_with(&path, &terrain.heightfield, &options)?;
-        let format = Format::from_extension(&path);
-        written.extend(format.map(|f| crate::io::companion_files(&path, f)).unwrap_or_default());
-        written.push(path);
+        write_heightfield(&out_dir.join(name), &terrain.heightfield, &options, &mut written)?;
     }
     if let Some(name) = &outputs.contours_geojson {
         let path = out_dir.join(name);
@@ -197,11 +194,7 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
     }
     if let (Some(name), Some(layers)) = (&outputs.island_layers, &terrain.layers) {
         for (path, layer) in layer_files(name).into_iter().zip([&layers.base, &layers.hills, &layers.filters]) {
-            let path = out_dir.join(path);
-            crate::io::write_with(&path, layer, &crate::io::WriteOptions::default())?;
-            let format = Format::from_extension(&path);
-            written.extend(format.map(|f| crate::io::companion_files(&path, f)).unwrap_or_default());
-            written.push(path);
+            write_heightfield(&out_dir.join(path), layer, &crate::io::WriteOptions::default(), &mut written)?;
         }
     }
     if let Some(name) = &outputs.preview {
@@ -211,6 +204,20 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         written.push(path);
     }
     Ok(written)
+}
+
+/// Writes `hf` to `path` in the format of its extension and records the file, after its companion
+/// files (a raw format's sidecar), in `written`.
+fn write_heightfield(
+    path: &Path,
+    hf: &Heightfield,
+    options: &crate::io::WriteOptions,
+    written: &mut Vec<PathBuf>,
+) -> Result<(), ReliefError> {
+    crate::io::write_with(path, hf, options)?;
+    written.extend(Format::from_extension(path).map(|f| crate::io::companion_files(path, f)).unwrap_or_default());
+    written.push(path.to_owned());
+    Ok(())
 }
 
 /// The files `outputs.island_layers` names: `NAME-base.EXT`, `NAME-hills.EXT`, `NAME-filters.EXT`
