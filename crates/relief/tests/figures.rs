@@ -1,10 +1,13 @@
 //! Papers' figures as scenes behave as the papers describe: the contours paper's Fig. 27 editing
 //! session step by step and its teaser's label map; Hnaidi et al.'s Figs. 5–7 (single landforms from
-//! presets) and Fig. 8 (noise alone); Puig-Centelles et al.'s Fig. 10 (a coastline traced from a map).
+//! presets), Figs. 4/11 (lake, mountain, desert) and 12 (volcanic island) at Table 1's curve counts,
+//! Fig. 8 (noise alone) and Fig. 10 (a canyon in three editing steps); Puig-Centelles et al.'s
+//! Fig. 10 (a coastline traced from a map).
 
 use std::path::{Path, PathBuf};
 
 use glam::DVec2;
+use relief::diffusion::FeatureCurve;
 use relief::pipeline::{generate, load_scene};
 use relief::scene::{Generator, Multilevel, Scene};
 
@@ -253,4 +256,86 @@ fn fig_12_volcanic_island_at_the_papers_scale() {
     assert!(floor < rim - 150.0 && rim > 1000.0, "crater floor {floor:.0}, rim {rim:.0}");
     assert!(h(300.0 + 2200.0, 200.0) < rim - 500.0 && h(300.0 + 2200.0, 200.0) > 0.0);
     assert!(h(-4800.0, -4800.0) < -150.0);
+}
+
+/// A fixture scene's curves (presets expanded) and a sampler of its terrain at `resolution`.
+fn diffused(name: &str, resolution: [usize; 2]) -> (Vec<FeatureCurve>, impl Fn(f64, f64) -> f64 + use<>) {
+    let mut scene = load_scene(scenes().join(format!("{name}.json"))).unwrap();
+    let Generator::Diffusion(g) = &scene.generator else { panic!("{name}: a diffusion scene") };
+    let curves = g.all_curves();
+    scene.reconstruction.resolution = resolution;
+    let terrain = generate(&scene, &scenes(), &mut ()).unwrap();
+    assert!(terrain.summary.diffusion.as_ref().unwrap().converged, "{name}");
+    let hf = terrain.heightfield;
+    (curves, move |x: f64, y: f64| f64::from(hf.sample_bilinear_clamped(DVec2::new(x, y)).unwrap()))
+}
+
+#[test]
+fn figs_4_11_lake_mountain_and_desert_at_the_papers_scale() {
+    // Table 1: 45, 59 and 26 curves.
+    let (curves, h) = diffused("lake", [256, 256]);
+    assert_eq!(curves.len(), 45);
+    // The lake (its level, 200 m, is the scene's water level) is deepest on its centre line, and
+    // its outlet carries water below the lake level to the southern edge between dry banks.
+    assert!((h(5000.0, 4600.0) - 145.0).abs() < 10.0 && h(5000.0, 5600.0) < 200.0, "the lake bed");
+    assert!(h(5150.0, 1500.0) < 200.0 && h(4800.0, 60.0) < 200.0, "the outlet");
+    assert!(h(4200.0, 1500.0) > 200.0 && h(6100.0, 1500.0) > 200.0, "the outlet's banks");
+    let (curves, h) = diffused("mountain", [240, 200]);
+    assert_eq!(curves.len(), 59);
+    assert!((h(6000.0, 5600.0) - 2400.0).abs() < 80.0, "the main summit: {}", h(6000.0, 5600.0));
+    assert!(h(6000.0, 5600.0) > h(2600.0, 7300.0) && h(2600.0, 7300.0) > 1700.0);
+    let (curves, h) = diffused("desert", [512, 512]);
+    assert_eq!(curves.len(), 26);
+    // Every dune is asymmetric (θ ≠ φ): from a point on its crest the ground drops about twice as
+    // fast or more on the lee (north) side as on the windward side (measured 2.0–5.1×; equal
+    // angles would give 1×).
+    for (k, dune) in curves.iter().take(12).enumerate() {
+        for p in dune.points.iter().step_by(3).skip(1).take(4) {
+            let top = h(p.x, p.y);
+            let (lee, windward) = (top - h(p.x, p.y + 60.0), top - h(p.x, p.y - 60.0));
+            assert!(
+                lee > 1.8 * windward && windward > 3.0,
+                "dune {k} at {p}: lee drop {lee:.1} m, windward {windward:.1} m"
+            );
+        }
+    }
+    // The largest mesa: a level top inside its rim, a cliff outside.
+    let top: Vec<f64> =
+        (0..25).map(|k| h(6600.0 + 40.0 * f64::from(k % 5 * 4), 7400.0 + 40.0 * f64::from(k / 5 * 4))).collect();
+    let (lo, hi) = top.iter().fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(lo > 440.0 && hi - lo < 50.0, "mesa top from {lo:.0} to {hi:.0}");
+    assert!(h(7000.0, 7800.0 - 1500.0) < 300.0, "below the mesa's cliff");
+}
+
+/// Where Fig. 10's river runs (the generator's `river_y`).
+fn river_y(x: f64) -> f64 {
+    use std::f64::consts::TAU;
+    4000.0 + 500.0 * (TAU * x / 6000.0).sin() + 200.0 * (TAU * x / 2300.0 + 1.0).sin()
+}
+
+#[test]
+fn fig_10_a_canyon_edited_in_three_steps() {
+    let steps: Vec<_> = (1..=3).map(|k| diffused(&format!("canyon-step-{k}"), [288, 192])).collect();
+    assert_eq!(steps.iter().map(|s| s.0.len()).collect::<Vec<_>>(), [15, 30, 74], "the caption's curve counts");
+    for (k, (_, h)) in steps.iter().enumerate() {
+        // Every step keeps the river falling east in its canyon between the rims.
+        let (west, east) = (h(1000.0, river_y(1000.0)), h(11000.0, river_y(11000.0)));
+        assert!(west > east + 60.0 && west < 320.0, "step {}: river {west:.0} → {east:.0}", k + 1);
+        assert!(h(1000.0, river_y(1000.0) + 2000.0) > 650.0 && h(1000.0, river_y(1000.0) - 2000.0) > 650.0);
+    }
+    // Step 2 cuts a side canyon into the northern plateau where step 1 had level ground.
+    let (x, y) = (3100.0, river_y(3300.0) + 1900.0);
+    assert!(steps[1].1(x, y) < steps[0].1(x, y) - 100.0, "{} vs {}", steps[1].1(x, y), steps[0].1(x, y));
+    // Step 3's details roughen the walls: more second-difference energy across a wall band.
+    let roughness = |h: &dyn Fn(f64, f64) -> f64| {
+        (0..400)
+            .map(|i| {
+                let x = 200.0 + 29.0 * f64::from(i);
+                let y = river_y(x) + 1000.0;
+                (h(x - 40.0, y) - 2.0 * h(x, y) + h(x + 40.0, y)).powi(2)
+            })
+            .sum::<f64>()
+    };
+    let (two, three) = (roughness(&steps[1].1), roughness(&steps[2].1));
+    assert!(three > 1.5 * two, "wall detail {two:.0} → {three:.0}");
 }
