@@ -4,10 +4,14 @@
 //! scene file.
 //!
 //! `cargo run --release -p relief-diffusion-multigrid --example generate_timing -- SCENE.json [size] [runs]`
+//!
+//! With `WHOLE_ONLY=1` it runs the whole `generate` alone (for a profiler).
 
 use std::time::Instant;
 
-use relief_diffusion_multigrid::{ConstraintMaps, DiffusionProblem, SolveOptions, generate};
+use relief_diffusion_multigrid::{
+    ConstraintMaps, DiffusionProblem, FeatureCurve, SolveOptions, TerrainOptions, generate,
+};
 use relief_heightfield::GridSpec;
 
 #[path = "../benches/common/fixture.rs"]
@@ -23,6 +27,10 @@ fn main() -> Result<()> {
     let (curves, [lo, hi], options) = fixture::load(std::path::Path::new(&path))?;
     let grid = GridSpec::new(n, n, lo, (hi - lo) / (n - 1) as f64)?;
     let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
+    let whole_only = std::env::var_os("WHOLE_ONLY").is_some();
+    if whole_only {
+        return whole(&curves, &grid, &options, runs);
+    }
 
     let t = Instant::now();
     let maps = ConstraintMaps::rasterize(&curves, &grid)?;
@@ -48,14 +56,7 @@ fn main() -> Result<()> {
         report.relative_residual
     );
 
-    let mut whole: Vec<f64> = (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            std::hint::black_box(generate(&curves, &grid, &options)).map(|_| ms(t))
-        })
-        .collect::<std::result::Result<_, _>>()?;
-    whole.sort_by(f64::total_cmp);
-    println!("whole generate: best {:.0} ms, median {:.0} ms of {runs}", whole[0], whole[runs / 2]);
+    whole(&curves, &grid, &options, runs)?;
 
     let tight = SolveOptions { tolerance: 1e-7, max_iterations: Some(60), ..SolveOptions::default() };
     let (converged, _) = problem.solve(&tight)?;
@@ -69,5 +70,18 @@ fn main() -> Result<()> {
             r.iterations
         );
     }
+    Ok(())
+}
+
+/// Times `runs` whole generations.
+fn whole(curves: &[FeatureCurve], grid: &GridSpec, options: &TerrainOptions, runs: usize) -> Result<()> {
+    let mut times: Vec<f64> = (0..runs.max(1))
+        .map(|_| {
+            let t = Instant::now();
+            std::hint::black_box(generate(curves, grid, options)).map(|_| t.elapsed().as_secs_f64() * 1e3)
+        })
+        .collect::<std::result::Result<_, _>>()?;
+    times.sort_by(f64::total_cmp);
+    println!("whole generate: best {:.0} ms, median {:.0} ms of {}", times[0], times[times.len() / 2], times.len());
     Ok(())
 }
