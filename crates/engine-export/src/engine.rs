@@ -10,6 +10,7 @@ use crate::EngineError;
 /// A game engine or DCC tool to export heightmaps for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 pub enum Engine {
     /// Unity's terrain (`Terrain > Import Raw…`): square 16-bit RAW heightmaps of 2ⁿ + 1 samples,
     /// little-endian ("Windows" byte order), rows from the terrain's back edge (south, z = 0)

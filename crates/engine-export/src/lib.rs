@@ -67,7 +67,8 @@ pub struct ExportOptions {
     pub size: Option<usize>,
     /// Cut the world into tiles of this many samples per side, neighbours sharing their edge
     /// samples (Unreal World Partition, Unity terrain groups); as many tiles along each axis as
-    /// keep the heightfield's own sample spacing. `None`: one heightmap.
+    /// keep the heightfield's finer ground spacing on both axes (within 10 %). `None`: one
+    /// heightmap.
     pub tile: Option<usize>,
     /// File stem of the heightmaps and sidecar (default `heightmap`).
     pub name: String,
@@ -275,39 +276,67 @@ pub fn prepare(hf: &Heightfield, engine: Engine, options: &ExportOptions) -> Res
 }
 
 /// [`prepare`]s `hf` for `engine` and writes its tiles and sidecar into `dir` (created if needed),
-/// each file atomically.
+/// each file atomically: [`Prepared::write`].
 ///
 /// # Errors
-/// As [`prepare`], and [`EngineError::Io`] when a file cannot be written.
+/// As [`prepare`] and [`Prepared::write`].
 pub fn export(hf: &Heightfield, engine: Engine, options: &ExportOptions, dir: &Path) -> Result<Exported, EngineError> {
-    let prepared = prepare(hf, engine, options)?;
-    std::fs::create_dir_all(dir).map_err(|source| EngineError::CreateDir { path: dir.to_owned(), source })?;
-    let single = prepared.tiles.len() == 1;
-    let mut files = Vec::with_capacity(prepared.tiles.len());
-    let mut entries = Vec::with_capacity(prepared.tiles.len());
-    for tile in &prepared.tiles {
-        let suffix =
-            if single { String::new() } else { engine.tile_suffix(tile.column, tile.row, prepared.settings.tiles[1]) };
-        let path = dir.join(format!("{}{suffix}.{}", options.name, engine.extension()));
-        write_tile(&path, engine, &tile.heights, &prepared.settings)?;
-        entries.push(serde_json::json!({
-            "file": path.file_name().map(|f| f.to_string_lossy().into_owned()),
-            "column": tile.column,
-            "row_from_north": tile.row,
-            "offset_m": tile.offset_m,
-        }));
-        files.push(path);
+    prepare(hf, engine, options)?.write(&options.name, dir)
+}
+
+impl Prepared {
+    /// The file names [`Prepared::write`] gives the tiles, in tile order: `NAME.EXT` for one,
+    /// the engine's tiled-import names for several.
+    pub fn file_names(&self, name: &str) -> Vec<String> {
+        let engine = self.settings.engine;
+        let single = self.tiles.len() == 1;
+        self.tiles
+            .iter()
+            .map(|t| {
+                let suffix =
+                    if single { String::new() } else { engine.tile_suffix(t.column, t.row, self.settings.tiles[1]) };
+                format!("{name}{suffix}.{}", engine.extension())
+            })
+            .collect()
     }
-    let sidecar = dir.join(format!("{}.import.json", options.name));
-    let json = serde_json::json!({
-        "settings": prepared.settings,
-        "summary": prepared.settings.summary(),
-        "tiles": entries,
-        "filled_no_data": prepared.filled_no_data,
-    });
-    let text = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";
-    relief_heightfield_io::write_atomic(&sidecar, text.as_bytes())?;
-    Ok(Exported { settings: prepared.settings, files, sidecar, filled_no_data: prepared.filled_no_data })
+
+    /// The sidecar's file name: `NAME.import.json`.
+    pub fn sidecar_name(name: &str) -> String {
+        format!("{name}.import.json")
+    }
+
+    /// Writes the tiles (named by [`Prepared::file_names`]) and the JSON sidecar (the settings,
+    /// the summary line, each tile's file and offset) into `dir`, created if needed, each file
+    /// atomically.
+    ///
+    /// # Errors
+    /// [`EngineError::CreateDir`] or [`EngineError::Io`] when a folder or file cannot be written.
+    pub fn write(self, name: &str, dir: &Path) -> Result<Exported, EngineError> {
+        std::fs::create_dir_all(dir).map_err(|source| EngineError::CreateDir { path: dir.to_owned(), source })?;
+        let mut files = Vec::with_capacity(self.tiles.len());
+        let mut entries = Vec::with_capacity(self.tiles.len());
+        for (tile, file) in self.tiles.iter().zip(self.file_names(name)) {
+            let path = dir.join(&file);
+            write_tile(&path, self.settings.engine, &tile.heights, &self.settings)?;
+            entries.push(serde_json::json!({
+                "file": file,
+                "column": tile.column,
+                "row_from_north": tile.row,
+                "offset_m": tile.offset_m,
+            }));
+            files.push(path);
+        }
+        let sidecar = dir.join(Self::sidecar_name(name));
+        let json = serde_json::json!({
+            "settings": self.settings,
+            "summary": self.settings.summary(),
+            "tiles": entries,
+            "filled_no_data": self.filled_no_data,
+        });
+        let text = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";
+        relief_heightfield_io::write_atomic(&sidecar, text.as_bytes())?;
+        Ok(Exported { settings: self.settings, files, sidecar, filled_no_data: self.filled_no_data })
+    }
 }
 
 /// Samples per tile and tiles per axis.
@@ -336,8 +365,15 @@ fn layout(hf: &Heightfield, engine: Engine, options: &ExportOptions) -> Result<(
     {
         return Err(EngineError::IllegalSize { engine, size, legal: format!("{tile} (the tile size) when tiling") });
     }
-    let count = |n: usize| (((n.max(2) - 1) as f64 / (tile - 1) as f64).round() as usize).max(1);
-    let tiles = [count(nx), count(ny)];
+    // The input's finer ground spacing along both axes (not coarser than 10 % beyond it), so
+    // the tiles' samples are as near square as whole tiles allow.
+    let size_m = ground_size(hf.grid());
+    let spacing = (size_m[0] / (nx.max(2) - 1) as f64).min(size_m[1] / (ny.max(2) - 1) as f64);
+    let count = |metres: f64| {
+        let k = (metres / (spacing * (tile - 1) as f64) / 1.1).ceil();
+        if k.is_finite() && k >= 1.0 { (k as usize).min(MAX_TILES_PER_AXIS + 1) } else { 1 }
+    };
+    let tiles = [count(size_m[0]), count(size_m[1])];
     if tiles[0].max(tiles[1]) > MAX_TILES_PER_AXIS {
         return Err(EngineError::TooLarge {
             what: format!("{} × {} tiles of {tile} samples", tiles[0], tiles[1]),

@@ -115,53 +115,65 @@ fn godot_gets_metres_and_blender_its_own_size() {
 fn tiles_share_their_edges_bit_for_bit() {
     let dem = dem();
     let dir = tempfile::tempdir().unwrap();
-    // Unreal World Partition: 127-sample tiles, as many as keep the 10 m spacing (2 × 2).
+    // Unreal World Partition: 127-sample tiles, as many as keep the 10 m spacing (3 × 2: 7.9 m).
     let tiled = ExportOptions { tile: Some(127), ..options() };
     let out = export(&dem, Engine::Unreal, &tiled, dir.path()).unwrap();
-    assert_eq!(out.settings.tiles, [2, 2]);
+    assert_eq!(out.settings.tiles, [3, 2]);
     let names: Vec<String> = out.files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
-    assert_eq!(names, ["heightmap_x0_y0.png", "heightmap_x1_y0.png", "heightmap_x0_y1.png", "heightmap_x1_y1.png"]);
+    let expected = ["_x0_y0", "_x1_y0", "_x2_y0", "_x0_y1", "_x1_y1", "_x2_y1"].map(|s| format!("heightmap{s}.png"));
+    assert_eq!(names, expected);
     let t: Vec<Heightfield> = out.files.iter().map(|f| relief_heightfield_io::read(f).unwrap()).collect();
     for k in 0..127 {
         // West–east neighbours share a column, north–south neighbours a row (y1 is south of y0).
         assert_eq!(t[0].value(126, k).to_bits(), t[1].value(0, k).to_bits());
-        assert_eq!(t[2].value(126, k).to_bits(), t[3].value(0, k).to_bits());
-        assert_eq!(t[2].value(k, 126).to_bits(), t[0].value(k, 0).to_bits());
-        assert_eq!(t[3].value(k, 126).to_bits(), t[1].value(k, 0).to_bits());
+        assert_eq!(t[4].value(126, k).to_bits(), t[5].value(0, k).to_bits());
+        assert_eq!(t[3].value(k, 126).to_bits(), t[0].value(k, 0).to_bits());
+        assert_eq!(t[5].value(k, 126).to_bits(), t[2].value(k, 0).to_bits());
     }
     // One height scale for every tile: the north-east tile's top corner is the world's highest.
-    assert_eq!(t[1].value(126, 126), 450.0);
+    assert_eq!(t[2].value(126, 126), 450.0);
+    let Dialog::Unreal { scale, .. } = out.settings.dialog else { panic!() };
+    assert!((scale[0] - 100.0 * 3000.0 / 378.0).abs() < 1e-9 && (scale[1] - 100.0 * 2000.0 / 252.0).abs() < 1e-9);
 
     // Unity terrain groups: RAW tiles named X_Z from the south-west, sharing edges too.
     let dir = tempfile::tempdir().unwrap();
     let out = export(&dem, Engine::Unity, &ExportOptions { tile: Some(129), ..options() }, dir.path()).unwrap();
     let names: Vec<String> = out.files.iter().map(|f| f.file_name().unwrap().to_string_lossy().into_owned()).collect();
-    assert_eq!(names, ["heightmap_0_1.raw", "heightmap_1_1.raw", "heightmap_0_0.raw", "heightmap_1_0.raw"]);
+    let expected = ["_0_1", "_1_1", "_2_1", "_0_0", "_1_0", "_2_0"].map(|s| format!("heightmap{s}.raw"));
+    assert_eq!(names, expected);
     let Dialog::Unity { terrain_size, position_y, .. } = out.settings.dialog else { panic!() };
-    assert_eq!(terrain_size, [1500.0, 350.0, 1000.0], "each tile's size");
+    assert_eq!(terrain_size, [1000.0, 350.0, 1000.0], "each tile's size");
     let raw: Vec<Vec<Vec<f64>>> =
         out.files.iter().map(|f| unity_heights(f, 129, terrain_size[1], position_y)).collect();
-    for (west, east) in raw[2].iter().zip(&raw[3]) {
-        assert_eq!(west[128], east[0], "south-west and south-east share a column");
+    for (west, east) in raw[3].iter().zip(&raw[4]) {
+        assert_eq!(west[128], east[0], "south-west and its east neighbour share a column");
     }
-    assert_eq!(raw[2][128], raw[0][0], "south-west's north row is north-west's south row");
+    assert_eq!(raw[3][128], raw[0][0], "south-west's north row is north-west's south row");
     let sidecar: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out.sidecar).unwrap()).unwrap();
-    assert_eq!(sidecar["tiles"][1]["offset_m"], serde_json::json!([1500.0, 1000.0]));
-    assert!(sidecar["summary"].as_str().unwrap().contains("2 × 2 tiles"));
+    assert_eq!(sidecar["tiles"][1]["offset_m"], serde_json::json!([1000.0, 1000.0]));
+    assert!(sidecar["summary"].as_str().unwrap().contains("3 × 2 tiles"));
+}
+
+/// The error of a request that must fail (without printing a whole accepted export).
+fn refused(result: Result<relief_engine_export::Prepared, EngineError>) -> EngineError {
+    match result {
+        Err(e) => e,
+        Ok(p) => panic!("accepted: {}", p.settings.summary()),
+    }
 }
 
 #[test]
 fn bad_requests_get_errors_that_say_why() {
     let dem = dem();
-    let e = prepare(&dem, Engine::Unity, &ExportOptions { size: Some(1024), ..options() }).unwrap_err();
+    let e = refused(prepare(&dem, Engine::Unity, &ExportOptions { size: Some(1024), ..options() }));
     assert!(matches!(e, EngineError::IllegalSize { size: 1024, .. }), "{e}");
-    let e = prepare(&dem, Engine::Unreal, &ExportOptions { tile: Some(128), ..options() }).unwrap_err();
+    let e = refused(prepare(&dem, Engine::Unreal, &ExportOptions { tile: Some(128), ..options() }));
     assert!(e.to_string().contains("127, 253"), "{e}");
-    let e = prepare(&dem, Engine::Unity, &ExportOptions { size: Some(65), tile: Some(129), ..options() }).unwrap_err();
+    let e = refused(prepare(&dem, Engine::Unity, &ExportOptions { size: Some(65), tile: Some(129), ..options() }));
     assert!(e.to_string().contains("tile size"), "{e}");
     // Too many tiles along an axis.
-    let long = Heightfield::zeros(GridSpec::new(2200, 2, DVec2::ZERO, DVec2::ONE).unwrap());
-    let e = prepare(&long, Engine::Unity, &ExportOptions { tile: Some(33), ..options() }).unwrap_err();
+    let long = Heightfield::zeros(GridSpec::new(2400, 2, DVec2::ZERO, DVec2::ONE).unwrap());
+    let e = refused(prepare(&long, Engine::Unity, &ExportOptions { tile: Some(33), ..options() }));
     assert!(matches!(e, EngineError::TooLarge { .. }), "{e}");
     let empty = Heightfield::filled(GridSpec::new(4, 4, DVec2::ZERO, DVec2::ONE).unwrap(), f32::NAN).unwrap();
     assert!(matches!(prepare(&empty, Engine::Godot, &options()), Err(EngineError::NoData)));

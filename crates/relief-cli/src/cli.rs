@@ -121,6 +121,10 @@ pub(crate) enum Command {
     Contours(ContoursArgs),
     /// Convert a heightfield between formats (chosen by extension).
     Convert(ConvertArgs),
+    /// Heightmaps for a game engine or DCC tool (Unity, Unreal, Godot, Blender) at its legal size
+    /// and bit depth, optionally in tiles sharing their edges, with the numbers its import dialog
+    /// asks for printed and in a JSON sidecar; from a DEM or a scene (generated first).
+    Export(ExportArgs),
     /// Describe a heightfield: size, extent, elevation range, no-data, and what its codes stand
     /// for (16- and 8-bit files).
     Info(InfoArgs),
@@ -380,6 +384,58 @@ pub(crate) struct ConvertArgs {
     /// point"; GDAL and relief place the samples at the same coordinates either way.
     #[arg(long)]
     pub(crate) pixel_is_area: bool,
+}
+
+// `relief export`.
+#[derive(Debug, Args)]
+pub(crate) struct ExportArgs {
+    /// A heightfield (any format `relief info` reads) or a scene file (.json), generated first.
+    pub(crate) input: PathBuf,
+    /// The engine or tool.
+    #[arg(long = "for", value_enum, value_name = "ENGINE")]
+    pub(crate) engine: EngineName,
+    /// Output folder (default: `relief-out/<input name>-<engine>`).
+    #[arg(short, long)]
+    pub(crate) out: Option<PathBuf>,
+    /// Samples per side, one of the engine's legal sizes (Unity 2ⁿ+1 from 33 to 4097; Unreal
+    /// 127, 253, 505, 1009, 2017, 4033, 8129; Godot 2ⁿ+1 from 65 to 4097; Blender any, the larger
+    /// side). Default: the legal size nearest the input's larger side.
+    #[arg(long)]
+    pub(crate) size: Option<usize>,
+    /// Cut the world into tiles of this many samples per side (a legal size), neighbours sharing
+    /// their edge samples, as many as keep the input's sample spacing (Unreal World Partition,
+    /// Unity terrain groups).
+    #[arg(long)]
+    pub(crate) tile: Option<usize>,
+    /// File stem of the heightmaps and the sidecar.
+    #[arg(long, default_value = "heightmap")]
+    pub(crate) name: String,
+}
+
+/// An engine `relief export` writes for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum EngineName {
+    /// Unity: 16-bit RAW, little-endian, south row first.
+    Unity,
+    /// Unreal Engine: 16-bit grayscale PNG.
+    Unreal,
+    /// Godot (`HTerrain`, `Terrain3D`): 32-bit float EXR in metres.
+    Godot,
+    /// Blender: 16-bit grayscale PNG for a Displace modifier.
+    Blender,
+}
+
+impl EngineName {
+    /// The library's engine.
+    pub(crate) fn engine(self) -> relief::engine::Engine {
+        use relief::engine::Engine;
+        match self {
+            Self::Unity => Engine::Unity,
+            Self::Unreal => Engine::Unreal,
+            Self::Godot => Engine::Godot,
+            Self::Blender => Engine::Blender,
+        }
+    }
 }
 
 /// A GeoTIFF sample type.

@@ -65,6 +65,7 @@ fn run(cli: &Cli) -> Result<()> {
         }
         Command::Contours(args) => dem::contours(args, ui),
         Command::Convert(args) => dem::convert(args, ui),
+        Command::Export(args) => dem::export(args, ui),
         Command::Info(args) => dem::info(args, ui),
         Command::Preview(args) => dem::preview(args, ui),
         Command::Analyze(args) => analyze::analyze(args, ui),

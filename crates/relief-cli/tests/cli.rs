@@ -604,3 +604,27 @@ fn gis_flags_label_crs_pick_bands_and_channels_and_convert_keeps_the_crs() {
     assert!(ok(&["info", "--channel", "red", "fixtures/images/rgb-colour.png"]).contains("0 .. 0.1254902"));
     assert!(fails(&["info", "--crs", "UTM 17", "fixtures/gdal/utm17.tif"], 2).contains("EPSG:n"));
 }
+
+#[test]
+fn export_writes_engine_heightmaps_from_a_dem_or_a_scene() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("ue");
+    // Jacksboro (403 × 344 samples of 3″) as Unreal World Partition tiles of 253 samples.
+    let stdout =
+        ok(&["export", "fixtures/dem/jacksboro.asc", "--for", "unreal", "--tile", "253", "-o", out.to_str().unwrap()]);
+    assert!(stdout.contains("unreal: 2 × 2 tiles, each 253 × 253 PNG; Scale X"), "{stdout}");
+    for name in ["heightmap_x0_y0.png", "heightmap_x1_y1.png", "heightmap.import.json"] {
+        assert!(out.join(name).is_file(), "{name}");
+    }
+    // A scene is generated first; Unity's RAW is 2ⁿ + 1 square, 16 bits a sample.
+    let unity = tmp.path().join("unity");
+    let scene = "fixtures/scenes/landforms-ridges.json";
+    let stdout = ok(&["export", scene, "--for", "unity", "--size", "129", "-o", unity.to_str().unwrap()]);
+    assert!(stdout.contains("Width 129, Height 129, Byte Order Windows"), "{stdout}");
+    assert_eq!(std::fs::metadata(unity.join("heightmap.raw")).unwrap().len(), 129 * 129 * 2);
+    // Existing files are kept without --force; illegal sizes name the legal ones.
+    let stderr = fails(&["export", scene, "--for", "unity", "--size", "129", "-o", unity.to_str().unwrap()], 1);
+    assert!(stderr.contains("--force"), "{stderr}");
+    let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "godot", "--size", "100"], 1);
+    assert!(stderr.contains("65, 129, 257"), "{stderr}");
+}

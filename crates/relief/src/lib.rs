@@ -19,6 +19,7 @@
 //! | [`island`] | `relief-island` | sketched islands: coastline strokes, hills, perturbation filters (Puig-Centelles et al.) |
 //! | [`gaussian_terrain`] | `relief-gaussian-terrain` | vector terrains of generalized Gaussians: rasterize, vectorize, tools (Perche et al. 2025) |
 //! | [`orometry`] | `relief-orometry` | prominence, divide trees, orometric descriptors and synthesis (Argudo et al. 2019) |
+//! | [`engine`] | `relief-engine-export` | heightmaps for Unity, Unreal, Godot and Blender at their legal sizes, seam-free tiles, import numbers |
 //!
 //! Its own items: [`Scene`] (and the rest of [`scene`]), [`pipeline::generate`] / [`pipeline::run`]
 //! with [`Progress`], [`Terrain`] and [`Summary`], [`Budget`], [`ReliefError`] with
@@ -62,6 +63,7 @@
 pub use relief_contours as contours;
 pub use relief_diffusion_multigrid as diffusion;
 pub use relief_eden_growth as eden_growth;
+pub use relief_engine_export as engine;
 pub use relief_gaussian_terrain as gaussian_terrain;
 pub use relief_heightfield as heightfield;
 pub use relief_heightfield_io as io;

@@ -8,7 +8,7 @@ use relief::contours::{ContourSet, Levels, extract_dem};
 use relief::heightfield::Heightfield;
 use relief::io::{Format, Quantisation};
 
-use crate::cli::{ContoursArgs, ConvertArgs, HeightfieldFormat, InfoArgs, PreviewArgs, TiffType};
+use crate::cli::{ContoursArgs, ConvertArgs, ExportArgs, HeightfieldFormat, InfoArgs, PreviewArgs, TiffType};
 use crate::ui::Ui;
 use crate::writes::Written;
 
@@ -93,6 +93,46 @@ pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
     }
     ui.step("write", || relief::io::write_with(output, &dem, &options))?;
     ui.say(format_args!("{} ({} x {}) -> {} ({format:?})", input.display(), dem.nx(), dem.ny(), output.display()));
+    Ok(())
+}
+
+/// `relief export`: heightmaps for an engine, from a DEM or a scene's terrain.
+pub(crate) fn export(args: &ExportArgs, ui: &mut Ui) -> Result<()> {
+    let engine = args.engine.engine();
+    let input = &args.input;
+    let is_scene = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let dem = if is_scene {
+        let scene = super::scenes::load(input, None)?;
+        let base = input.parent().unwrap_or(Path::new("."));
+        ui.writes().reads(input).reads_all(scene.input_files().into_iter().map(|p| base.join(p))).check()?;
+        let budget = ui.budget();
+        relief::pipeline::generate_with(&scene, base, &budget, ui)?.heightfield
+    } else {
+        ui.read(input)?
+    };
+    let options = relief::engine::ExportOptions { size: args.size, tile: args.tile, name: args.name.clone() };
+    let prepared = ui.step("resample", || relief::engine::prepare(&dem, engine, &options))?;
+    let out = args.out.clone().unwrap_or_else(|| {
+        let stem = input.file_stem().map_or_else(|| "export".into(), |s| s.to_string_lossy().into_owned());
+        Path::new("relief-out").join(format!("{stem}-{engine}"))
+    });
+    let mut writes = ui.writes();
+    writes.reads(input);
+    for file in prepared.file_names(&options.name) {
+        writes.writes_file(&out.join(file));
+    }
+    writes.writes_file(&out.join(relief::engine::Prepared::sidecar_name(&options.name))).check()?;
+    let exported = ui.step("write", || prepared.write(&options.name, &out))?;
+    if exported.filled_no_data > 0 {
+        ui.warn(format_args!("{} no-data samples written as the lowest elevation", exported.filled_no_data));
+    }
+    ui.say(format_args!("{}", exported.settings.summary()));
+    ui.say(format_args!(
+        "{} heightmap(s) and {} in {}",
+        exported.files.len(),
+        exported.sidecar.file_name().unwrap_or_default().to_string_lossy(),
+        out.display()
+    ));
     Ok(())
 }
 

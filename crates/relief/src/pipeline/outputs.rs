@@ -57,6 +57,19 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
         let error = SceneError::OutOfRange { value: format!("[{min}, {max}]"), rule: "must be finite with min < max" };
         return Err(E::at("outputs.range", error));
     }
+    for (k, e) in outputs.engines.iter().enumerate() {
+        for (field, size) in [("size", e.size), ("tile", e.tile)] {
+            if let Some(size) = size {
+                e.engine.check_size(size).map_err(|error| E::at(format!("outputs.engines[{k}].{field}"), error))?;
+            }
+        }
+        if e.size.is_some() && e.tile.is_some() && e.size != e.tile {
+            return Err(E::at(format!("outputs.engines[{k}]"), SceneError::Conflict("size", "tile")));
+        }
+        if outputs.engines[..k].iter().any(|o| o.folder() == e.folder()) {
+            return Err(E::at(format!("outputs.engines[{k}].dir"), SceneError::SharedOutput { path: e.folder() }));
+        }
+    }
     let layers = outputs.island_layers.as_deref().map(layer_files).unwrap_or_default();
     let mut names: Vec<&Path> = outputs.heightfield.iter().map(PathBuf::as_path).collect();
     names.extend(layers.iter().map(PathBuf::as_path));
@@ -196,6 +209,13 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         for (path, layer) in layer_files(name).into_iter().zip([&layers.base, &layers.hills, &layers.filters]) {
             write_heightfield(&out_dir.join(path), layer, &crate::io::WriteOptions::default(), &mut written)?;
         }
+    }
+    for (k, e) in outputs.engines.iter().enumerate() {
+        let dir = out_dir.join(e.folder());
+        let exported = crate::engine::export(&terrain.heightfield, e.engine, &e.options(), &dir)
+            .map_err(|error| E::at(format!("outputs.engines[{k}]"), error))?;
+        written.extend(exported.files);
+        written.push(exported.sidecar);
     }
     if let Some(name) = &outputs.preview {
         let path = out_dir.join(name);

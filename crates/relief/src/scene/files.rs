@@ -73,6 +73,9 @@ impl Scene {
         }
         files.extend(o.preview.clone());
         files.extend(o.summary.clone());
+        // The tiles' names depend on the terrain; the sidecar's does not.
+        let sidecar = crate::engine::Prepared::sidecar_name(&crate::engine::ExportOptions::default().name);
+        files.extend(o.engines.iter().map(|e| e.folder().join(&sidecar)));
         files
     }
 }

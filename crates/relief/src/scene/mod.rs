@@ -236,9 +236,44 @@ pub struct Outputs {
     /// perturbations), in the heightfield format of the extension.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub island_layers: Option<PathBuf>,
+    /// Heightmaps for game engines and DCC tools, each into its own folder: the engine's file
+    /// format at its legal size, tiles sharing their edges, and `NAME.import.json` with the numbers
+    /// its import dialog asks for (see `relief_engine_export`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub engines: Vec<EngineOutput>,
     /// Run summary: parameters, counts, timings, histogram match error.
     #[serde(default = "default_summary")]
     pub summary: Option<PathBuf>,
+}
+
+/// One engine export of the terrain (`outputs.engines[]`), as `relief export` writes it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct EngineOutput {
+    /// The engine: `unity`, `unreal`, `godot` or `blender`.
+    #[serde(rename = "for")]
+    pub engine: crate::engine::Engine,
+    /// The folder, relative to the output directory (default: the engine's name).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dir: Option<PathBuf>,
+    /// Samples per side, one of the engine's legal sizes (default: the nearest one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<usize>,
+    /// Tiles of this many samples per side, sharing their edges (default: one heightmap).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tile: Option<usize>,
+}
+
+impl EngineOutput {
+    /// The folder it writes into, relative to the output directory.
+    pub fn folder(&self) -> PathBuf {
+        self.dir.clone().unwrap_or_else(|| PathBuf::from(self.engine.name()))
+    }
+
+    /// The library's options.
+    pub fn options(&self) -> crate::engine::ExportOptions {
+        crate::engine::ExportOptions { size: self.size, tile: self.tile, ..crate::engine::ExportOptions::default() }
+    }
 }
 
 fn default_heightfields() -> Vec<PathBuf> {
@@ -274,6 +309,7 @@ impl Default for Outputs {
             skeleton: None,
             atlas: None,
             island_layers: None,
+            engines: Vec::new(),
             summary: default_summary(),
         }
     }
