@@ -33,6 +33,31 @@ pub enum EngineError {
     /// A heightfield could not be resampled or cut.
     #[error(transparent)]
     Heightfield(#[from] relief_heightfield::HeightfieldError),
+    /// A mesh could not be built from the heightfield or TIN.
+    #[error(transparent)]
+    Tin(#[from] relief_tin::TinError),
+    /// A glTF document could not be assembled.
+    #[error("glTF: {0}")]
+    Mesh(String),
+    /// A splat option is out of range.
+    #[error("splat option `{field}`: {reason}")]
+    InvalidSplat {
+        /// The option.
+        field: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The flow mask could not be routed.
+    #[error(transparent)]
+    Hydrology(#[from] relief_hydrology::HydrologyError),
+    /// A splat image could not be encoded.
+    #[error("encoding {}: {reason}", path.display())]
+    Encode {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why.
+        reason: String,
+    },
     /// A file could not be written.
     #[error(transparent)]
     Io(#[from] relief_heightfield_io::IoError),

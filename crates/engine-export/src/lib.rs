@@ -1,7 +1,7 @@
 //! Heightmaps for game engines and DCC tools: a `relief` heightfield as Unity, Unreal, Godot or
 //! Blender import it, at the engine's legal size and bit depth, tiled with shared edges for worlds
 //! larger than one engine tile, with the numbers its import dialog asks for so the terrain keeps
-//! its true dimensions in metres.
+//! its true dimensions in metres; splat maps for texturing; glTF 2.0 meshes.
 //!
 //! This is no paper's algorithm but the step after all of them (World Machine and Gaea users
 //! expect it). [`prepare`] resamples the heightfield (bilinear, over its own extent) to the
@@ -20,6 +20,20 @@
 //!   no height scale to type, only the map's horizontal scale.
 //! - **Blender**: a 16-bit PNG at the heightfield's own size for a Displace modifier (strength =
 //!   height range, midlevel 0) on a grid of as many vertices, scaled to the terrain's metres.
+//!
+//! With [`ExportOptions::splat`], every heightmap gets splat maps at its size ([`masks`]):
+//! four layers' weights summing to 255 (ground, rock, snow, water from slope, elevation and D8
+//! flow on the depression-filled terrain; RGBA, or one grayscale weight map per layer for
+//! Unreal) and the raw masks (slope, elevation, convexity, flow). [`TerrainMesh`] writes any
+//! heightfield or TIN as a glTF 2.0 binary (`.glb`): positions in metres, normals, UVs,
+//! optional hypsometric vertex colours.
+//!
+//! Meshes are decimated by greedy insertion ([`relief_tin::approximate`], Garland & Heckbert
+//! 1995) rather than by a general mesh simplifier such as meshoptimizer: on a heightfield it
+//! guarantees a vertical error bound in metres (the number a terrain user asks for), never
+//! builds the full-resolution mesh (two triangles per sample), yields a Delaunay mesh without
+//! slivers, and needs no C++ toolchain. The glTF document and its binary container come from
+//! the `gltf` crate (`gltf-json`), which the tests also load the files back with.
 //!
 //! Heights are quantised over the whole world's range (every tile the same scale), so tiles meet
 //! without steps: neighbouring tiles share their edge samples, bit for bit. No-data samples
@@ -47,6 +61,8 @@
 
 mod engine;
 mod error;
+mod mesh;
+mod splat;
 
 use std::path::{Path, PathBuf};
 
@@ -57,9 +73,11 @@ use serde::Serialize;
 pub use engine::Engine;
 use engine::HeightmapFile;
 pub use error::EngineError;
+pub use mesh::{MAX_MESH_TRIANGLES, MeshOptions, TerrainMesh};
+pub use splat::{Masks, SplatOptions, masks};
 
 /// What to export besides the engine.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ExportOptions {
     /// Samples per side of the heightmap (of each tile when tiling); must be one of the engine's
     /// [`Engine::legal_sizes`]. Default: the legal size nearest the heightfield's larger side (its
@@ -72,11 +90,14 @@ pub struct ExportOptions {
     pub tile: Option<usize>,
     /// File stem of the heightmaps and sidecar (default `heightmap`).
     pub name: String,
+    /// Splat maps beside each heightmap, at its size: the four layers' weights and the raw masks
+    /// ([`masks`], [`Masks::splat`], [`Masks::packed`]). `None`: heightmaps only.
+    pub splat: Option<SplatOptions>,
 }
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        Self { size: None, tile: None, name: "heightmap".to_owned() }
+        Self { size: None, tile: None, name: "heightmap".to_owned(), splat: None }
     }
 }
 
@@ -207,6 +228,8 @@ pub struct Tile {
     pub offset_m: [f64; 2],
     /// Its heights, as written (no-data filled).
     pub heights: Heightfield,
+    /// Its texturing masks, when splat maps were asked for.
+    pub masks: Option<Masks>,
 }
 
 /// An export ready to write: the settings and every tile's heights.
@@ -227,6 +250,9 @@ pub struct Exported {
     pub settings: ImportSettings,
     /// Each tile's heightmap, in [`Prepared::tiles`] order.
     pub files: Vec<PathBuf>,
+    /// Each tile's splat maps (weights, then raw masks), in tile order; empty without
+    /// [`ExportOptions::splat`].
+    pub splat_files: Vec<Vec<PathBuf>>,
     /// The JSON sidecar: the settings and each tile's file and offset.
     pub sidecar: PathBuf,
     /// No-data samples written as the lowest elevation.
@@ -249,6 +275,7 @@ pub fn prepare(hf: &Heightfield, engine: Engine, options: &ExportOptions) -> Res
     let world_hf = if world == [hf.nx(), hf.ny()] { filled } else { filled.resample(world[0], world[1])? };
     let size_m = ground_size(hf.grid());
     let tile_size_m = [size_m[0] / tiles[0] as f64, size_m[1] / tiles[1] as f64];
+    let world_masks = options.splat.as_ref().map(|o| masks(&world_hf, o)).transpose()?;
     let (min, max) = (f64::from(min), f64::from(max));
     let height_range_m = if max > min { max - min } else { 1.0 };
     let mut cut = Vec::with_capacity(tiles[0] * tiles[1]);
@@ -258,7 +285,8 @@ pub fn prepare(hf: &Heightfield, engine: Engine, options: &ExportOptions) -> Res
             let j0 = (tiles[1] - 1 - row) * (samples[1] - 1);
             let i0 = column * (samples[0] - 1);
             let offset_m = [column as f64 * tile_size_m[0], (tiles[1] - 1 - row) as f64 * tile_size_m[1]];
-            cut.push(Tile { column, row, offset_m, heights: crop(&world_hf, i0, j0, samples)? });
+            let masks = world_masks.as_ref().map(|m| m.crop(i0, j0, samples));
+            cut.push(Tile { column, row, offset_m, heights: crop(&world_hf, i0, j0, samples)?, masks });
         }
     }
     let settings = ImportSettings {
@@ -300,6 +328,24 @@ impl Prepared {
             .collect()
     }
 
+    /// The splat files [`Prepared::write`] gives a tile of [`Prepared::file_names`]' `file`:
+    /// `STEM_splat.png` (RGBA: ground, rock, snow, water) for every engine but Unreal, which
+    /// imports one 8-bit grayscale weight map per layer (`STEM_ground.png`, `STEM_rock.png`, …),
+    /// then `STEM_masks.png` (RGBA: slope, elevation, convexity, flow). Empty without masks.
+    pub fn splat_names(&self, file: &str) -> Vec<String> {
+        if self.tiles.first().is_none_or(|t| t.masks.is_none()) {
+            return Vec::new();
+        }
+        let stem = file.rsplit_once('.').map_or(file, |(stem, _)| stem);
+        let mut names: Vec<String> = if self.settings.engine == Engine::Unreal {
+            SPLAT_LAYERS.iter().map(|layer| format!("{stem}_{layer}.png")).collect()
+        } else {
+            vec![format!("{stem}_splat.png")]
+        };
+        names.push(format!("{stem}_masks.png"));
+        names
+    }
+
     /// The sidecar's file name: `NAME.import.json`.
     pub fn sidecar_name(name: &str) -> String {
         format!("{name}.import.json")
@@ -315,11 +361,17 @@ impl Prepared {
         std::fs::create_dir_all(dir).map_err(|source| EngineError::CreateDir { path: dir.to_owned(), source })?;
         let mut files = Vec::with_capacity(self.tiles.len());
         let mut entries = Vec::with_capacity(self.tiles.len());
+        let mut splat_files = Vec::new();
         for (tile, file) in self.tiles.iter().zip(self.file_names(name)) {
             let path = dir.join(&file);
             write_tile(&path, self.settings.engine, &tile.heights, &self.settings)?;
+            let splats = self.splat_names(&file);
+            if let Some(m) = &tile.masks {
+                splat_files.push(write_splats(m, self.settings.engine, dir, &splats)?);
+            }
             entries.push(serde_json::json!({
                 "file": file,
+                "splat": splats,
                 "column": tile.column,
                 "row_from_north": tile.row,
                 "offset_m": tile.offset_m,
@@ -330,12 +382,13 @@ impl Prepared {
         let json = serde_json::json!({
             "settings": self.settings,
             "summary": self.settings.summary(),
+            "splat_layers": if splat_files.is_empty() { None } else { Some(SPLAT_LAYERS) },
             "tiles": entries,
             "filled_no_data": self.filled_no_data,
         });
         let text = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";
         relief_heightfield_io::write_atomic(&sidecar, text.as_bytes())?;
-        Ok(Exported { settings: self.settings, files, sidecar, filled_no_data: self.filled_no_data })
+        Ok(Exported { settings: self.settings, files, splat_files, sidecar, filled_no_data: self.filled_no_data })
     }
 }
 
@@ -392,6 +445,32 @@ fn ground_size(grid: &GridSpec) -> [f64; 2] {
     let span = grid.cell_size() * glam::DVec2::new((grid.nx() - 1) as f64, (grid.ny() - 1) as f64);
     let metres = span * grid.metres_per_unit(grid.ny() / 2);
     [metres.x, metres.y]
+}
+
+/// The splat layers in channel order (R, G, B, A).
+pub const SPLAT_LAYERS: [&str; 4] = ["ground", "rock", "snow", "water"];
+
+/// Writes a tile's splat maps under `names` ([`Prepared::splat_names`]), north row first.
+fn write_splats(m: &Masks, engine: Engine, dir: &Path, names: &[String]) -> Result<Vec<PathBuf>, EngineError> {
+    let north_first = |px: Vec<[u8; 4]>| -> Vec<[u8; 4]> { px.chunks(m.nx).rev().flatten().copied().collect() };
+    let weights = north_first(m.splat());
+    let mut images: Vec<(Vec<u8>, image::ExtendedColorType)> = if engine == Engine::Unreal {
+        (0..4).map(|c| (weights.iter().map(|p| p[c]).collect(), image::ExtendedColorType::L8)).collect()
+    } else {
+        vec![(weights.into_iter().flatten().collect(), image::ExtendedColorType::Rgba8)]
+    };
+    images.push((north_first(m.packed()).into_iter().flatten().collect(), image::ExtendedColorType::Rgba8));
+    let mut paths = Vec::with_capacity(names.len());
+    for ((bytes, colour), name) in images.into_iter().zip(names) {
+        let path = dir.join(name);
+        let mut png = Vec::new();
+        let encoder = image::codecs::png::PngEncoder::new(&mut png);
+        image::ImageEncoder::write_image(encoder, &bytes, m.nx as u32, m.ny as u32, colour)
+            .map_err(|e| EngineError::Encode { path: path.clone(), reason: e.to_string() })?;
+        relief_heightfield_io::write_atomic(&path, &png)?;
+        paths.push(path);
+    }
+    Ok(paths)
 }
 
 /// `samples` of `hf` from column `i0`, row `j0`.

@@ -124,7 +124,7 @@ pub use format::Format;
 pub use limits::Limits;
 #[cfg(feature = "images")]
 pub use pixels::Channel;
-pub use preview::{NO_DATA_RGB, RgbImage, ShadeOptions, shaded_relief};
+pub use preview::{NO_DATA_RGB, RgbImage, ShadeOptions, hypsometric_tint, shaded_relief};
 
 use raw::RawKind;
 

@@ -121,7 +121,9 @@ fn water(t: f64) -> [f64; 3] {
     ]
 }
 
-fn tint(t: f64) -> [f64; 3] {
+/// The hypsometric tint of a shaded relief at fraction `t` of the land's height range (0: lowest,
+/// 1: highest; clamped): green lowlands, tan hills, brown heights, white peaks. RGB, 0 … 255.
+pub fn hypsometric_tint(t: f64) -> [f64; 3] {
     const STOPS: [(f64, [f64; 3]); 5] = [
         (0.0, [70.0, 130.0, 80.0]),
         (0.3, [150.0, 180.0, 100.0]),
@@ -190,7 +192,7 @@ pub fn shaded_relief(hf: &Heightfield, options: &ShadeOptions) -> RgbImage {
             let rgb = if options.hypsometric {
                 let c = match sea {
                     Some(s) if h < s => water((s - h) / (s - lo)),
-                    _ => tint((h - land_lo) / span),
+                    _ => hypsometric_tint((h - land_lo) / span),
                 };
                 let k = 0.35 + 0.65 * lum;
                 [c[0] * k, c[1] * k, c[2] * k]

@@ -407,9 +407,23 @@ pub(crate) struct ExportArgs {
     /// Unity terrain groups).
     #[arg(long)]
     pub(crate) tile: Option<usize>,
-    /// File stem of the heightmaps and the sidecar.
-    #[arg(long, default_value = "heightmap")]
-    pub(crate) name: String,
+    /// File stem of the heightmaps and the sidecar (default `heightmap`; `terrain` for glTF).
+    #[arg(long)]
+    pub(crate) name: Option<String>,
+    /// Splat maps beside each heightmap: the weights of four layers (ground, rock, snow, water;
+    /// RGBA, or one grayscale weight map per layer for Unreal) and the raw slope, elevation,
+    /// convexity and flow masks (RGBA).
+    #[arg(long)]
+    pub(crate) splat: bool,
+    /// glTF: no sample farther than this from the mesh, metres (default: 0.1 % of the relief).
+    #[arg(long, value_name = "METRES")]
+    pub(crate) max_error: Option<f64>,
+    /// glTF: at most this many triangles.
+    #[arg(long, value_name = "N", default_value_t = 500_000)]
+    pub(crate) triangles: usize,
+    /// glTF: no hypsometric vertex colours.
+    #[arg(long)]
+    pub(crate) no_colours: bool,
 }
 
 /// An engine `relief export` writes for.
@@ -423,17 +437,20 @@ pub(crate) enum EngineName {
     Godot,
     /// Blender: 16-bit grayscale PNG for a Displace modifier.
     Blender,
+    /// glTF 2.0 binary mesh (`.glb`) for any engine or viewer: metres, normals, UVs, colours.
+    Gltf,
 }
 
 impl EngineName {
-    /// The library's engine.
-    pub(crate) fn engine(self) -> relief::engine::Engine {
+    /// The library's heightmap engine; `None` for a glTF mesh.
+    pub(crate) fn engine(self) -> Option<relief::engine::Engine> {
         use relief::engine::Engine;
         match self {
-            Self::Unity => Engine::Unity,
-            Self::Unreal => Engine::Unreal,
-            Self::Godot => Engine::Godot,
-            Self::Blender => Engine::Blender,
+            Self::Unity => Some(Engine::Unity),
+            Self::Unreal => Some(Engine::Unreal),
+            Self::Godot => Some(Engine::Godot),
+            Self::Blender => Some(Engine::Blender),
+            Self::Gltf => None,
         }
     }
 }

@@ -627,4 +627,18 @@ fn export_writes_engine_heightmaps_from_a_dem_or_a_scene() {
     assert!(stderr.contains("--force"), "{stderr}");
     let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "godot", "--size", "100"], 1);
     assert!(stderr.contains("65, 129, 257"), "{stderr}");
+    // A glTF mesh within 8 m of every sample; splat maps beside a heightmap.
+    let gl = tmp.path().join("gl");
+    let args =
+        ["export", "fixtures/dem/jacksboro.asc", "--for", "gltf", "--max-error", "8", "-o", gl.to_str().unwrap()];
+    let stdout = ok(&args);
+    assert!(stdout.contains("within 8.000 m of every sample") && stdout.contains("236.0 … 1076.0 m"), "{stdout}");
+    assert_eq!(&std::fs::read(gl.join("terrain.glb")).unwrap()[..4], b"glTF");
+    let splat = tmp.path().join("splat");
+    ok(&["export", "fixtures/dem/jacksboro.asc", "--for", "blender", "--splat", "-o", splat.to_str().unwrap()]);
+    for name in ["heightmap.png", "heightmap_splat.png", "heightmap_masks.png"] {
+        assert!(splat.join(name).is_file(), "{name}");
+    }
+    let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "gltf", "--splat"], 1);
+    assert!(stderr.contains("heightmap engine"), "{stderr}");
 }

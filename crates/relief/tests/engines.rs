@@ -5,7 +5,7 @@ use std::path::Path;
 
 use relief::engine::Engine;
 use relief::pipeline::{load_scene, run};
-use relief::scene::EngineOutput;
+use relief::scene::{EngineOutput, MeshOutput};
 
 #[test]
 fn a_scene_writes_engine_heightmaps_beside_its_terrain() {
@@ -13,8 +13,8 @@ fn a_scene_writes_engine_heightmaps_beside_its_terrain() {
     let mut scene = load_scene(scenes.join("mountain-ridges.json")).unwrap();
     scene.reconstruction.resolution = [200, 200];
     scene.outputs.engines = vec![
-        EngineOutput { engine: Engine::Unity, dir: None, size: None, tile: Some(65) },
-        EngineOutput { engine: Engine::Unreal, dir: Some("ue".into()), size: None, tile: None },
+        EngineOutput { engine: Engine::Unity, dir: None, size: None, tile: Some(65), splat: None },
+        EngineOutput { engine: Engine::Unreal, dir: Some("ue".into()), size: None, tile: None, splat: None },
     ];
     let out = tempfile::tempdir().unwrap();
     let (terrain, written) = run(&scene, &scenes, out.path(), &mut ()).unwrap();
@@ -43,13 +43,14 @@ fn a_scene_writes_engine_heightmaps_beside_its_terrain() {
 fn engine_sizes_are_checked_before_any_work() {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes");
     let mut scene = load_scene(scenes.join("mountain-ridges.json")).unwrap();
-    scene.outputs.engines = vec![EngineOutput { engine: Engine::Unity, dir: None, size: Some(1024), tile: None }];
+    scene.outputs.engines =
+        vec![EngineOutput { engine: Engine::Unity, dir: None, size: Some(1024), tile: None, splat: None }];
     let e = run(&scene, &scenes, tempfile::tempdir().unwrap().path(), &mut ()).unwrap_err();
     assert_eq!(e.scene_path(), Some("outputs.engines[0].size"), "{e}");
     assert!(e.to_string().contains("1025"), "{e}");
     scene.outputs.engines = vec![
-        EngineOutput { engine: Engine::Godot, dir: None, size: None, tile: None },
-        EngineOutput { engine: Engine::Blender, dir: Some("godot".into()), size: None, tile: None },
+        EngineOutput { engine: Engine::Godot, dir: None, size: None, tile: None, splat: None },
+        EngineOutput { engine: Engine::Blender, dir: Some("godot".into()), size: None, tile: None, splat: None },
     ];
     let e = run(&scene, &scenes, tempfile::tempdir().unwrap().path(), &mut ()).unwrap_err();
     assert_eq!(e.scene_path(), Some("outputs.engines[1].dir"), "{e}");
@@ -57,4 +58,43 @@ fn engine_sizes_are_checked_before_any_work() {
     let json = r#"{"for": "unreal", "tile": 127}"#;
     let parsed: EngineOutput = serde_json::from_str(json).unwrap();
     assert_eq!((parsed.engine, parsed.tile, parsed.folder()), (Engine::Unreal, Some(127), "unreal".into()));
+}
+
+#[test]
+fn a_scene_writes_a_glb_mesh_and_splat_maps() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes");
+    let mut scene = load_scene(scenes.join("mountain-ridges.json")).unwrap();
+    scene.reconstruction.resolution = [160, 160];
+    // JSON as a user writes it: `"splat": {}` asks for the default layers.
+    scene.outputs.engines = vec![serde_json::from_str(r#"{"for": "godot", "splat": {}}"#).unwrap()];
+    scene.outputs.mesh = Some(serde_json::from_str(r#"{"max_triangles": 2000}"#).unwrap());
+    let out = tempfile::tempdir().unwrap();
+    let (terrain, written) = run(&scene, &scenes, out.path(), &mut ()).unwrap();
+    let glb = std::fs::read(out.path().join("terrain.glb")).unwrap();
+    let doc = gltf::Gltf::from_slice(&glb).unwrap();
+    let primitive = doc.meshes().next().unwrap().primitives().next().unwrap();
+    let triangles = primitive.indices().unwrap().count() / 3;
+    assert!((1990..=2000).contains(&triangles), "{triangles}");
+    let (lo, hi) = terrain.heightfield.min_max().unwrap();
+    let bounds = primitive.bounding_box();
+    // Vertices are samples: within the terrain's range; corners are vertices: its whole extent.
+    assert!(bounds.min[1] >= lo && bounds.max[1] <= hi, "{bounds:?} vs {lo} … {hi}");
+    let extent = terrain.heightfield.grid().extent();
+    let size = (extent.max - extent.min).as_vec2();
+    assert_eq!([bounds.max[0] - bounds.min[0], bounds.max[2] - bounds.min[2]], [size.x, size.y]);
+    for f in ["godot/heightmap_splat.png", "godot/heightmap_masks.png", "terrain.glb"] {
+        assert!(written.contains(&out.path().join(f)), "{f}");
+    }
+    for f in scene.output_files() {
+        assert!(written.contains(&out.path().join(&f)), "{}", f.display());
+    }
+    // Bad mesh and splat settings are refused with their JSON path, before any work.
+    scene.outputs.mesh = Some(MeshOutput { file: "terrain.obj".into(), ..scene.outputs.mesh.clone().unwrap() });
+    let e = run(&scene, &scenes, tempfile::tempdir().unwrap().path(), &mut ()).unwrap_err();
+    assert_eq!(e.scene_path(), Some("outputs.mesh.file"), "{e}");
+    scene.outputs.mesh = None;
+    scene.outputs.engines =
+        vec![serde_json::from_str(r#"{"for": "unity", "splat": {"rock_slope_deg": [50, 40]}}"#).unwrap()];
+    let e = run(&scene, &scenes, tempfile::tempdir().unwrap().path(), &mut ()).unwrap_err();
+    assert_eq!(e.scene_path(), Some("outputs.engines[0].splat"), "{e}");
 }

@@ -41,12 +41,14 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod approximate;
 mod error;
 mod locate;
 mod predicates;
 mod raster;
 mod tin;
 
+pub use approximate::{Approximated, Approximation, approximate};
 pub use error::TinError;
 pub use locate::{Location, PointLocator};
 pub use tin::{MAX_POINTS, NO_TRIANGLE, Tin};

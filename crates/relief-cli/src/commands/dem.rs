@@ -96,10 +96,14 @@ pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
     Ok(())
 }
 
-/// `relief export`: heightmaps for an engine, from a DEM or a scene's terrain.
+/// `relief export`: heightmaps for an engine, or a glTF mesh, from a DEM or a scene's terrain.
 pub(crate) fn export(args: &ExportArgs, ui: &mut Ui) -> Result<()> {
-    let engine = args.engine.engine();
     let input = &args.input;
+    if args.engine.engine().is_none() && (args.splat || args.size.is_some() || args.tile.is_some()) {
+        anyhow::bail!(
+            "--splat, --size and --tile go with a heightmap engine (unity, unreal, godot, blender), not gltf"
+        );
+    }
     let is_scene = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let dem = if is_scene {
         let scene = super::scenes::load(input, None)?;
@@ -110,15 +114,26 @@ pub(crate) fn export(args: &ExportArgs, ui: &mut Ui) -> Result<()> {
     } else {
         ui.read(input)?
     };
-    let options = relief::engine::ExportOptions { size: args.size, tile: args.tile, name: args.name.clone() };
-    let prepared = ui.step("resample", || relief::engine::prepare(&dem, engine, &options))?;
     let out = args.out.clone().unwrap_or_else(|| {
         let stem = input.file_stem().map_or_else(|| "export".into(), |s| s.to_string_lossy().into_owned());
-        Path::new("relief-out").join(format!("{stem}-{engine}"))
+        Path::new("relief-out").join(format!("{stem}-{}", args.engine.engine().map_or("gltf", |e| e.name())))
     });
+    let Some(engine) = args.engine.engine() else {
+        return export_mesh(args, &dem, &out, ui);
+    };
+    let options = relief::engine::ExportOptions {
+        size: args.size,
+        tile: args.tile,
+        name: args.name.clone().unwrap_or_else(|| "heightmap".to_owned()),
+        splat: args.splat.then(relief::engine::SplatOptions::default),
+    };
+    let prepared = ui.step("resample", || relief::engine::prepare(&dem, engine, &options))?;
     let mut writes = ui.writes();
     writes.reads(input);
     for file in prepared.file_names(&options.name) {
+        for splat in prepared.splat_names(&file) {
+            writes.writes_file(&out.join(splat));
+        }
         writes.writes_file(&out.join(file));
     }
     writes.writes_file(&out.join(relief::engine::Prepared::sidecar_name(&options.name))).check()?;
@@ -127,12 +142,46 @@ pub(crate) fn export(args: &ExportArgs, ui: &mut Ui) -> Result<()> {
         ui.warn(format_args!("{} no-data samples written as the lowest elevation", exported.filled_no_data));
     }
     ui.say(format_args!("{}", exported.settings.summary()));
+    let splats = exported.splat_files.iter().map(Vec::len).sum::<usize>();
+    let splats = if splats > 0 { format!(", {splats} splat map(s)") } else { String::new() };
     ui.say(format_args!(
-        "{} heightmap(s) and {} in {}",
+        "{} heightmap(s){splats} and {} in {}",
         exported.files.len(),
         exported.sidecar.file_name().unwrap_or_default().to_string_lossy(),
         out.display()
     ));
+    Ok(())
+}
+
+/// `relief export --for gltf`: the terrain as a decimated `.glb` mesh.
+fn export_mesh(args: &ExportArgs, dem: &Heightfield, out: &Path, ui: &mut Ui) -> Result<()> {
+    if let Some(e) = args.max_error
+        && !(e.is_finite() && e >= 0.0)
+    {
+        anyhow::bail!("--max-error {e}: must be finite and at least 0 metres");
+    }
+    let options = relief::engine::MeshOptions {
+        max_error_m: args.max_error,
+        max_triangles: args.triangles,
+        colours: !args.no_colours,
+    };
+    let path = out.join(format!("{}.glb", args.name.as_deref().unwrap_or("terrain")));
+    ui.writes().reads(&args.input).writes_file(&path).check()?;
+    let mesh = ui.step("decimate", || relief::engine::TerrainMesh::from_heightfield(dem, &options))?;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    ui.step("write", || mesh.write_glb(&path, options.colours))?;
+    let (lo, hi) = mesh.bounds();
+    ui.say(format_args!(
+        "gltf: {} triangles, {} vertices, within {:.3} m of every sample; {:.1} × {:.1} m, {:.1} … {:.1} m (y up, metres: import as is)",
+        mesh.triangles.len(),
+        mesh.positions.len(),
+        mesh.max_error_m,
+        hi.x - lo.x,
+        hi.y - lo.y,
+        lo.z,
+        hi.z
+    ));
+    ui.say(format_args!("{}", path.display()));
     Ok(())
 }
 

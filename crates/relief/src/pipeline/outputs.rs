@@ -69,6 +69,12 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
         if outputs.engines[..k].iter().any(|o| o.folder() == e.folder()) {
             return Err(E::at(format!("outputs.engines[{k}].dir"), SceneError::SharedOutput { path: e.folder() }));
         }
+        if let Some(splat) = &e.splat {
+            splat.validate().map_err(|error| E::at(format!("outputs.engines[{k}].splat"), error))?;
+        }
+    }
+    if let Some(mesh) = &outputs.mesh {
+        check_mesh(mesh)?;
     }
     let layers = outputs.island_layers.as_deref().map(layer_files).unwrap_or_default();
     let mut names: Vec<&Path> = outputs.heightfield.iter().map(PathBuf::as_path).collect();
@@ -215,7 +221,15 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         let exported = crate::engine::export(&terrain.heightfield, e.engine, &e.options(), &dir)
             .map_err(|error| E::at(format!("outputs.engines[{k}]"), error))?;
         written.extend(exported.files);
+        written.extend(exported.splat_files.into_iter().flatten());
         written.push(exported.sidecar);
+    }
+    if let Some(m) = &outputs.mesh {
+        let path = out_dir.join(&m.file);
+        crate::engine::TerrainMesh::from_heightfield(&terrain.heightfield, &m.options())
+            .and_then(|mesh| mesh.write_glb(&path, m.colours))
+            .map_err(|error| E::at("outputs.mesh", error))?;
+        written.push(path);
     }
     if let Some(name) = &outputs.preview {
         let path = out_dir.join(name);
@@ -224,6 +238,30 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         written.push(path);
     }
     Ok(written)
+}
+
+/// A mesh output's file ends in `.glb`, its bound is finite and not negative, its budget legal.
+fn check_mesh(mesh: &crate::scene::MeshOutput) -> Result<(), E> {
+    if !mesh.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb")) {
+        let error =
+            SceneError::OutOfRange { value: mesh.file.display().to_string(), rule: "a mesh is written as .glb" };
+        return Err(E::at("outputs.mesh.file", error));
+    }
+    if let Some(e) = mesh.max_error_m
+        && !(e.is_finite() && e >= 0.0)
+    {
+        return Err(E::at(
+            "outputs.mesh.max_error_m",
+            SceneError::OutOfRange { value: e.to_string(), rule: "must be finite and at least 0" },
+        ));
+    }
+    if let Some(n) = mesh.max_triangles
+        && !(2..=crate::engine::MAX_MESH_TRIANGLES).contains(&n)
+    {
+        let error = SceneError::OutOfRange { value: n.to_string(), rule: "must be from 2 to 16777216" };
+        return Err(E::at("outputs.mesh.max_triangles", error));
+    }
+    Ok(())
 }
 
 /// Writes `hf` to `path` in the format of its extension and records the file, after its companion

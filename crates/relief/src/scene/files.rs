@@ -76,6 +76,7 @@ impl Scene {
         // The tiles' names depend on the terrain; the sidecar's does not.
         let sidecar = crate::engine::Prepared::sidecar_name(&crate::engine::ExportOptions::default().name);
         files.extend(o.engines.iter().map(|e| e.folder().join(&sidecar)));
+        files.extend(o.mesh.as_ref().map(|m| m.file.clone()));
         files
     }
 }

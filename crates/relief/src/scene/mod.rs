@@ -241,13 +241,16 @@ pub struct Outputs {
     /// its import dialog asks for (see `relief_engine_export`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub engines: Vec<EngineOutput>,
+    /// The terrain as a glTF 2.0 binary mesh (`.glb`), decimated to an error bound.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<MeshOutput>,
     /// Run summary: parameters, counts, timings, histogram match error.
     #[serde(default = "default_summary")]
     pub summary: Option<PathBuf>,
 }
 
 /// One engine export of the terrain (`outputs.engines[]`), as `relief export` writes it.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct EngineOutput {
     /// The engine: `unity`, `unreal`, `godot` or `blender`.
@@ -262,6 +265,44 @@ pub struct EngineOutput {
     /// Tiles of this many samples per side, sharing their edges (default: one heightmap).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tile: Option<usize>,
+    /// Splat maps beside each heightmap (`{}` for the defaults): layer weights (ground, rock,
+    /// snow, water) and the raw slope, elevation, convexity and flow masks.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub splat: Option<crate::engine::SplatOptions>,
+}
+
+/// The terrain as a glTF mesh (`outputs.mesh`), as `relief export --for gltf` writes it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MeshOutput {
+    /// The `.glb` file, relative to the output directory (default `terrain.glb`).
+    #[serde(default = "default_mesh_file")]
+    pub file: PathBuf,
+    /// No sample farther than this from the mesh, metres (default: 0.1 % of the height range).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_error_m: Option<f64>,
+    /// At most this many triangles (default 500 000).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_triangles: Option<usize>,
+    /// Hypsometric vertex colours (default `true`).
+    #[serde(default = "default_true")]
+    pub colours: bool,
+}
+
+impl MeshOutput {
+    /// The library's options.
+    pub fn options(&self) -> crate::engine::MeshOptions {
+        let defaults = crate::engine::MeshOptions::default();
+        crate::engine::MeshOptions {
+            max_error_m: self.max_error_m,
+            max_triangles: self.max_triangles.unwrap_or(defaults.max_triangles),
+            colours: self.colours,
+        }
+    }
+}
+
+fn default_mesh_file() -> PathBuf {
+    PathBuf::from("terrain.glb")
 }
 
 impl EngineOutput {
@@ -272,7 +313,12 @@ impl EngineOutput {
 
     /// The library's options.
     pub fn options(&self) -> crate::engine::ExportOptions {
-        crate::engine::ExportOptions { size: self.size, tile: self.tile, ..crate::engine::ExportOptions::default() }
+        crate::engine::ExportOptions {
+            size: self.size,
+            tile: self.tile,
+            splat: self.splat,
+            ..crate::engine::ExportOptions::default()
+        }
     }
 }
 
@@ -310,6 +356,7 @@ impl Default for Outputs {
             atlas: None,
             island_layers: None,
             engines: Vec::new(),
+            mesh: None,
             summary: default_summary(),
         }
     }
