@@ -418,9 +418,9 @@ pub(crate) struct ExportArgs {
     /// glTF: no sample farther than this from the mesh, metres (default: 0.1 % of the relief).
     #[arg(long, value_name = "METRES")]
     pub(crate) max_error: Option<f64>,
-    /// glTF: at most this many triangles.
-    #[arg(long, value_name = "N", default_value_t = 500_000)]
-    pub(crate) triangles: usize,
+    /// glTF: at most this many triangles (default 500 000).
+    #[arg(long, value_name = "N")]
+    pub(crate) triangles: Option<usize>,
     /// glTF: no hypsometric vertex colours.
     #[arg(long)]
     pub(crate) no_colours: bool,

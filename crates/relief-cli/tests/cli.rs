@@ -641,4 +641,8 @@ fn export_writes_engine_heightmaps_from_a_dem_or_a_scene() {
     }
     let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "gltf", "--splat"], 1);
     assert!(stderr.contains("heightmap engine"), "{stderr}");
+    let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "unity", "--max-error", "2"], 1);
+    assert!(stderr.contains("go with --for gltf"), "{stderr}");
+    let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "gltf", "--triangles", "1"], 1);
+    assert!(stderr.contains("from 2 to"), "{stderr}");
 }

@@ -99,11 +99,7 @@ pub(crate) fn convert(args: &ConvertArgs, ui: &mut Ui) -> Result<()> {
 /// `relief export`: heightmaps for an engine, or a glTF mesh, from a DEM or a scene's terrain.
 pub(crate) fn export(args: &ExportArgs, ui: &mut Ui) -> Result<()> {
     let input = &args.input;
-    if args.engine.engine().is_none() && (args.splat || args.size.is_some() || args.tile.is_some()) {
-        anyhow::bail!(
-            "--splat, --size and --tile go with a heightmap engine (unity, unreal, godot, blender), not gltf"
-        );
-    }
+    check_export_options(args)?;
     let is_scene = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let dem = if is_scene {
         let scene = super::scenes::load(input, None)?;
@@ -153,16 +149,36 @@ pub(crate) fn export(args: &ExportArgs, ui: &mut Ui) -> Result<()> {
     Ok(())
 }
 
-/// `relief export --for gltf`: the terrain as a decimated `.glb` mesh.
-fn export_mesh(args: &ExportArgs, dem: &Heightfield, out: &Path, ui: &mut Ui) -> Result<()> {
+/// Options that only one kind of export takes are refused with the other, and bad mesh bounds
+/// before any work.
+fn check_export_options(args: &ExportArgs) -> Result<()> {
+    let mesh_options = args.max_error.is_some() || args.triangles.is_some() || args.no_colours;
+    if args.engine.engine().is_none() {
+        if args.splat || args.size.is_some() || args.tile.is_some() {
+            bail!("--splat, --size and --tile go with a heightmap engine (unity, unreal, godot, blender), not gltf");
+        }
+    } else if mesh_options {
+        bail!("--max-error, --triangles and --no-colours go with --for gltf");
+    }
     if let Some(e) = args.max_error
         && !(e.is_finite() && e >= 0.0)
     {
-        anyhow::bail!("--max-error {e}: must be finite and at least 0 metres");
+        bail!("--max-error {e}: must be finite and at least 0 metres");
     }
+    if let Some(n) = args.triangles
+        && !(2..=relief::engine::MAX_MESH_TRIANGLES).contains(&n)
+    {
+        bail!("--triangles {n}: must be from 2 to {}", relief::engine::MAX_MESH_TRIANGLES);
+    }
+    Ok(())
+}
+
+/// `relief export --for gltf`: the terrain as a decimated `.glb` mesh.
+fn export_mesh(args: &ExportArgs, dem: &Heightfield, out: &Path, ui: &mut Ui) -> Result<()> {
+    let defaults = relief::engine::MeshOptions::default();
     let options = relief::engine::MeshOptions {
         max_error_m: args.max_error,
-        max_triangles: args.triangles,
+        max_triangles: args.triangles.unwrap_or(defaults.max_triangles),
         colours: !args.no_colours,
     };
     let path = out.join(format!("{}.glb", args.name.as_deref().unwrap_or("terrain")));
