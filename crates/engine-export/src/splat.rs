@@ -154,20 +154,17 @@ fn median_magnitude(values: &[f32]) -> f64 {
     f64::from(*median)
 }
 
-/// ∇²h in metres⁻¹ by the five-point stencil; 0 at the border and next to no-data.
+/// ∇²h in metres⁻¹ by the five-point stencil; 0 at the border (a neighbour out of the grid)
+/// and next to no-data. Interior rows have a positive width in metres: only a geographic grid's
+/// pole row has none, and a pole is always a border row.
 fn laplacian(hf: &Heightfield, i: usize, j: usize) -> f64 {
-    if i == 0 || j == 0 || i + 1 >= hf.nx() || j + 1 >= hf.ny() {
-        return 0.0;
-    }
+    let (Some(west), Some(south)) = (i.checked_sub(1), j.checked_sub(1)) else { return 0.0 };
     let h = |i: usize, j: usize| hf.get(i, j).map(f64::from);
-    let (Some(c), Some(l), Some(r), Some(d), Some(u)) = (h(i, j), h(i - 1, j), h(i + 1, j), h(i, j - 1), h(i, j + 1))
+    let (Some(c), Some(l), Some(r), Some(d), Some(u)) = (h(i, j), h(west, j), h(i + 1, j), h(i, south), h(i, j + 1))
     else {
         return 0.0;
     };
     let step = hf.grid().cell_size_m(j);
-    if step.x <= 0.0 || step.y <= 0.0 {
-        return 0.0;
-    }
     (l + r - 2.0 * c) / (step.x * step.x) + (d + u - 2.0 * c) / (step.y * step.y)
 }
 
@@ -227,11 +224,13 @@ mod tests {
 
     #[test]
     fn laplacian_of_a_paraboloid() {
-        // h = x² + 2y² on a 2 m grid: ∇²h = 2 + 4 = 6 everywhere inside.
-        let grid = GridSpec::new(9, 9, DVec2::ZERO, DVec2::splat(2.0)).unwrap();
+        // h = x² + 2y² on a 0.5 × 3 m grid: ∇²h = 2 + 4 = 6 everywhere inside.
+        let grid = GridSpec::new(9, 9, DVec2::ZERO, DVec2::new(0.5, 3.0)).unwrap();
         let hf = Heightfield::from_fn(grid, |p| (p.x * p.x + 2.0 * p.y * p.y) as f32).unwrap();
-        assert!((laplacian(&hf, 4, 4) - 6.0).abs() < 1e-9);
-        assert_eq!(laplacian(&hf, 0, 4), 0.0);
+        assert!((laplacian(&hf, 4, 4) - 6.0).abs() < 1e-3, "{}", laplacian(&hf, 4, 4));
+        for (i, j) in [(0, 4), (8, 4), (4, 0), (4, 8), (9, 4)] {
+            assert_eq!(laplacian(&hf, i, j), 0.0, "({i}, {j}) is on the border");
+        }
     }
 
     #[test]
@@ -250,6 +249,9 @@ mod tests {
         assert_eq!(w[2], [0, 0, 0, 255], "low channel: water");
         // s = e = f = ½: rock ½, snow ¼, water ⅛, ground ⅛.
         assert_eq!(w[3], [31, 128, 64, 32]);
+        // Snow and water ½ each both round up to 128: one code comes off the larger (the last).
+        let tie = Masks { slope: vec![0.0], elevation: vec![0.5], flow: vec![1.0], convexity: vec![0.5], nx: 1, ny: 1 };
+        assert_eq!(tie.splat()[0], [0, 0, 128, 127]);
         assert!(w.iter().all(|p| p.iter().map(|&v| u16::from(v)).sum::<u16>() == 255));
     }
 
@@ -257,6 +259,8 @@ mod tests {
     fn bad_ranges_are_named() {
         let bad = SplatOptions { rock_slope_deg: [45.0, 30.0], ..SplatOptions::default() };
         assert!(bad.validate().unwrap_err().to_string().contains("rock_slope_deg"));
+        let bad = SplatOptions { snow_height: [0.8, 0.8], ..SplatOptions::default() };
+        assert!(bad.validate().unwrap_err().to_string().contains("snow_height"), "an empty ramp");
         let bad = SplatOptions { flow_area: [0.0, 0.1], ..SplatOptions::default() };
         assert!(bad.validate().unwrap_err().to_string().contains("flow_area"));
         assert!(SplatOptions::default().validate().is_ok());
