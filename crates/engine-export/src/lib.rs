@@ -316,34 +316,32 @@ impl Prepared {
     /// The file names [`Prepared::write`] gives the tiles, in tile order: `NAME.EXT` for one,
     /// the engine's tiled-import names for several.
     pub fn file_names(&self, name: &str) -> Vec<String> {
-        let engine = self.settings.engine;
-        let single = self.tiles.len() == 1;
-        self.tiles
-            .iter()
-            .map(|t| {
-                let suffix =
-                    if single { String::new() } else { engine.tile_suffix(t.column, t.row, self.settings.tiles[1]) };
-                format!("{name}{suffix}.{}", engine.extension())
-            })
-            .collect()
+        let extension = self.settings.engine.extension();
+        (0..self.tiles.len()).map(|k| format!("{name}{}.{extension}", self.tile_suffix(k))).collect()
     }
 
-    /// The splat files [`Prepared::write`] gives a tile of [`Prepared::file_names`]' `file`:
-    /// `STEM_splat.png` (RGBA: ground, rock, snow, water) for every engine but Unreal, which
-    /// imports one 8-bit grayscale weight map per layer (`STEM_ground.png`, `STEM_rock.png`, …),
-    /// then `STEM_masks.png` (RGBA: slope, elevation, convexity, flow). Empty without masks.
-    pub fn splat_names(&self, file: &str) -> Vec<String> {
-        if self.tiles.first().is_none_or(|t| t.masks.is_none()) {
+    /// Tile `k`'s suffix in the engine's tiled-import naming; none for a single heightmap.
+    fn tile_suffix(&self, k: usize) -> String {
+        match self.tiles.get(k) {
+            Some(t) if self.tiles.len() > 1 => {
+                self.settings.engine.tile_suffix(t.column, t.row, self.settings.tiles[1])
+            }
+            _ => String::new(),
+        }
+    }
+
+    /// The splat files [`Prepared::write`] gives tile `k`, the tile suffix last as tiled imports
+    /// expect: `NAME_splat.png` (RGBA: ground, rock, snow, water) for every engine but Unreal,
+    /// which imports one 8-bit grayscale weight map per layer (`NAME_ground.png`,
+    /// `NAME_rock_x0_y1.png`, …), then `NAME_masks.png` (RGBA: slope, elevation, convexity,
+    /// flow). Empty without masks.
+    pub fn splat_names(&self, name: &str, k: usize) -> Vec<String> {
+        if self.tiles.get(k).is_none_or(|t| t.masks.is_none()) {
             return Vec::new();
         }
-        let stem = file.rsplit_once('.').map_or(file, |(stem, _)| stem);
-        let mut names: Vec<String> = if self.settings.engine == Engine::Unreal {
-            SPLAT_LAYERS.iter().map(|layer| format!("{stem}_{layer}.png")).collect()
-        } else {
-            vec![format!("{stem}_splat.png")]
-        };
-        names.push(format!("{stem}_masks.png"));
-        names
+        let suffix = self.tile_suffix(k);
+        let kinds: &[&str] = if self.settings.engine == Engine::Unreal { &SPLAT_LAYERS } else { &["splat"] };
+        kinds.iter().chain(&["masks"]).map(|kind| format!("{name}_{kind}{suffix}.png")).collect()
     }
 
     /// The sidecar's file name: `NAME.import.json`.
@@ -362,10 +360,10 @@ impl Prepared {
         let mut files = Vec::with_capacity(self.tiles.len());
         let mut entries = Vec::with_capacity(self.tiles.len());
         let mut splat_files = Vec::new();
-        for (tile, file) in self.tiles.iter().zip(self.file_names(name)) {
+        for (k, (tile, file)) in self.tiles.iter().zip(self.file_names(name)).enumerate() {
             let path = dir.join(&file);
             write_tile(&path, self.settings.engine, &tile.heights, &self.settings)?;
-            let splats = self.splat_names(&file);
+            let splats = self.splat_names(name, k);
             if let Some(m) = &tile.masks {
                 splat_files.push(write_splats(m, self.settings.engine, dir, &splats)?);
             }

@@ -65,7 +65,8 @@ fn splat_maps_sit_beside_each_tile_and_meet_without_seams() {
     assert!(masks.pixels().any(|p| p[2] > 200) && masks.pixels().any(|p| p[2] < 50), "convexity spans the range");
     let sidecar: serde_json::Value = serde_json::from_slice(&std::fs::read(&out.sidecar).unwrap()).unwrap();
     assert_eq!(sidecar["splat_layers"], serde_json::json!(["ground", "rock", "snow", "water"]));
-    assert_eq!(sidecar["tiles"][0]["splat"], serde_json::json!(["heightmap_0_0_splat.png", "heightmap_0_0_masks.png"]));
+    // The tile suffix stays last, where tiled imports look for it.
+    assert_eq!(sidecar["tiles"][0]["splat"], serde_json::json!(["heightmap_splat_0_0.png", "heightmap_masks_0_0.png"]));
 }
 
 #[test]
@@ -86,6 +87,11 @@ fn unreal_gets_one_grayscale_weight_map_per_layer() {
             "heightmap_masks.png"
         ]
     );
+    // Tiled, each layer's maps carry World Partition's suffix at the end.
+    let tiled = ExportOptions { tile: Some(127), ..options.clone() };
+    let names = relief_engine_export::prepare(&dem, Engine::Unreal, &tiled).unwrap().splat_names("heightmap", 1);
+    assert_eq!(names[1], "heightmap_rock_x1_y0.png");
+    assert_eq!(names[4], "heightmap_masks_x1_y0.png");
     let layers: Vec<image::GrayImage> =
         out.splat_files[0][..4].iter().map(|f| image::open(f).unwrap().into_luma8()).collect();
     assert!(layers.iter().all(|l| l.dimensions() == (253, 253)));

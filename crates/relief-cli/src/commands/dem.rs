@@ -126,8 +126,8 @@ pub(crate) fn export(args: &ExportArgs, ui: &mut Ui) -> Result<()> {
     let prepared = ui.step("resample", || relief::engine::prepare(&dem, engine, &options))?;
     let mut writes = ui.writes();
     writes.reads(input);
-    for file in prepared.file_names(&options.name) {
-        for splat in prepared.splat_names(&file) {
+    for (k, file) in prepared.file_names(&options.name).into_iter().enumerate() {
+        for splat in prepared.splat_names(&options.name, k) {
             writes.writes_file(&out.join(splat));
         }
         writes.writes_file(&out.join(file));
