@@ -133,7 +133,7 @@ impl TerrainMesh {
         let (lo, hi) = self.bounds();
         let size = (hi - lo).truncate().max(DVec2::splat(f64::MIN_POSITIVE));
         let uvs: Vec<[f32; 2]> =
-            self.positions.iter().map(|p| [(p.x / size.x) as f32, (1.0 - p.y / size.y) as f32]).collect();
+            self.positions.iter().map(|p| [((p.x - lo.x) / size.x) as f32, ((hi.y - p.y) / size.y) as f32]).collect();
         let mut doc = GlbBuilder::default();
         let mut attributes = BTreeMap::new();
         let (pmin, pmax) = (gltf_frame(DVec3::new(lo.x, hi.y, lo.z)), gltf_frame(DVec3::new(hi.x, lo.y, hi.z)));

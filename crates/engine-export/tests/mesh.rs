@@ -121,6 +121,14 @@ fn a_tin_becomes_a_mesh_as_it_is() {
     let got = load(&mesh.to_glb(true).unwrap());
     assert_eq!(got.max, vec![100.0, 40.0, 0.0]);
     assert_eq!(got.min, vec![0.0, 0.0, -80.0]);
+    // UVs span the bounds wherever the positions sit (the fields are public).
+    let moved = TerrainMesh {
+        positions: mesh.positions.iter().map(|p| *p + glam::DVec3::new(500.0, -70.0, 0.0)).collect(),
+        ..mesh.clone()
+    };
+    let uvs = load(&moved.to_glb(false).unwrap()).uvs;
+    assert!(uvs.iter().all(|uv| (0.0..=1.0).contains(&uv[0]) && (0.0..=1.0).contains(&uv[1])), "{uvs:?}");
+    assert!(uvs.contains(&[0.0, 1.0]) && uvs.contains(&[1.0, 1.0]), "the south corners: {uvs:?}");
     assert!(matches!(TerrainMesh::from_tin(&tin, &[0.0; 3]), Err(EngineError::Tin(_))));
     assert!(matches!(TerrainMesh::from_tin(&tin, &[0.0, 1.0, f64::NAN, 2.0]), Err(EngineError::Tin(_))));
 }
