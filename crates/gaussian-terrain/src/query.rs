@@ -4,13 +4,15 @@
 //! library: PLOC construction and stack traversal, which a hand-written grid would only
 //! approximate for primitives whose sizes span three orders of magnitude).
 //!
-//! Queries go by cells of a fixed lattice about three quarters of a typical support wide: a
-//! cell walks the hierarchy once for the supports that may reach it, then adds each of them to
-//! all of its points with the rasterizer's branch-free f32 arithmetic (module `fastmath`), the
-//! loop over the points vectorized (AVX2 through `pulp` where the CPU has it). A single query
-//! is a cell with one point, and each point sums the same supports in the same order whatever
-//! the other points of its cell, so a batch returns exactly the single queries' values, for any
-//! thread count.
+//! Queries go by cells of a fixed lattice about a typical support wide: a cell walks the
+//! hierarchy once for the supports that may reach it and cuts its points into groups of 16
+//! neighbours (along a Z-order curve). Each support is added to each group it may reach with
+//! the rasterizer's branch-free f32 arithmetic (module `fastmath`), the loop over the group's
+//! points vectorized (AVX2 through `pulp` where the CPU has it); the test of whether it reaches
+//! a group is conservative, so a group skips only supports that add nothing to any of its
+//! points. A single query is a cell with one point, and each point sums the supports over it in
+//! index order whatever the other points of its cell, so a batch returns exactly the single
+//! queries' values, for any thread count.
 
 use glam::{DVec2, DVec3, Vec3A};
 use obvhs::BvhBuildParams;
@@ -22,9 +24,9 @@ use rayon::prelude::*;
 use crate::fastmath::{exp_neg, exp2_signed, log2};
 use crate::{DetailLayer, Gaussian, GaussianError, Ground, VectorTerrain};
 
-/// Side of the query lattice's cells, in typical support widths (measured best among 0.25–1.5
-/// on the rasterizer benchmark's terrain).
-const CELL_PER_SUPPORT: f64 = 0.75;
+/// Side of the query lattice's cells, in typical support widths (measured best among 0.5–2 on
+/// the rasterizer benchmark's terrain).
+const CELL_PER_SUPPORT: f64 = 1.0;
 
 /// Cells per parallel task in the batched queries.
 const CELLS_PER_TASK: usize = 16;
@@ -59,9 +61,6 @@ struct Item {
     /// The support's bounding box.
     lo: DVec2,
     hi: DVec2,
-    /// The support ellipse's unit axes and semi-axes `r·σ`.
-    axes: (DVec2, DVec2),
-    semi: DVec2,
 }
 
 impl Item {
@@ -69,18 +68,7 @@ impl Item {
         let (u, v) = g.inverse_axes();
         let r = g.support_radius(tolerance);
         let (lo, hi) = g.bounds(tolerance);
-        Self {
-            center: DVec2::from(g.center),
-            u,
-            v,
-            r2: r * r,
-            amplitude: g.amplitude,
-            half_beta: 0.5 * g.beta,
-            lo,
-            hi,
-            axes: (DVec2::from_angle(g.theta), DVec2::from_angle(g.theta).perp()),
-            semi: DVec2::from(g.sigma) * r,
-        }
+        Self { center: DVec2::from(g.center), u, v, r2: r * r, amplitude: g.amplitude, half_beta: 0.5 * g.beta, lo, hi }
     }
 
     /// The value at `p` in f64, 0 outside the support (a detail falloff's weight).
@@ -91,18 +79,28 @@ impl Item {
         if s > self.r2 { 0.0 } else { self.amplitude * (-0.5 * s.powf(self.half_beta)).exp() }
     }
 
-    /// Whether the support may reach the box `[lo, hi]`: its bounding box meets it and its
-    /// ellipse, grown by the box's half-diagonal, holds the box's centre (conservative: the
-    /// grown ellipse holds the support swept by a disc around the box).
-    fn meets(&self, lo: DVec2, hi: DVec2) -> bool {
+    /// Whether the support may reach the box `[lo, hi]` grown by `slack`: its bounding box
+    /// meets the box and [`reaches`] says it may.
+    fn meets(&self, lo: DVec2, hi: DVec2, slack: f64) -> bool {
         if self.lo.x > hi.x || self.hi.x < lo.x || self.lo.y > hi.y || self.hi.y < lo.y {
             return false;
         }
-        let (mid, reach) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
-        let d = mid - self.center;
-        let (x, y) = (d.dot(self.axes.0) / (self.semi.x + reach), d.dot(self.axes.1) / (self.semi.y + reach));
-        x * x + y * y <= 1.0
+        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo) + slack);
+        reaches(mid - self.center, self.u, self.v, self.r2.sqrt(), half)
     }
+}
+
+/// Whether a support (centre at `−d` from `mid`, inverse axes `u`, `v`, radius `r` in `d`
+/// units) may reach a point of the box `mid ± half`: in the support's `d` coordinates the box
+/// is a parallelogram inside the rectangle `m ± e`, `e = (|u|·half, |v|·half)`, so none of it is
+/// inside when that rectangle keeps further than `r` from the centre (conservative, and tight
+/// for thin boxes and elongated supports alike). `r` gets a relative 10⁻⁴ on top, far above the
+/// f32 rounding of the kernel's own inside test.
+fn reaches(d: DVec2, u: DVec2, v: DVec2, r: f64, half: DVec2) -> bool {
+    let gap = |m: f64, axis: DVec2| (m.abs() - axis.abs().dot(half)).max(0.0);
+    let (x, y) = (gap(d.dot(u), u), gap(d.dot(v), v));
+    let limit = r * (1.0 + 1e-4);
+    x * x + y * y <= limit * limit
 }
 
 /// A vector terrain prepared for point queries: [`VectorTerrain::query`] builds it.
@@ -356,19 +354,23 @@ impl TerrainQuery {
     ) {
         let corner = self.origin + DVec2::new(f64::from(key.0), f64::from(key.1)) * self.cell;
         let (lo, hi) = (corner, corner + DVec2::splat(self.cell));
-        let mut candidates = Vec::new();
+        let mut candidates = std::mem::take(&mut block.candidates);
+        candidates.clear();
         self.bvh.aabb_traverse(outward_box(lo - self.origin, hi - self.origin), |bvh, node| {
             collect_leaf(bvh, node, &mut candidates)
         });
-        candidates.retain(|&k| self.items[k as usize].meets(lo, hi));
+        // What the points' f32 coordinates relative to the corner may be off by, and more.
+        let slack = 1e-5 * self.cell;
+        candidates.retain(|&k| self.items[k as usize].meets(lo, hi, slack));
         candidates.sort_unstable();
         let split = candidates.partition_point(|&k| (k as usize) < self.gaussians);
-        block.load(&self.items, &candidates[..split], points, members, corner);
+        block.load(&self.items, &candidates[..split], points, members, corner, slack);
         block.run();
-        for (n, &k) in members.iter().enumerate() {
+        for (n, &k) in block.order.iter().enumerate() {
             let p = points[k as usize];
-            let m = members.len();
-            let (h, gx, gy) = (block.sums[n], block.sums[m + n], block.sums[2 * m + n]);
+            let sums = &block.sums[3 * LANES * (n / LANES)..];
+            let lane = n % LANES;
+            let (h, gx, gy) = (sums[lane], sums[LANES + lane], sums[2 * LANES + lane]);
             let (h, gx, gy) = (f64::from(h), f64::from(gx), f64::from(gy));
             let mut s = Sample { elevation: self.base + h, gradient: DVec2::new(gx, gy) };
             if let Some(floor) = self.floor
@@ -383,6 +385,7 @@ impl TerrainQuery {
             }
             out.push((k, s));
         }
+        block.candidates = candidates;
     }
 
     /// The detail layers at `p`, given a superset of the falloffs over it (ascending): each
@@ -431,18 +434,34 @@ impl Sample {
     }
 }
 
-/// A cell's work: its Gaussians (centres relative to the cell's corner) and its points
-/// (relative to the corner, f32 columns), with the sums being accumulated.
+/// Points per group: two AVX2 registers of f32 (measured best among 8, 16 and 32 on the
+/// rasterizer benchmark's terrain).
+const LANES: usize = 16;
+
+/// A cell's work: its Gaussians (centres relative to the cell's corner, f32) and its points in
+/// groups of [`LANES`] nearby points, each group with the sums being accumulated. A Gaussian is
+/// added to a group only when it may reach one of the group's points; the points it skips lie
+/// outside its support, where the kernel adds nothing anyway, so a point's sum is the same
+/// whatever group it is in.
 #[derive(Default)]
 struct Block {
     supports: Vec<Support>,
-    /// The points' x, then their y.
+    groups: Vec<Group>,
+    /// Each group's points relative to the cell's corner: [`LANES`] x, then [`LANES`] y (the
+    /// last point repeated to fill the lanes).
     q: Vec<f32>,
-    /// The points' elevations, then x and then y derivatives (f32 like the rasterizer's sums).
+    /// Each group's sums: [`LANES`] elevations, then x and y derivatives (f32 like the
+    /// rasterizer's sums).
     sums: Vec<f32>,
+    /// The cell's points (indices into the caller's points) in group order.
+    order: Vec<u32>,
+    /// Scratch: the supports over the cell, and the points' Z-order keys.
+    candidates: Vec<u32>,
+    keys: Vec<(u32, u32)>,
 }
 
-/// One Gaussian of a [`Block`], f32.
+/// One Gaussian of a [`Block`]: f32 for the kernel, f64 for the test of whether it reaches a
+/// group.
 #[derive(Clone, Copy)]
 struct Support {
     cx: f32,
@@ -454,12 +473,28 @@ struct Support {
     r2: f32,
     amplitude: f32,
     half_beta: f32,
+    center: DVec2,
+    u: DVec2,
+    v: DVec2,
+    r: f64,
+    /// What its f32 centre and the points may be off by (10⁻⁵ of the cell and of its offset
+    /// from the corner: f32 keeps 2⁻²³ of a magnitude), added to the groups' half-sizes.
+    slack: f64,
+}
+
+/// Up to [`LANES`] nearby points of a cell: the disc that holds them, relative to the cell's
+/// corner.
+#[derive(Clone, Copy)]
+struct Group {
+    /// The centre of the points' box and its half-size.
+    mid: DVec2,
+    half: DVec2,
 }
 
 impl Block {
     /// Loads the Gaussians `indices` and the points `members` of the cell at `corner`, sums
-    /// cleared.
-    fn load(&mut self, items: &[Item], indices: &[u32], points: &[DVec2], members: &[u32], corner: DVec2) {
+    /// cleared: the points sorted along a Z-order curve over the cell, cut into groups.
+    fn load(&mut self, items: &[Item], indices: &[u32], points: &[DVec2], members: &[u32], corner: DVec2, slack: f64) {
         self.supports.clear();
         self.supports.extend(indices.iter().map(|&k| {
             let i = &items[k as usize];
@@ -474,24 +509,64 @@ impl Block {
                 r2: i.r2 as f32,
                 amplitude: i.amplitude as f32,
                 half_beta: i.half_beta as f32,
+                center: c,
+                u: i.u,
+                v: i.v,
+                r: i.r2.sqrt(),
+                slack: slack + 1e-5 * c.abs().max_element(),
             }
         }));
+        self.order.clear();
+        if members.len() > LANES {
+            let (lo, hi) = members.iter().fold((DVec2::MAX, DVec2::MIN), |(lo, hi), &k| {
+                let p = points[k as usize];
+                (lo.min(p), hi.max(p))
+            });
+            let scale = DVec2::splat(65_535.0) / (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
+            self.keys.clear();
+            self.keys.extend(members.iter().map(|&k| {
+                let q = ((points[k as usize] - lo) * scale).min(DVec2::splat(65_535.0));
+                (z_order(q.x as u32, q.y as u32), k)
+            }));
+            self.keys.sort_unstable();
+            self.order.extend(self.keys.iter().map(|&(_, k)| k));
+        } else {
+            self.order.extend_from_slice(members);
+        }
+        self.groups.clear();
         self.q.clear();
-        self.q.extend(members.iter().map(|&k| (points[k as usize].x - corner.x) as f32));
-        self.q.extend(members.iter().map(|&k| (points[k as usize].y - corner.y) as f32));
+        for chunk in self.order.chunks(LANES) {
+            let lane = |l: usize| points[chunk[l.min(chunk.len() - 1)] as usize] - corner;
+            self.q.extend((0..LANES).map(|l| lane(l).x as f32));
+            self.q.extend((0..LANES).map(|l| lane(l).y as f32));
+            let (lo, hi) = chunk.iter().fold((DVec2::MAX, DVec2::MIN), |(lo, hi), &k| {
+                let p = points[k as usize] - corner;
+                (lo.min(p), hi.max(p))
+            });
+            self.groups.push(Group { mid: 0.5 * (lo + hi), half: 0.5 * (hi - lo) });
+        }
         self.sums.clear();
-        self.sums.resize(3 * members.len(), 0.0);
+        self.sums.resize(3 * LANES * self.groups.len(), 0.0);
     }
 
-    /// Adds every Gaussian, in order, to every point's sums: the loop over the points is the
-    /// one the compiler vectorizes, dispatched by `pulp` to the widest vector instructions the
-    /// CPU has (AVX2 where present). Each point's sum runs over the Gaussians in order whatever
-    /// the cell's other points, so a point alone in its cell gets the same bits; and the vector
-    /// build gives the bits of the plain one (no implicit fusing, explicit `mul_add`s fused on
-    /// both).
+    /// Adds every Gaussian, in order, to every group it may reach: the loop over a group's
+    /// lanes is the one the compiler vectorizes, dispatched by `pulp` to the widest vector
+    /// instructions the CPU has (AVX2 where present). The vector build gives the bits of the
+    /// plain one (no implicit fusing, explicit `mul_add`s fused on both).
     fn run(&mut self) {
         pulp::Arch::new().dispatch(&mut *self);
     }
+}
+
+/// Interleaves the bits of `x` and `y` (16 each): the Z-order key of a point.
+fn z_order(x: u32, y: u32) -> u32 {
+    let spread = |v: u32| {
+        let v = (v | (v << 8)) & 0x00ff_00ff;
+        let v = (v | (v << 4)) & 0x0f0f_0f0f;
+        let v = (v | (v << 2)) & 0x3333_3333;
+        (v | (v << 1)) & 0x5555_5555
+    };
+    spread(x & 0xffff) | (spread(y & 0xffff) << 1)
 }
 
 impl pulp::WithSimd for &mut Block {
@@ -503,21 +578,40 @@ impl pulp::WithSimd for &mut Block {
     )]
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        for c in &self.supports {
-            add_support(*c, &self.q, &mut self.sums);
+        let lanes = std::hint::black_box(LANES);
+        let groups = self.groups.iter().zip(self.q.chunks_exact(2 * lanes)).zip(self.sums.chunks_exact_mut(3 * lanes));
+        for ((group, q), sums) in groups {
+            for c in &self.supports {
+                if reaches(group.mid - c.center, c.u, c.v, c.r, group.half + c.slack) {
+                    add_support(*c, q, sums);
+                }
+            }
         }
     }
 }
 
-/// Adds the Gaussian `c` to the sums of the points `q` (their x, then their y): `sums` holds
-/// the elevations, then the x and then the y derivatives. One slice in, one out, so the
-/// compiler knows the writes miss the reads and vectorizes the loop.
+/// Adds the Gaussian `c` to the sums of the group's points inside its support.
 #[allow(
     clippy::inline_always,
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
 )]
 #[inline(always)]
 fn add_support(c: Support, q: &[f32], sums: &mut [f32]) {
+    if c.half_beta == 1.0 {
+        add_terms(c, q, sums, |_| 1.0);
+    } else {
+        add_terms(c, q, sums, |s| exp2_signed((c.half_beta - 1.0) * log2(s)));
+    }
+}
+
+/// [`add_support`] with `lower(s) = s^(β/2 − 1)`: the gradient's factor, and `s^(β/2)` is
+/// `s·lower(s)` (β = 2 skips the logarithm: `lower` is 1).
+#[allow(
+    clippy::inline_always,
+    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
+fn add_terms(c: Support, q: &[f32], sums: &mut [f32], lower: impl Fn(f32) -> f32) {
     let n = q.len() / 2;
     let (qx, qy) = q.split_at(n);
     let (h, rest) = sums.split_at_mut(n);
@@ -527,10 +621,9 @@ fn add_support(c: Support, q: &[f32], sums: &mut [f32]) {
         let (dx, dy) = (qx[j] - c.cx, qy[j] - c.cy);
         let (x, y) = (dx * c.ux + dy * c.uy, dx * c.vx + dy * c.vy);
         let s = x * x + y * y;
-        // s^(β/2), and s^(β/2 − 1) for the gradient (s = 0: a zero gradient).
-        let power = exp2_signed(c.half_beta * log2(s));
-        let g = c.amplitude * exp_neg(-0.5 * power);
-        let slope = -g * c.half_beta * power / s.max(f32::MIN_POSITIVE);
+        let lower = lower(s);
+        let g = c.amplitude * exp_neg(-0.5 * (s * lower));
+        let slope = -g * c.half_beta * lower;
         let inside = s <= c.r2;
         let (nh, ngx, ngy) = (h[j] + g, gx[j] + slope * (x * c.ux + y * c.vx), gy[j] + slope * (x * c.uy + y * c.vy));
         h[j] = if inside { nh } else { h[j] };
