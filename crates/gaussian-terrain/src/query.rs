@@ -79,12 +79,10 @@ impl Item {
         if s > self.r2 { 0.0 } else { self.amplitude * (-0.5 * s.powf(self.half_beta)).exp() }
     }
 
-    /// Whether the support may reach the box `[lo, hi]` grown by `slack`: its bounding box
-    /// meets the box and [`reaches`] says it may.
+    /// Whether the support may reach the box `[lo, hi]` grown by `slack` ([`reaches`]). A cull
+    /// for the whole cell: the groups of its points test again, so a support let through that
+    /// reaches none of them only costs time.
     fn meets(&self, lo: DVec2, hi: DVec2, slack: f64) -> bool {
-        if self.lo.x > hi.x || self.hi.x < lo.x || self.lo.y > hi.y || self.hi.y < lo.y {
-            return false;
-        }
         let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo) + slack);
         reaches(mid - self.center, self.u, self.v, self.r2.sqrt(), half)
     }
@@ -482,7 +480,7 @@ struct Support {
     slack: f64,
 }
 
-/// Up to [`LANES`] nearby points of a cell: the disc that holds them, relative to the cell's
+/// Up to [`LANES`] nearby points of a cell: the box that holds them, relative to the cell's
 /// corner.
 #[derive(Clone, Copy)]
 struct Group {
@@ -522,7 +520,8 @@ impl Block {
                 let p = points[k as usize];
                 (lo.min(p), hi.max(p))
             });
-            let scale = DVec2::splat(65_535.0) / (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
+            let extent = (hi - lo).max_element();
+            let scale = if extent > 0.0 { 65_535.0 / extent } else { 0.0 };
             self.keys.clear();
             self.keys.extend(members.iter().map(|&k| {
                 let q = ((points[k as usize] - lo) * scale).min(DVec2::splat(65_535.0));
@@ -578,7 +577,7 @@ impl pulp::WithSimd for &mut Block {
     )]
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let lanes = std::hint::black_box(LANES);
+        let lanes = LANES;
         let groups = self.groups.iter().zip(self.q.chunks_exact(2 * lanes)).zip(self.sums.chunks_exact_mut(3 * lanes));
         for ((group, q), sums) in groups {
             for c in &self.supports {
@@ -629,5 +628,55 @@ fn add_terms(c: Support, q: &[f32], sums: &mut [f32], lower: impl Fn(f32) -> f32
         h[j] = if inside { nh } else { h[j] };
         gx[j] = if inside { ngx } else { gx[j] };
         gy[j] = if inside { ngy } else { gy[j] };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn z_order_interleaves_x_then_y() {
+        assert_eq!(z_order(1, 0), 1);
+        assert_eq!(z_order(0, 1), 2);
+        assert_eq!(z_order(3, 3), 15);
+        assert_eq!(z_order(0b1010, 0b0110), 0b0110_1100);
+        assert_eq!(z_order(0xffff, 0), 0x5555_5555);
+        assert_eq!(z_order(0, 0xffff), 0xaaaa_aaaa);
+        assert_eq!(z_order(0x1_0001, 0), 1, "only 16 bits of each");
+    }
+
+    /// The box test is exact on the axes of a round support and never refuses a box holding a
+    /// point of the support.
+    #[test]
+    fn reaches_is_tight_and_conservative() {
+        let (u, v) = (DVec2::X, DVec2::Y);
+        // A unit box centred 4.5 from a support of radius 4 (in d units): its near edge is 4.0.
+        assert!(reaches(DVec2::new(4.5, 0.0), u, v, 4.0, DVec2::splat(0.5)));
+        assert!(!reaches(DVec2::new(4.502, 0.0), u, v, 4.0, DVec2::splat(0.5)));
+        assert!(!reaches(DVec2::new(0.0, -4.502), u, v, 4.0, DVec2::splat(0.5)));
+        // The box's corner: (3, 3) − (0.5, 0.5) is 3.54 from the centre.
+        assert!(reaches(DVec2::new(3.0, 3.0), u, v, 3.54, DVec2::splat(0.5)));
+        assert!(!reaches(DVec2::new(3.0, 3.0), u, v, 3.53, DVec2::splat(0.5)));
+        // A long support (σ = 10, 1) turned 30°: a box holding a point just inside it is kept.
+        let g = Gaussian {
+            center: [0.0, 0.0],
+            sigma: [10.0, 1.0],
+            theta: std::f64::consts::FRAC_PI_6,
+            amplitude: 1.0,
+            beta: 2.0,
+        };
+        let (u, v) = g.inverse_axes();
+        for k in 0..360 {
+            let dir = DVec2::from_angle(f64::from(k).to_radians());
+            let inside = DVec2::new(dir.x * 10.0, dir.y) * 0.999;
+            let p = DVec2::from_angle(std::f64::consts::FRAC_PI_6).rotate(inside) * 3.0;
+            let (mid, half) = (p + DVec2::new(0.7, -0.4), DVec2::new(0.8, 0.5));
+            assert!(reaches(mid, u, v, 3.0, half), "angle {k}");
+            // And one at 1.5 r is refused: the box adds at most 0.83 to its distance in d units.
+            let far =
+                DVec2::from_angle(std::f64::consts::FRAC_PI_6).rotate(DVec2::new(dir.x * 10.0, dir.y)) * 3.0 * 1.5;
+            assert!(!reaches(far, u, v, 3.0, half), "angle {k}");
+        }
     }
 }
