@@ -239,14 +239,19 @@ impl TerrainQuery {
 
     /// The elevation at `p`.
     pub fn elevation(&self, p: DVec2) -> f64 {
-        self.sample(p).elevation
+        self.single(p, false).elevation
     }
 
     /// The elevation and gradient at `p`.
     pub fn sample(&self, p: DVec2) -> Sample {
+        self.single(p, true)
+    }
+
+    /// [`Self::sample`], the gradient left at zero unless `gradients`.
+    fn single(&self, p: DVec2, gradients: bool) -> Sample {
         let Some(key) = self.cell_of(p) else { return self.beyond(p) };
         let mut out = Vec::with_capacity(1);
-        self.cell_samples(key, &[p], &[0], &mut Block::default(), &mut out);
+        self.cell_samples(key, &[p], &[0], gradients, &mut Block::default(), &mut out);
         out[0].1
     }
 
@@ -256,15 +261,22 @@ impl TerrainQuery {
     }
 
     /// The elevations at `points`, in parallel: the same values as [`Self::elevation`] one by
-    /// one, for any thread count.
+    /// one (and as the elevations of [`Self::samples`]), for any thread count. The gradients
+    /// are not computed (unless a detail layer's amplitude follows the slope), which matters
+    /// most with detail layers: their gradient is a central difference.
     pub fn elevations(&self, points: &[DVec2]) -> Vec<f64> {
-        self.samples(points).into_iter().map(|s| s.elevation).collect()
+        self.batch(points, false).into_iter().map(|s| s.elevation).collect()
     }
 
     /// The elevations and gradients at `points`, in parallel: the same values as
     /// [`Self::sample`] one by one, for any thread count. Points close together share one walk
     /// of the hierarchy, so a batch in the order of a grid or a track is the fast case.
     pub fn samples(&self, points: &[DVec2]) -> Vec<Sample> {
+        self.batch(points, true)
+    }
+
+    /// [`Self::samples`], the gradients left at zero unless `gradients`.
+    fn batch(&self, points: &[DVec2], gradients: bool) -> Vec<Sample> {
         let mut out: Vec<Sample> = points.iter().map(|&p| self.beyond(p)).collect();
         let cells = self.bucket(points);
         let parts: Vec<Vec<(u32, Sample)>> = cells
@@ -273,7 +285,7 @@ impl TerrainQuery {
                 let mut block = Block::default();
                 let mut part = Vec::new();
                 for (key, members) in cells {
-                    self.cell_samples(*key, points, members, &mut block, &mut part);
+                    self.cell_samples(*key, points, members, gradients, &mut block, &mut part);
                 }
                 part
             })
@@ -347,6 +359,7 @@ impl TerrainQuery {
         key: (i32, i32),
         points: &[DVec2],
         members: &[u32],
+        gradients: bool,
         block: &mut Block,
         out: &mut Vec<(u32, Sample)>,
     ) {
@@ -363,6 +376,9 @@ impl TerrainQuery {
         candidates.sort_unstable();
         let split = candidates.partition_point(|&k| (k as usize) < self.gaussians);
         block.load(&self.items, &candidates[..split], points, members, corner, slack);
+        // A detail layer modulated by the slope needs the Gaussians' gradient for its value.
+        let by_slope = |layer: &DetailLayer| matches!(&layer.source, crate::DetailSource::Noise { modulation, .. } if modulation.slope.is_some());
+        block.gradients = gradients || self.layers.iter().any(|(layer, _)| by_slope(layer));
         block.run();
         for (n, &k) in block.order.iter().enumerate() {
             let p = points[k as usize];
@@ -379,7 +395,9 @@ impl TerrainQuery {
             if split < candidates.len() {
                 let ground = s;
                 s.elevation += self.details_at(p, &candidates[split..], ground.ground());
-                s.gradient += self.details_gradient(p, ground);
+                if gradients {
+                    s.gradient += self.details_gradient(p, ground);
+                }
             }
             out.push((k, s));
         }
@@ -453,6 +471,8 @@ struct Block {
     sums: Vec<f32>,
     /// The cell's points (indices into the caller's points) in group order.
     order: Vec<u32>,
+    /// Whether to sum the gradients too (else only the elevations).
+    gradients: bool,
     /// Scratch: the supports over the cell, and the points' Z-order keys.
     candidates: Vec<u32>,
     keys: Vec<(u32, u32)>,
@@ -581,30 +601,26 @@ impl pulp::WithSimd for &mut Block {
         let groups = self.groups.iter().zip(self.q.chunks_exact(2 * lanes)).zip(self.sums.chunks_exact_mut(3 * lanes));
         for ((group, q), sums) in groups {
             for c in &self.supports {
-                if reaches(group.mid - c.center, c.u, c.v, c.r, group.half + c.slack) {
-                    add_support(*c, q, sums);
+                if !reaches(group.mid - c.center, c.u, c.v, c.r, group.half + c.slack) {
+                    continue;
+                }
+                // By value: a support behind a reference keeps the loops from vectorizing.
+                let (c, exponent) = (*c, c.half_beta - 1.0);
+                let lower = move |s: f32| exp2_signed(exponent * log2(s));
+                match (self.gradients, c.half_beta == 1.0) {
+                    (true, true) => add_terms(c, q, sums, |_| 1.0),
+                    (true, false) => add_terms(c, q, sums, lower),
+                    (false, true) => add_values(c, q, sums, |_| 1.0),
+                    (false, false) => add_values(c, q, sums, lower),
                 }
             }
         }
     }
 }
 
-/// Adds the Gaussian `c` to the sums of the group's points inside its support.
-#[allow(
-    clippy::inline_always,
-    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
-)]
-#[inline(always)]
-fn add_support(c: Support, q: &[f32], sums: &mut [f32]) {
-    if c.half_beta == 1.0 {
-        add_terms(c, q, sums, |_| 1.0);
-    } else {
-        add_terms(c, q, sums, |s| exp2_signed((c.half_beta - 1.0) * log2(s)));
-    }
-}
-
-/// [`add_support`] with `lower(s) = s^(β/2 − 1)`: the gradient's factor, and `s^(β/2)` is
-/// `s·lower(s)` (β = 2 skips the logarithm: `lower` is 1).
+/// Adds the Gaussian `c` to the sums of the group's points inside its support, given
+/// `lower(s) = s^(β/2 − 1)`: the gradient's factor, and `s^(β/2)` is `s·lower(s)` (β = 2 skips
+/// the logarithm: `lower` is 1).
 #[allow(
     clippy::inline_always,
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
@@ -628,6 +644,25 @@ fn add_terms(c: Support, q: &[f32], sums: &mut [f32], lower: impl Fn(f32) -> f32
         h[j] = if inside { nh } else { h[j] };
         gx[j] = if inside { ngx } else { gx[j] };
         gy[j] = if inside { ngy } else { gy[j] };
+    }
+}
+
+/// [`add_terms`] without the gradient: the elevations only, the same bits.
+#[allow(
+    clippy::inline_always,
+    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
+fn add_values(c: Support, q: &[f32], sums: &mut [f32], lower: impl Fn(f32) -> f32) {
+    let n = q.len() / 2;
+    let (qx, qy) = q.split_at(n);
+    let (qy, h) = (&qy[..n], &mut sums[..n]);
+    for j in 0..n {
+        let (dx, dy) = (qx[j] - c.cx, qy[j] - c.cy);
+        let (x, y) = (dx * c.ux + dy * c.uy, dx * c.vx + dy * c.vy);
+        let s = x * x + y * y;
+        let g = c.amplitude * exp_neg(-0.5 * (s * lower(s)));
+        h[j] = if s <= c.r2 { h[j] + g } else { h[j] };
     }
 }
 

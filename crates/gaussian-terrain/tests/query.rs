@@ -256,3 +256,26 @@ fn elongated_supports_are_never_cut() {
         assert!(worst < 0.01, "σ ({sx}, {sy}), θ {theta}: {worst} off the rasterizer");
     }
 }
+
+/// `elevations` skips the gradients, except the Gaussians' when a detail layer follows the
+/// slope: its values are still the exact sum's and those of `samples`, bit for bit.
+#[test]
+fn elevations_without_gradients_still_see_the_slope() {
+    let mut terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::splat(500.0), 200.0, 300.0)]);
+    let fbm = relief_heightfield::noise::Fbm { octaves: 3, frequency: 0.02, seed: 4, ..Default::default() };
+    let modulation = relief_gaussian_terrain::Modulation { elevation: None, slope: Some([0.5, 1.0]) };
+    let source = DetailSource::Noise { amplitude: 10.0, fbm, modulation };
+    terrain.details.push(DetailLayer::poisson((DVec2::ZERO, DVec2::splat(1000.0)), 20.0, 1, 100_000, source).unwrap());
+    let query = terrain.query().unwrap();
+    let points: Vec<DVec2> =
+        (0..200).map(|k| DVec2::new(f64::from(k * 53 % 1000), f64::from(k * 29 % 1000)) + 0.5).collect();
+    let (heights, samples) = (query.elevations(&points), query.samples(&points));
+    let mut steep = 0;
+    for ((&p, h), s) in points.iter().zip(&heights).zip(&samples) {
+        assert_eq!(h.to_bits(), s.elevation.to_bits(), "at {p}");
+        assert_eq!(h.to_bits(), query.elevation(p).to_bits(), "at {p}");
+        assert!((h - terrain.height_at(p)).abs() < 0.05, "at {p}: {h} vs {}", terrain.height_at(p));
+        steep += usize::from(s.gradient.length() > 0.75);
+    }
+    assert!(steep > 10, "only {steep} points where the slope ramp is above half");
+}
