@@ -367,12 +367,14 @@ impl TerrainQuery {
         let (lo, hi) = (corner, corner + DVec2::splat(self.cell));
         let mut candidates = std::mem::take(&mut block.candidates);
         candidates.clear();
-        self.bvh.aabb_traverse(outward_box(lo - self.origin, hi - self.origin), |bvh, node| {
+        // The supports over the cell, and over the detail gradient's steps out of it.
+        let step = if gradients { self.detail_step() } else { 0.0 };
+        self.bvh.aabb_traverse(outward_box(lo - step - self.origin, hi + step - self.origin), |bvh, node| {
             collect_leaf(bvh, node, &mut candidates)
         });
         // What the points' f32 coordinates relative to the corner may be off by, and more.
         let slack = 1e-5 * self.cell;
-        candidates.retain(|&k| self.items[k as usize].meets(lo, hi, slack));
+        candidates.retain(|&k| self.items[k as usize].meets(lo, hi, slack + step));
         candidates.sort_unstable();
         let split = candidates.partition_point(|&k| (k as usize) < self.gaussians);
         block.load(&self.items, &candidates[..split], points, members, corner, slack);
@@ -396,7 +398,7 @@ impl TerrainQuery {
                 let ground = s;
                 s.elevation += self.details_at(p, &candidates[split..], ground.ground());
                 if gradients {
-                    s.gradient += self.details_gradient(p, ground);
+                    s.gradient += self.details_gradient(p, ground, &candidates[split..]);
                 }
             }
             out.push((k, s));
@@ -420,21 +422,22 @@ impl TerrainQuery {
         total
     }
 
+    /// The step of the detail layers' central differences: 10⁻³ of the narrowest layer's σ (0
+    /// without layers).
+    fn detail_step(&self) -> f64 {
+        self.layers.iter().map(|(l, _)| l.sigma * 1e-3).reduce(f64::min).unwrap_or(0.0)
+    }
+
     /// The detail layers' gradient at `p`: a central difference, over the Gaussians' `ground`
     /// at `p` carried to the nearby points by its gradient (a modulation's change of slope over
     /// the step is left out).
-    fn details_gradient(&self, p: DVec2, ground: Sample) -> DVec2 {
-        let step = self.layers.iter().map(|(l, _)| l.sigma).fold(f64::INFINITY, f64::min) * 1e-3;
+    /// `falloffs` (ascending) holds every falloff within [`Self::detail_step`] of `p`.
+    fn details_gradient(&self, p: DVec2, ground: Sample, falloffs: &[u32]) -> DVec2 {
+        let step = self.detail_step();
         let at = |q: DVec2| {
-            let local = q - self.origin;
-            let point = Vec3A::new(local.x as f32, local.y as f32, 0.0);
-            let mut falloffs = Vec::new();
-            self.bvh.point_traverse(point, |bvh, node| collect_leaf(bvh, node, &mut falloffs));
-            falloffs.retain(|&k| k as usize >= self.gaussians);
-            falloffs.sort_unstable();
             let under =
                 Ground { elevation: ground.elevation + ground.gradient.dot(q - p), slope: ground.gradient.length() };
-            self.details_at(q, &falloffs, under)
+            self.details_at(q, falloffs, under)
         };
         let (dx, dy) = (DVec2::new(step, 0.0), DVec2::new(0.0, step));
         DVec2::new(at(p + dx) - at(p - dx), at(p + dy) - at(p - dy)) / (2.0 * step)
