@@ -600,8 +600,7 @@ impl pulp::WithSimd for &mut Block {
     )]
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let lanes = LANES;
-        let groups = self.groups.iter().zip(self.q.chunks_exact(2 * lanes)).zip(self.sums.chunks_exact_mut(3 * lanes));
+        let groups = self.groups.iter().zip(self.q.chunks_exact(2 * LANES)).zip(self.sums.chunks_exact_mut(3 * LANES));
         for ((group, q), sums) in groups {
             for c in &self.supports {
                 if !reaches(group.mid - c.center, c.u, c.v, c.r, group.half + c.slack) {
