@@ -39,6 +39,16 @@ pub enum EngineError {
     /// A glTF document could not be assembled.
     #[error("glTF: {0}")]
     Mesh(String),
+    /// A mesh option is out of range.
+    #[error("mesh option `{field}` {value}: {rule}")]
+    InvalidMesh {
+        /// The option's field in [`crate::MeshOptions`].
+        field: &'static str,
+        /// The value given, as text.
+        value: String,
+        /// What it must be.
+        rule: String,
+    },
     /// A splat option is out of range.
     #[error("splat option `{field}`: {reason}")]
     InvalidSplat {

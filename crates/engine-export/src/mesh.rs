@@ -51,6 +51,31 @@ pub struct TerrainMesh {
     pub max_error_m: f64,
 }
 
+impl MeshOptions {
+    /// Checks the options as [`TerrainMesh::from_heightfield`] does before any work: the error
+    /// bound finite and not negative, the budget from 2 to [`MAX_MESH_TRIANGLES`] triangles.
+    ///
+    /// # Errors
+    /// [`EngineError::InvalidMesh`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), EngineError> {
+        if let Some(e) = self.max_error_m
+            && !(e.is_finite() && e >= 0.0)
+        {
+            let rule = "must be finite and at least 0 metres".to_owned();
+            return Err(EngineError::InvalidMesh { field: "max_error_m", value: e.to_string(), rule });
+        }
+        if !(2..=MAX_MESH_TRIANGLES).contains(&self.max_triangles) {
+            let rule = format!("must be from 2 to {MAX_MESH_TRIANGLES}");
+            return Err(EngineError::InvalidMesh {
+                field: "max_triangles",
+                value: self.max_triangles.to_string(),
+                rule,
+            });
+        }
+        Ok(())
+    }
+}
+
 impl TerrainMesh {
     /// The heightfield decimated by greedy insertion ([`relief_tin::approximate`]): the Delaunay
     /// mesh of the fewest samples (within the budget) that keeps every sample within
@@ -59,19 +84,14 @@ impl TerrainMesh {
     ///
     /// # Errors
     /// [`EngineError::NoData`] without a valid sample, [`EngineError::Tin`] for a grid under
-    /// 2 × 2 samples, [`EngineError::TooLarge`] beyond [`MAX_MESH_TRIANGLES`].
+    /// 2 × 2 samples, [`EngineError::InvalidMesh`] for options [`MeshOptions::validate`]
+    /// refuses.
     pub fn from_heightfield(hf: &Heightfield, options: &MeshOptions) -> Result<Self, EngineError> {
+        options.validate()?;
         let (lo, hi) = hf.min_max().ok_or(EngineError::NoData)?;
-        if options.max_triangles > MAX_MESH_TRIANGLES {
-            return Err(EngineError::TooLarge {
-                what: format!("{} triangles", options.max_triangles),
-                max: MAX_MESH_TRIANGLES,
-            });
-        }
         let range = f64::from(hi - lo);
-        let max_error = options.max_error_m.unwrap_or(range / 1000.0).max(0.0);
-        let approx =
-            relief_tin::approximate(hf, &Approximation { max_error, max_triangles: options.max_triangles.max(2) })?;
+        let max_error = options.max_error_m.unwrap_or(range / 1000.0);
+        let approx = relief_tin::approximate(hf, &Approximation { max_error, max_triangles: options.max_triangles })?;
         let grid = hf.grid();
         let scale = grid.metres_per_unit(grid.ny() / 2);
         let origin = grid.position(0, 0).min(grid.position(grid.nx() - 1, grid.ny() - 1));

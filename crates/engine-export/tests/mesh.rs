@@ -2,7 +2,7 @@
 //! triangle count, up-facing normals and winding, UVs over the unit square, the error bound.
 
 use glam::{DVec2, DVec3};
-use relief_engine_export::{EngineError, MeshOptions, TerrainMesh};
+use relief_engine_export::{EngineError, MAX_MESH_TRIANGLES, MeshOptions, TerrainMesh};
 use relief_heightfield::{GridSpec, Heightfield};
 use relief_tin::Tin;
 
@@ -139,6 +139,18 @@ fn bad_inputs_are_refused() {
     assert!(matches!(TerrainMesh::from_heightfield(&empty, &MeshOptions::default()), Err(EngineError::NoData)));
     let line = Heightfield::from_fn(GridSpec::new(1, 9, DVec2::ZERO, DVec2::ONE).unwrap(), |_| 1.0).unwrap();
     assert!(matches!(TerrainMesh::from_heightfield(&line, &MeshOptions::default()), Err(EngineError::Tin(_))));
-    let huge = MeshOptions { max_triangles: usize::MAX, ..MeshOptions::default() };
-    assert!(matches!(TerrainMesh::from_heightfield(&jacksboro(), &huge), Err(EngineError::TooLarge { .. })));
+    let refused = |options: MeshOptions| match TerrainMesh::from_heightfield(&jacksboro(), &options) {
+        Err(EngineError::InvalidMesh { field, .. }) => field,
+        other => panic!("{options:?} gave {other:?}"),
+    };
+    let default = MeshOptions::default();
+    assert_eq!(refused(MeshOptions { max_triangles: MAX_MESH_TRIANGLES + 1, ..default }), "max_triangles");
+    assert_eq!(refused(MeshOptions { max_triangles: 1, ..default }), "max_triangles");
+    assert_eq!(refused(MeshOptions { max_error_m: Some(f64::NAN), ..default }), "max_error_m");
+    assert_eq!(refused(MeshOptions { max_error_m: Some(-0.5), ..default }), "max_error_m");
+    assert_eq!(refused(MeshOptions { max_error_m: Some(f64::INFINITY), ..default }), "max_error_m");
+    let edges = [MeshOptions { max_triangles: 2, max_error_m: Some(0.0), ..default }];
+    assert!(edges.iter().all(|o| o.validate().is_ok()));
+    let message = MeshOptions { max_triangles: 1, ..default }.validate().unwrap_err().to_string();
+    assert!(message.contains("max_triangles") && message.contains("from 2 to 16777216"), "{message}");
 }

@@ -644,5 +644,7 @@ fn export_writes_engine_heightmaps_from_a_dem_or_a_scene() {
     let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "unity", "--max-error", "2"], 1);
     assert!(stderr.contains("go with --for gltf"), "{stderr}");
     let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "gltf", "--triangles", "1"], 1);
-    assert!(stderr.contains("from 2 to"), "{stderr}");
+    assert!(stderr.contains("--triangles 1: must be from 2 to"), "{stderr}");
+    let stderr = fails(&["export", "fixtures/dem/jacksboro.asc", "--for", "gltf", "--max-error", "NaN"], 1);
+    assert!(stderr.contains("--max-error NaN: must be finite"), "{stderr}");
 }

@@ -92,6 +92,16 @@ fn a_scene_writes_a_glb_mesh_and_splat_maps() {
     scene.outputs.mesh = Some(MeshOutput { file: "terrain.obj".into(), ..scene.outputs.mesh.clone().unwrap() });
     let e = run(&scene, &scenes, tempfile::tempdir().unwrap().path(), &mut ()).unwrap_err();
     assert_eq!(e.scene_path(), Some("outputs.mesh.file"), "{e}");
+    let mesh = MeshOutput { file: "terrain.glb".into(), ..scene.outputs.mesh.clone().unwrap() };
+    for (bad, path) in [
+        (MeshOutput { max_triangles: Some(1), ..mesh.clone() }, "outputs.mesh.max_triangles"),
+        (MeshOutput { max_error_m: Some(f64::NAN), ..mesh.clone() }, "outputs.mesh.max_error_m"),
+        (MeshOutput { max_error_m: Some(-1.0), ..mesh }, "outputs.mesh.max_error_m"),
+    ] {
+        scene.outputs.mesh = Some(bad);
+        let e = run(&scene, &scenes, tempfile::tempdir().unwrap().path(), &mut ()).unwrap_err();
+        assert_eq!(e.scene_path(), Some(path), "{e}");
+    }
     scene.outputs.mesh = None;
     scene.outputs.engines =
         vec![serde_json::from_str(r#"{"for": "unity", "splat": {"rock_slope_deg": [50, 40]}}"#).unwrap()];

@@ -152,35 +152,34 @@ pub(crate) fn export(args: &ExportArgs, ui: &mut Ui) -> Result<()> {
 /// Options that only one kind of export takes are refused with the other, and bad mesh bounds
 /// before any work.
 fn check_export_options(args: &ExportArgs) -> Result<()> {
-    let mesh_options = args.max_error.is_some() || args.triangles.is_some() || args.no_colours;
+    let has_mesh_options = args.max_error.is_some() || args.triangles.is_some() || args.no_colours;
     if args.engine.engine().is_none() {
         if args.splat || args.size.is_some() || args.tile.is_some() {
             bail!("--splat, --size and --tile go with a heightmap engine (unity, unreal, godot, blender), not gltf");
         }
-    } else if mesh_options {
+    } else if has_mesh_options {
         bail!("--max-error, --triangles and --no-colours go with --for gltf");
     }
-    if let Some(e) = args.max_error
-        && !(e.is_finite() && e >= 0.0)
-    {
-        bail!("--max-error {e}: must be finite and at least 0 metres");
-    }
-    if let Some(n) = args.triangles
-        && !(2..=relief::engine::MAX_MESH_TRIANGLES).contains(&n)
-    {
-        bail!("--triangles {n}: must be from 2 to {}", relief::engine::MAX_MESH_TRIANGLES);
+    if let Err(relief::engine::EngineError::InvalidMesh { field, value, rule }) = mesh_options_of(args).validate() {
+        let flag = if field == "max_error_m" { "--max-error" } else { "--triangles" };
+        bail!("{flag} {value}: {rule}");
     }
     Ok(())
 }
 
-/// `relief export --for gltf`: the terrain as a decimated `.glb` mesh.
-fn export_mesh(args: &ExportArgs, dem: &Heightfield, out: &Path, ui: &mut Ui) -> Result<()> {
+/// The library's mesh options from `--max-error`, `--triangles` and `--no-colours`.
+fn mesh_options_of(args: &ExportArgs) -> relief::engine::MeshOptions {
     let defaults = relief::engine::MeshOptions::default();
-    let options = relief::engine::MeshOptions {
+    relief::engine::MeshOptions {
         max_error_m: args.max_error,
         max_triangles: args.triangles.unwrap_or(defaults.max_triangles),
         colours: !args.no_colours,
-    };
+    }
+}
+
+/// `relief export --for gltf`: the terrain as a decimated `.glb` mesh.
+fn export_mesh(args: &ExportArgs, dem: &Heightfield, out: &Path, ui: &mut Ui) -> Result<()> {
+    let options = mesh_options_of(args);
     let path = out.join(format!("{}.glb", args.name.as_deref().unwrap_or("terrain")));
     ui.writes().reads(&args.input).writes_file(&path).check()?;
     let mesh = ui.step("decimate", || relief::engine::TerrainMesh::from_heightfield(dem, &options))?;

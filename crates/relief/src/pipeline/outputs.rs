@@ -240,28 +240,19 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
     Ok(written)
 }
 
-/// A mesh output's file ends in `.glb`, its bound is finite and not negative, its budget legal.
+/// A mesh output's file ends in `.glb` and its options pass [`crate::engine::MeshOptions::validate`].
 fn check_mesh(mesh: &crate::scene::MeshOutput) -> Result<(), E> {
     if !mesh.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("glb")) {
         let error =
             SceneError::OutOfRange { value: mesh.file.display().to_string(), rule: "a mesh is written as .glb" };
         return Err(E::at("outputs.mesh.file", error));
     }
-    if let Some(e) = mesh.max_error_m
-        && !(e.is_finite() && e >= 0.0)
-    {
-        return Err(E::at(
-            "outputs.mesh.max_error_m",
-            SceneError::OutOfRange { value: e.to_string(), rule: "must be finite and at least 0" },
-        ));
+    match mesh.options().validate() {
+        Err(error @ crate::engine::EngineError::InvalidMesh { field, .. }) => {
+            Err(E::at(format!("outputs.mesh.{field}"), error))
+        }
+        _ => Ok(()),
     }
-    if let Some(n) = mesh.max_triangles
-        && !(2..=crate::engine::MAX_MESH_TRIANGLES).contains(&n)
-    {
-        let error = SceneError::OutOfRange { value: n.to_string(), rule: "must be from 2 to 16777216" };
-        return Err(E::at("outputs.mesh.max_triangles", error));
-    }
-    Ok(())
 }
 
 /// Writes `hf` to `path` in the format of its extension and records the file, after its companion
