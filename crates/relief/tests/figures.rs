@@ -224,6 +224,13 @@ fn island_fig_13_the_final_grid_is_the_sum_of_its_layers() {
         assert!(written.contains(&path), "{name} written");
         assert_eq!(&relief::io::read(&path).unwrap().into_samples(), layer.samples(), "{name} reads back");
     }
+    // The scene names what it reads and writes: the traced map, and every file written.
+    assert_eq!(scene.input_files(), [Path::new("inputs/reunion.png")]);
+    let mut named: Vec<PathBuf> = scene.output_files().iter().map(|f| out.path().join(f)).collect();
+    let mut written = written;
+    named.sort();
+    written.sort();
+    assert_eq!(named, written);
     // On land, where nothing is held at the land floor, the terrain is base + hills + filters.
     let (mut summed, mut hills, mut filters) = (0, 0, 0);
     for (k, &z) in terrain.heightfield.samples().iter().enumerate() {

@@ -33,6 +33,44 @@ fn there_are_at_least_five_fixture_scenes_and_each_parses_and_round_trips() {
     assert_eq!(Scene::demo(), load_scene(root().join("crates/relief/scenes/demo.json")).unwrap());
 }
 
+/// Every file name in a fixture scene outside its outputs is a file the scene says it reads, and
+/// each exists: the CLI and the studio check these paths before a run.
+#[test]
+fn fixture_scenes_list_every_file_they_read() {
+    fn file_names<'a>(value: &'a serde_json::Value, found: &mut Vec<&'a str>) {
+        match value {
+            serde_json::Value::String(s)
+                if Path::new(s).extension().is_some_and(|e| e.len() <= 7 && !s.contains(' ')) =>
+            {
+                found.push(s);
+            }
+            serde_json::Value::Array(items) => items.iter().for_each(|v| file_names(v, found)),
+            serde_json::Value::Object(map) => {
+                map.iter()
+                    .filter(|(k, _)| !matches!(k.as_str(), "outputs" | "description"))
+                    .for_each(|(_, v)| file_names(v, found));
+            }
+            _ => {}
+        }
+    }
+    let mut checked = 0;
+    for path in fixtures() {
+        let scene = load_scene(&path).unwrap();
+        let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let mut named = Vec::new();
+        file_names(&json, &mut named);
+        let listed = scene.input_files();
+        for name in named {
+            assert!(listed.contains(&Path::new(name)), "{}: {name} is read but not listed", path.display());
+            checked += 1;
+        }
+        for file in listed {
+            assert!(path.parent().unwrap().join(file).is_file(), "{}: {} is missing", path.display(), file.display());
+        }
+    }
+    assert!(checked >= 10, "{checked} file names");
+}
+
 /// `docs/scene.schema.json` is generated from the types; regenerate it with
 /// `RELIEF_BLESS=1 cargo test -p relief --test scene` (or `relief schema > docs/scene.schema.json`).
 #[test]

@@ -31,6 +31,7 @@ use std::path::{Path, PathBuf};
 
 pub use contours::DEFAULT_PARTICLES;
 pub use inputs::MAX_RESOLUTION;
+pub(crate) use outputs::layer_files;
 pub use outputs::{check_outputs, write_outputs};
 pub use progress::{Progress, Timing};
 pub use summary::{

@@ -271,7 +271,7 @@ fn write_heightfield(
 
 /// The files `outputs.island_layers` names: `NAME-base.EXT`, `NAME-hills.EXT`, `NAME-filters.EXT`
 /// beside `NAME.EXT`.
-fn layer_files(name: &Path) -> Vec<PathBuf> {
+pub(crate) fn layer_files(name: &Path) -> Vec<PathBuf> {
     let stem = name.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let extension = name.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
     ["base", "hills", "filters"].map(|layer| name.with_file_name(format!("{stem}-{layer}{extension}"))).to_vec()

@@ -22,8 +22,13 @@ impl Scene {
                 if let Probability::Image { path, .. } = &g.probability {
                     files.push(path);
                 }
+                if let Some(input) = &g.contours {
+                    files.extend(input.dem.as_deref());
+                    files.extend(input.geojson.as_deref());
+                }
             }
-            Generator::Diffusion(_) | Generator::Island(_) => {}
+            Generator::Island(g) => files.extend(g.coastline_image.as_ref().map(|c| c.path.as_path())),
+            Generator::Diffusion(_) => {}
             Generator::Gaussian(g) => {
                 if let GaussianSource::Terrain { path } | GaussianSource::Dem { path, .. } = &g.source {
                     files.push(path);
@@ -70,6 +75,16 @@ impl Scene {
             files.extend(o.vector_terrain.clone());
             files.extend(o.skeleton.clone());
             files.extend(o.atlas.clone());
+        }
+        if matches!(self.generator, Generator::Island(_))
+            && let Some(name) = &o.island_layers
+        {
+            for path in crate::pipeline::layer_files(name) {
+                files.extend(
+                    Format::from_extension(&path).map(|f| crate::io::companion_files(&path, f)).unwrap_or_default(),
+                );
+                files.push(path);
+            }
         }
         files.extend(o.preview.clone());
         files.extend(o.summary.clone());
