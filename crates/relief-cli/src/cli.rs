@@ -142,6 +142,9 @@ pub(crate) enum Command {
     Vectorize(VectorizeArgs),
     /// Rasterize a vector terrain (JSON from `relief vectorize`) at any size.
     Rasterize(RasterizeArgs),
+    /// Author terrain in the browser: a local web studio over every generator, whose document is
+    /// the scene JSON `relief generate` runs. Listens on 127.0.0.1 until Ctrl-C.
+    Serve(ServeArgs),
     /// Print the JSON Schema of scene files.
     Schema,
     /// Print a completion script for a shell (e.g. `relief completions bash >
@@ -617,6 +620,23 @@ pub(crate) struct VectorizeArgs {
     /// Seed of the initial placement.
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u64,
+}
+
+// `relief serve`.
+#[derive(Debug, Args)]
+pub(crate) struct ServeArgs {
+    /// The port (0 picks a free one).
+    #[arg(long, default_value_t = 8737)]
+    pub(crate) port: u16,
+    /// The address to listen on; anything but a loopback address lets other machines in.
+    #[arg(long, default_value = "127.0.0.1")]
+    pub(crate) host: std::net::IpAddr,
+    /// Open the studio in the default browser.
+    #[arg(long)]
+    pub(crate) open: bool,
+    /// The folder scenes are saved to and inputs uploaded to (created if missing).
+    #[arg(long, default_value = "relief-studio")]
+    pub(crate) workspace: PathBuf,
 }
 
 // `relief rasterize`.

@@ -24,7 +24,7 @@ use std::process::ExitCode;
 use anyhow::{Context as _, Result};
 
 use crate::cli::{Cli, Command};
-use crate::commands::{analyze, dem, prominence, scenes, shell, vector};
+use crate::commands::{analyze, dem, prominence, scenes, serve, shell, vector};
 use crate::ui::{Ui, Verbosity};
 
 fn main() -> ExitCode {
@@ -72,6 +72,7 @@ fn run(cli: &Cli) -> Result<()> {
         Command::Prominence(args) => prominence::prominence(args, ui),
         Command::Vectorize(args) => vector::vectorize(args, ui),
         Command::Rasterize(args) => vector::rasterize(args, ui),
+        Command::Serve(args) => serve::serve(args, ui),
         Command::Completions(args) => {
             shell::completions(args);
             Ok(())

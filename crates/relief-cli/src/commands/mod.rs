@@ -5,5 +5,6 @@ pub(crate) mod analyze;
 pub(crate) mod dem;
 pub(crate) mod prominence;
 pub(crate) mod scenes;
+pub(crate) mod serve;
 pub(crate) mod shell;
 pub(crate) mod vector;

@@ -1,0 +1,195 @@
+//! The routes: the page, and the JSON API the page drives.
+//!
+//! | Route | What |
+//! |---|---|
+//! | `GET /api/info` | version, workspace folder, template names |
+//! | `GET /api/templates/{name}` | a starter scene |
+//! | `POST /api/generate` | generate the scene in the body; the result's id, size, range, summary |
+//! | `GET /api/results/{id}/elevation` | its samples, f32 little-endian, north row first |
+//! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16` |
+//! | `GET /api/scenes`, `GET`/`PUT /api/scenes/{name}` | saved scenes |
+//! | `PUT /api/files/{name}` | upload an input (DEM, image, vector terrain) |
+
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use axum::Json;
+use axum::Router;
+use axum::body::Bytes;
+use axum::extract::{DefaultBodyLimit, Path, State};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use relief::Scene;
+use relief::heightfield::Heightfield;
+use serde_json::{Value, json};
+
+use crate::error::ApiError;
+use crate::results::Results;
+use crate::workspace::Workspace;
+
+/// What every request shares.
+#[derive(Debug)]
+pub(crate) struct App {
+    workspace: Workspace,
+    budget: relief::Budget,
+    results: Mutex<Results>,
+}
+
+impl App {
+    pub(crate) fn new(workspace: Workspace, config: &crate::Config) -> Self {
+        Self { workspace, budget: config.budget, results: Mutex::new(Results::new(config.kept_results)) }
+    }
+
+    fn result(&self, id: u64) -> Result<Arc<Heightfield>, ApiError> {
+        let results = self.results.lock().map_err(|_| ApiError::internal("the results store is poisoned"))?;
+        results.get(id).ok_or_else(|| ApiError::not_found(format!("no result {id} (only the latest are kept)")))
+    }
+}
+
+type Shared = State<Arc<App>>;
+
+/// Every route, with bodies capped at `max_body_bytes`.
+pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
+    let mut router = Router::new();
+    for (route, content_type, body) in crate::assets::FILES {
+        router = router.route(route, get(move || async move { ([(header::CONTENT_TYPE, content_type)], body) }));
+    }
+    router
+        .route("/api/info", get(info))
+        .route("/api/templates/{name}", get(template))
+        .route("/api/generate", post(generate))
+        .route("/api/results/{id}/elevation", get(elevation))
+        .route("/api/results/{id}/download/{format}", get(download))
+        .route("/api/scenes", get(scenes))
+        .route("/api/scenes/{name}", get(read_scene).put(write_scene))
+        .route("/api/files/{name}", axum::routing::put(upload))
+        .fallback(|| async { ApiError::not_found("no such route") })
+        .layer(DefaultBodyLimit::max(max_body_bytes))
+        .with_state(app)
+}
+
+async fn info(State(app): Shared) -> Json<Value> {
+    let templates: Vec<&str> = crate::assets::templates().iter().map(|(name, _)| *name).collect();
+    Json(json!({
+        "version": env!("CARGO_PKG_VERSION"),
+        "workspace": app.workspace.root(),
+        "templates": templates,
+    }))
+}
+
+async fn template(Path(name): Path<String>) -> Result<Response, ApiError> {
+    let (_, text) = crate::assets::templates()
+        .into_iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| ApiError::not_found(format!("no template {name}")))?;
+    Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response())
+}
+
+/// Parses a request body as a scene.
+fn parse_scene(body: &[u8]) -> Result<Scene, ApiError> {
+    let text = std::str::from_utf8(body).map_err(|e| ApiError::bad_request(format!("the scene is not UTF-8: {e}")))?;
+    let scene = Scene::from_json(text)?;
+    Workspace::check_inputs(&scene)?;
+    Ok(scene)
+}
+
+async fn generate(State(app): Shared, body: Bytes) -> Result<Json<Value>, ApiError> {
+    let scene = parse_scene(&body)?;
+    let start = Instant::now();
+    let worker = Arc::clone(&app);
+    let terrain = tokio::task::spawn_blocking(move || {
+        relief::pipeline::generate_with(&scene, worker.workspace.root(), &worker.budget, &mut ())
+    })
+    .await
+    .map_err(ApiError::internal)??;
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    let hf = &terrain.heightfield;
+    let (min, max) = hf.min_max().unwrap_or((0.0, 0.0));
+    let extent = hf.extent();
+    let summary = serde_json::to_value(&terrain.summary).map_err(ApiError::internal)?;
+    let (width, height) = (hf.nx(), hf.ny());
+    let id = app
+        .results
+        .lock()
+        .map_err(|_| ApiError::internal("the results store is poisoned"))?
+        .insert(terrain.heightfield);
+    Ok(Json(json!({
+        "id": id,
+        "width": width,
+        "height": height,
+        "min": min,
+        "max": max,
+        "extent": { "min": [extent.min.x, extent.min.y], "max": [extent.max.x, extent.max.y] },
+        "sea_level": terrain.sea_level,
+        "ms": ms,
+        "summary": summary,
+    })))
+}
+
+/// The samples as little-endian f32, the northern row first (no-data as NaN).
+fn north_up_bytes(hf: &Heightfield) -> Vec<u8> {
+    let nx = hf.nx();
+    let rows: Vec<&[f32]> = hf.samples().chunks(nx).collect();
+    let south_first = hf.grid().cell_size().y > 0.0;
+    let ordered: Box<dyn Iterator<Item = &&[f32]>> =
+        if south_first { Box::new(rows.iter().rev()) } else { Box::new(rows.iter()) };
+    ordered.flat_map(|row| row.iter()).flat_map(|v| v.to_le_bytes()).collect()
+}
+
+async fn elevation(State(app): Shared, Path(id): Path<u64>) -> Result<Response, ApiError> {
+    let hf = app.result(id)?;
+    let bytes = tokio::task::spawn_blocking(move || north_up_bytes(&hf)).await.map_err(ApiError::internal)?;
+    Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
+}
+
+/// The download formats: `(name in the route, extension, content type)`.
+const DOWNLOADS: [(&str, &str, &str); 5] = [
+    ("exr", "exr", "image/x-exr"),
+    ("png", "png", "image/png"),
+    ("tif", "tif", "image/tiff"),
+    ("asc", "asc", "text/plain"),
+    ("r16", "r16", "application/octet-stream"),
+];
+
+async fn download(State(app): Shared, Path((id, format)): Path<(u64, String)>) -> Result<Response, ApiError> {
+    let (_, extension, content_type) = DOWNLOADS.iter().find(|(name, ..)| *name == format).ok_or_else(|| {
+        let names: Vec<&str> = DOWNLOADS.iter().map(|(n, ..)| *n).collect();
+        ApiError::not_found(format!("no format {format}: one of {}", names.join(", ")))
+    })?;
+    let hf = app.result(id)?;
+    let file = format!("terrain.{extension}");
+    let name = file.clone();
+    let bytes = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, ApiError> {
+        let dir = tempfile::tempdir().map_err(ApiError::internal)?;
+        let path = dir.path().join(&name);
+        relief::io::write(&path, &hf).map_err(ApiError::internal)?;
+        std::fs::read(&path).map_err(ApiError::internal)
+    })
+    .await
+    .map_err(ApiError::internal)??;
+    let disposition = format!("attachment; filename=\"{file}\"");
+    Ok(([(header::CONTENT_TYPE, (*content_type).to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes)
+        .into_response())
+}
+
+async fn scenes(State(app): Shared) -> Result<Json<Value>, ApiError> {
+    Ok(Json(json!({ "scenes": app.workspace.scenes()? })))
+}
+
+async fn read_scene(State(app): Shared, Path(name): Path<String>) -> Result<Response, ApiError> {
+    let text = app.workspace.read_scene(&name)?;
+    Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response())
+}
+
+/// Saves a scene after checking it parses: a saved scene always loads.
+async fn write_scene(State(app): Shared, Path(name): Path<String>, body: Bytes) -> Result<StatusCode, ApiError> {
+    let scene = parse_scene(&body)?;
+    app.workspace.write_scene(&name, &scene.to_json())?;
+    Ok(StatusCode::NO_CONTENT)
+}
+
+async fn upload(State(app): Shared, Path(name): Path<String>, body: Bytes) -> Result<StatusCode, ApiError> {
+    app.workspace.write_input(&name, &body)?;
+    Ok(StatusCode::NO_CONTENT)
+}

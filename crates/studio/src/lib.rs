@@ -1,0 +1,116 @@
+//! relief studio: a local web application that authors terrain in the browser over the relief
+//! crates. `relief serve` runs it; this crate is the server, its JSON API and the page it ships.
+//!
+//! Every paper behind relief is an interactive authoring system (the contours paper's §5
+//! sketching session, the island paper's strokes and hills, the feature-curve editor, the vector
+//! terrain tools, the orometry paper's divide-tree edits). The studio gives them one editor in the
+//! browser. **The scene is the document**: every gesture edits the same scene JSON that
+//! `relief generate` runs, the server generates it with the facade ([`relief::pipeline`]) and
+//! sends the heightfield back for the 2D map and the 3D view.
+//!
+//! The page (`web/`: plain HTML, CSS and JavaScript, no front-end build) is compiled into the
+//! binary, so a user needs nothing but `cargo run` and a browser.
+//!
+//! # Safety of a server left running
+//! - It listens where it is told ([`serve`]); `relief serve` binds 127.0.0.1.
+//! - Request bodies are capped ([`Config::max_body_bytes`]); scenes run under the same
+//!   [`relief::Budget`] as the CLI's.
+//! - Files live in the workspace folder only: names are plain (`[A-Za-z0-9_.-]`, no leading dot,
+//!   no separators), and a scene's input paths must be relative and stay inside it.
+//! - Writes are atomic (a temporary file in the same folder, then a rename), so two sessions
+//!   saving at once leave one whole file, never a mix.
+//! - A malformed request gets a 4xx with a JSON body `{"error": …, "path": …}`, `path` being the
+//!   scene's JSON path of the problem when there is one.
+//!
+//! # Example
+//! ```no_run
+//! # async fn run() -> Result<(), relief_studio::StudioError> {
+//! let config = relief_studio::Config::new("studio-workspace");
+//! let listener = tokio::net::TcpListener::bind("127.0.0.1:8737").await?;
+//! relief_studio::serve(listener, config).await
+//! # }
+//! ```
+//! The router alone serves tests and embedders:
+//! ```
+//! let dir = tempfile::tempdir().unwrap();
+//! let router = relief_studio::router(&relief_studio::Config::new(dir.path())).unwrap();
+//! # drop(router);
+//! ```
+#![forbid(unsafe_code)]
+
+mod api;
+mod assets;
+mod error;
+mod results;
+mod workspace;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+pub use error::StudioError;
+
+/// How the studio runs.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct Config {
+    /// The folder scenes are saved to and inputs uploaded to (created if missing).
+    pub workspace: PathBuf,
+    /// The caps every generated scene runs under (the CLI's `--max-cells`, …).
+    pub budget: relief::Budget,
+    /// The largest request body accepted, bytes (default 64 MiB: a 4096² f32 DEM upload).
+    pub max_body_bytes: usize,
+    /// How many generated heightfields are kept for download (default 16).
+    pub kept_results: usize,
+}
+
+impl Config {
+    /// The defaults, saving to `workspace`.
+    pub fn new(workspace: impl Into<PathBuf>) -> Self {
+        Self {
+            workspace: workspace.into(),
+            budget: relief::Budget::default(),
+            max_body_bytes: 64 << 20,
+            kept_results: 16,
+        }
+    }
+
+    /// The same configuration under `budget`.
+    #[must_use]
+    pub fn with_budget(mut self, budget: relief::Budget) -> Self {
+        self.budget = budget;
+        self
+    }
+}
+
+/// The studio's routes: the page at `/`, the JSON API under `/api/` (`docs/studio.md` in the
+/// repository lists them).
+///
+/// # Errors
+/// [`StudioError::Workspace`] when the workspace folder cannot be created or resolved.
+pub fn router(config: &Config) -> Result<axum::Router, StudioError> {
+    let workspace = workspace::Workspace::open(&config.workspace)?;
+    let state = Arc::new(api::App::new(workspace, config));
+    Ok(api::routes(state, config.max_body_bytes))
+}
+
+/// Serves the studio on `listener` until Ctrl-C.
+///
+/// # Errors
+/// As [`router`], and [`StudioError::Serve`] when the server fails.
+pub async fn serve(listener: tokio::net::TcpListener, config: Config) -> Result<(), StudioError> {
+    let app = router(&config)?;
+    axum::serve(listener, app)
+        .with_graceful_shutdown(async {
+            // Without a signal handler the server runs until the process is killed.
+            if tokio::signal::ctrl_c().await.is_err() {
+                std::future::pending::<()>().await;
+            }
+        })
+        .await
+        .map_err(StudioError::Serve)
+}
+
+/// The crate README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExample;

@@ -1,0 +1,208 @@
+//! The studio's API as the page uses it: requests through the router, no socket.
+
+use axum::Router;
+use axum::body::Body;
+use axum::http::{Request, StatusCode};
+use http_body_util::BodyExt;
+use relief_studio::{Config, router};
+use serde_json::Value;
+use tower::ServiceExt;
+
+struct Studio {
+    router: Router,
+    dir: tempfile::TempDir,
+}
+
+impl Studio {
+    fn new() -> Self {
+        Self::with(|c| c)
+    }
+
+    fn with(configure: impl FnOnce(Config) -> Config) -> Self {
+        let dir = tempfile::tempdir().unwrap();
+        let router = router(&configure(Config::new(dir.path().join("ws")))).unwrap();
+        Self { router, dir }
+    }
+
+    /// Sends `method path` with `body`; the status and the body's bytes.
+    fn send(&self, method: &str, path: &str, body: impl Into<Body>) -> (StatusCode, Vec<u8>) {
+        let request = Request::builder().method(method).uri(path).body(body.into()).unwrap();
+        let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+        runtime.block_on(async {
+            let response = self.router.clone().oneshot(request).await.unwrap();
+            let status = response.status();
+            (status, response.into_body().collect().await.unwrap().to_bytes().to_vec())
+        })
+    }
+
+    fn json(&self, method: &str, path: &str, body: impl Into<Body>) -> (StatusCode, Value) {
+        let (status, bytes) = self.send(method, path, body);
+        (status, serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&bytes))))
+    }
+
+    fn template(&self, name: &str) -> Value {
+        let (status, scene) = self.json("GET", &format!("/api/templates/{name}"), Body::empty());
+        assert_eq!(status, StatusCode::OK);
+        scene
+    }
+}
+
+/// A small island scene: the template at 128² with one hill.
+fn island_scene(studio: &Studio) -> Value {
+    let mut scene = studio.template("island");
+    scene["reconstruction"]["resolution"] = serde_json::json!([128, 128]);
+    scene["generator"]["island"]["operations"] =
+        serde_json::json!([{ "add_hill": { "center": [2000, 2000], "radii": [800, 600], "height": 500 } }]);
+    scene
+}
+
+#[test]
+fn the_page_and_its_scripts_are_served() {
+    let studio = Studio::new();
+    for (path, needle) in [("/", "<canvas"), ("/studio.js", "fetch("), ("/studio.css", "{")] {
+        let (status, body) = studio.send("GET", path, Body::empty());
+        assert_eq!(status, StatusCode::OK, "{path}");
+        assert!(String::from_utf8(body).unwrap().contains(needle), "{path}");
+    }
+    let (status, info) = studio.json("GET", "/api/info", Body::empty());
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(info["templates"], serde_json::json!(["demo", "island", "contours"]));
+    let (status, error) = studio.json("GET", "/api/nothing", Body::empty());
+    assert_eq!((status, error["error"].as_str()), (StatusCode::NOT_FOUND, Some("no such route")));
+}
+
+#[test]
+fn generating_a_scene_returns_its_heightfield_north_up() {
+    let studio = Studio::new();
+    let mut scene = island_scene(&studio);
+    // The hill in the north half: the elevation's first rows hold it.
+    scene["generator"]["island"]["operations"][0]["add_hill"]["center"] = serde_json::json!([2000, 3000]);
+    let (status, result) = studio.json("POST", "/api/generate", scene.to_string());
+    assert_eq!(status, StatusCode::OK, "{result}");
+    let (w, h) = (result["width"].as_u64().unwrap() as usize, result["height"].as_u64().unwrap() as usize);
+    assert_eq!((w, h), (128, 128));
+    let max = result["max"].as_f64().unwrap();
+    assert!(max > 300.0, "{result}");
+    let (status, bytes) = studio.send("GET", &format!("/api/results/{}/elevation", result["id"]), Body::empty());
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(bytes.len(), w * h * 4);
+    let z: Vec<f32> = bytes.chunks(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
+    let top = z.iter().copied().fold(f32::MIN, f32::max);
+    assert_eq!(f64::from(top), max);
+    let row_of_top = z.iter().position(|&v| v == top).unwrap() / w;
+    // y = 3000 of 0…4000 is a quarter of the way down from the north edge.
+    assert!((row_of_top as f64 - 0.25 * h as f64).abs() < 0.06 * h as f64, "top at row {row_of_top}");
+}
+
+#[test]
+fn downloads_read_back_as_the_generated_heightfield() {
+    let studio = Studio::new();
+    let (_, result) = studio.json("POST", "/api/generate", island_scene(&studio).to_string());
+    let id = &result["id"];
+    for format in ["exr", "tif", "png", "asc", "r16"] {
+        let (status, bytes) = studio.send("GET", &format!("/api/results/{id}/download/{format}"), Body::empty());
+        assert_eq!(status, StatusCode::OK, "{format}");
+        assert!(bytes.len() > 1000, "{format}: {} bytes", bytes.len());
+        if format == "exr" {
+            let path = studio.dir.path().join("back.exr");
+            std::fs::write(&path, &bytes).unwrap();
+            let back = relief::io::read(&path).unwrap();
+            assert_eq!((back.nx(), back.ny()), (128, 128));
+            assert_eq!(f64::from(back.min_max().unwrap().1), result["max"].as_f64().unwrap());
+        }
+    }
+    let (status, error) = studio.json("GET", &format!("/api/results/{id}/download/bmp"), Body::empty());
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(error["error"].as_str().unwrap().contains("exr, png, tif, asc, r16"), "{error}");
+    let (status, _) = studio.json("GET", "/api/results/999/elevation", Body::empty());
+    assert_eq!(status, StatusCode::NOT_FOUND);
+}
+
+#[test]
+fn a_bad_scene_gets_a_4xx_naming_its_json_path() {
+    let studio = Studio::new();
+    let mut scene = island_scene(&studio);
+    scene["generator"]["island"]["operations"][0]["add_hill"]["radii"] = serde_json::json!([-5, 600]);
+    let (status, error) = studio.json("POST", "/api/generate", scene.to_string());
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{error}");
+    assert!(error["path"].as_str().unwrap().starts_with("generator.island.operations[0]"), "{error}");
+    let (status, error) = studio.json("POST", "/api/generate", "{\"version\": 1, \"generator\": {\"nope\": {}}}");
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{error}");
+    assert!(error["error"].as_str().unwrap().contains("nope"), "{error}");
+    let (status, _) = studio.json("POST", "/api/generate", vec![0xff, 0xfe]);
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+}
+
+#[test]
+fn scenes_run_under_the_budget_and_bodies_are_capped() {
+    let studio = Studio::with(|c| c.with_budget(relief::Budget::default().with_max_cells(100 * 100)));
+    let (status, error) = studio.json("POST", "/api/generate", island_scene(&studio).to_string());
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{error}");
+    assert!(error["error"].as_str().unwrap().contains("budget"), "{error}");
+    assert_eq!(error["path"], "reconstruction.resolution", "{error}");
+    let mut config = Config::new(tempfile::tempdir().unwrap().path().join("ws"));
+    config.max_body_bytes = 1000;
+    let small = Studio { router: router(&config).unwrap(), dir: tempfile::tempdir().unwrap() };
+    let (status, _) = small.send("POST", "/api/generate", vec![b' '; 2000]);
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+}
+
+#[test]
+fn scenes_save_and_load_inside_the_workspace_only() {
+    let studio = Studio::new();
+    let scene = island_scene(&studio);
+    let (status, _) = studio.send("PUT", "/api/scenes/my-island.json", scene.to_string());
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    let (_, list) = studio.json("GET", "/api/scenes", Body::empty());
+    assert_eq!(list["scenes"], serde_json::json!(["my-island.json"]));
+    let (status, back) = studio.json("GET", "/api/scenes/my-island.json", Body::empty());
+    assert_eq!(status, StatusCode::OK);
+    let parsed = |v: &Value| relief::Scene::from_json(&v.to_string()).unwrap();
+    assert_eq!(parsed(&back), parsed(&scene));
+    // No temporary file is left beside it.
+    let files: Vec<_> = std::fs::read_dir(studio.dir.path().join("ws")).unwrap().collect();
+    assert_eq!(files.len(), 1);
+    // Names that climb out, hide or are not scenes; a scene that is not valid is not saved.
+    for name in ["..%2Fescape.json", ".hidden.json", "a%20b.json", "notes.txt"] {
+        let (status, _) = studio.send("PUT", &format!("/api/scenes/{name}"), scene.to_string());
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{name}");
+    }
+    assert!(!studio.dir.path().join("escape.json").exists());
+    let (status, _) = studio.send("PUT", "/api/scenes/broken.json", "{\"version\": 1}");
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    let (status, _) = studio.send("GET", "/api/scenes/missing.json", Body::empty());
+    assert_eq!(status, StatusCode::NOT_FOUND);
+}
+
+#[test]
+fn a_scene_reads_inputs_from_the_workspace_and_nowhere_else() {
+    let studio = Studio::new();
+    let mut scene = island_scene(&studio);
+    // A paint-program mask uploaded, then traced as the coastline.
+    let mut mask = image_bytes(64, |x, y| u8::from((f64::from(x) - 32.0).hypot(f64::from(y) - 32.0) < 20.0) * 255);
+    let (status, _) = studio.send("PUT", "/api/files/mask.png", std::mem::take(&mut mask));
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    scene["generator"]["island"]["coastline_image"] = serde_json::json!({ "path": "mask.png" });
+    let (status, result) = studio.json("POST", "/api/generate", scene.to_string());
+    assert_eq!(status, StatusCode::OK, "{result}");
+    for escape in ["../mask.png", "/etc/hostname"] {
+        scene["generator"]["island"]["coastline_image"]["path"] = escape.into();
+        let (status, error) = studio.json("POST", "/api/generate", scene.to_string());
+        assert_eq!(status, StatusCode::FORBIDDEN, "{escape}: {error}");
+        assert!(error["error"].as_str().unwrap().contains("inside its workspace"), "{error}");
+    }
+    let (status, _) = studio.send("PUT", "/api/files/run.sh", "echo");
+    assert_eq!(status, StatusCode::UNSUPPORTED_MEDIA_TYPE);
+}
+
+/// A gray PNG of `size`² pixels.
+fn image_bytes(size: u32, pixel: impl Fn(u32, u32) -> u8) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, size, size);
+    encoder.set_color(png::ColorType::Grayscale);
+    let mut writer = encoder.write_header().unwrap();
+    let data: Vec<u8> = (0..size * size).map(|k| pixel(k % size, k / size)).collect();
+    writer.write_image_data(&data).unwrap();
+    drop(writer);
+    bytes
+}

@@ -1,0 +1,300 @@
+//! The studio in a real headless browser, used as a user uses it: Chromium driven through
+//! `chromedriver` (the W3C `WebDriver` protocol) with real pointer gestures on the map.
+//!
+//! Needs `chromium` and `chromedriver` on the PATH (Debian: `apt-get install chromium
+//! chromium-driver`). Without them the test says so and passes, unless `RELIEF_E2E` is set, as
+//! `.ci/run` sets it after installing them.
+
+use std::net::TcpListener;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use fantoccini::actions::{InputSource, MOUSE_BUTTON_LEFT, MouseActions, PointerAction};
+use fantoccini::elements::Element;
+use fantoccini::{Client, ClientBuilder, Locator};
+use serde_json::{Value, json};
+
+/// `name` on the PATH.
+fn on_path(name: &str) -> Option<PathBuf> {
+    std::env::split_paths(&std::env::var_os("PATH")?).map(|dir| dir.join(name)).find(|p| p.is_file())
+}
+
+/// A chromedriver process, killed on drop.
+struct Driver(Child);
+
+impl Drop for Driver {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+}
+
+async fn connect(driver: &std::path::Path) -> (Driver, Client) {
+    let port = free_port();
+    let child = Command::new(driver)
+        .arg(format!("--port={port}"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("starting chromedriver");
+    let driver = Driver(child);
+    let options = json!({
+        "args": ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1500,1100",
+                 "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
+    });
+    let mut capabilities = serde_json::Map::new();
+    capabilities.insert("goog:chromeOptions".into(), options);
+    let deadline = Instant::now() + Duration::from_secs(20);
+    loop {
+        let connector = hyper_util::client::legacy::connect::HttpConnector::new();
+        match ClientBuilder::new(connector)
+            .capabilities(capabilities.clone())
+            .connect(&format!("http://127.0.0.1:{port}"))
+            .await
+        {
+            Ok(client) => return (driver, client),
+            Err(e) if Instant::now() > deadline => panic!("chromedriver did not start: {e}"),
+            Err(_) => tokio::time::sleep(Duration::from_millis(200)).await,
+        }
+    }
+}
+
+async fn js(client: &Client, script: &str) -> Value {
+    client.execute(script, vec![]).await.unwrap_or_else(|e| panic!("{script}: {e}"))
+}
+
+/// Waits for a result newer than `after`; its id. Fails on an error shown by the page.
+async fn next_result(client: &Client, after: u64) -> u64 {
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        let state = js(
+            client,
+            "return [document.body.dataset.state, Number(document.body.dataset.resultId || 0), \
+             document.getElementById('message').textContent]",
+        )
+        .await;
+        let id = state[1].as_u64().unwrap();
+        match state[0].as_str() {
+            Some("idle") if id > after => return id,
+            Some("error") => panic!("the page shows an error: {}", state[2]),
+            _ if Instant::now() > deadline => panic!("no result after {after}: {state}"),
+            _ => tokio::time::sleep(Duration::from_millis(100)).await,
+        }
+    }
+}
+
+/// Presses at the first point (pixels from the map's centre), moves through the others, and
+/// releases at the last.
+async fn drag(client: &Client, map: &Element, points: &[(f64, f64)]) {
+    let step = Some(Duration::from_millis(30));
+    let (x, y) = points[0];
+    let mut mouse = MouseActions::new("mouse".into())
+        .then(PointerAction::MoveToElement { element: map.clone(), duration: None, x, y })
+        .then(PointerAction::Down { button: MOUSE_BUTTON_LEFT });
+    for &(x, y) in &points[1..] {
+        mouse = mouse.then(PointerAction::MoveToElement { element: map.clone(), duration: step, x, y });
+    }
+    client.perform_actions(mouse.then(PointerAction::Up { button: MOUSE_BUTTON_LEFT })).await.unwrap();
+}
+
+async fn choose_tool(client: &Client, tool: &str) {
+    client.find(Locator::Css(&format!("input[name=tool][value={tool}]"))).await.unwrap().click().await.unwrap();
+}
+
+async fn new_scene(client: &Client, template: &str, after: u64) -> u64 {
+    client.find(Locator::Id("template")).await.unwrap().select_by_value(template).await.unwrap();
+    client.find(Locator::Id("new")).await.unwrap().click().await.unwrap();
+    next_result(client, after).await
+}
+
+async fn doc(client: &Client) -> Value {
+    js(client, "return window.studio.doc").await
+}
+
+async fn result_field(client: &Client, field: &str) -> Value {
+    js(client, &format!("return window.studio.result.{field}")).await
+}
+
+#[test]
+fn a_user_draws_an_island_undoes_saves_and_reloads_it() {
+    let Some(driver) = on_path("chromedriver").filter(|_| on_path("chromium").is_some()) else {
+        assert!(std::env::var_os("RELIEF_E2E").is_none(), "RELIEF_E2E is set but chromium or chromedriver is missing");
+        eprintln!("skipped: chromium and chromedriver are not on the PATH (apt-get install chromium chromium-driver)");
+        return;
+    };
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    runtime.block_on(async {
+        let workspace = tempfile::tempdir().unwrap();
+        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let url = format!("http://{}/", listener.local_addr().unwrap());
+        tokio::spawn(relief_studio::serve(listener, relief_studio::Config::new(workspace.path())));
+        let (_driver, client) = connect(&driver).await;
+        client.goto(&url).await.unwrap();
+        scenario(&client, workspace.path()).await;
+        client.close().await.unwrap();
+    });
+}
+
+async fn scenario(client: &Client, workspace: &std::path::Path) {
+    let id = demo_and_3d(client).await;
+    let id = island_gestures(client, workspace, id).await;
+    let map = client.find(Locator::Id("map")).await.unwrap();
+    contour_gestures(client, &map, id).await;
+}
+
+/// The demo generates on load and shows in 3D; its result's id.
+async fn demo_and_3d(client: &Client) -> u64 {
+    // The demo scene generates on load, and the 3D view shows it: not one flat colour.
+    let id = next_result(client, 0).await;
+    let colours = js(
+        client,
+        "const c = document.getElementById('view3d'); const gl = c.getContext('webgl'); \
+         const px = new Uint8Array(4 * c.width * c.height); \
+         gl.readPixels(0, 0, c.width, c.height, gl.RGBA, gl.UNSIGNED_BYTE, px); \
+         const seen = new Set(); for (let k = 0; k < px.length; k += 4) seen.add(px[k] << 16 | px[k + 1] << 8 | px[k + 2]); \
+         return seen.size",
+    )
+    .await;
+    assert!(colours.as_u64().unwrap() > 100, "the 3D view is blank: {colours} colours");
+    id
+}
+
+/// Hill, stroke, undo and crater on a new island, then save and reload; the last result's id.
+async fn island_gestures(client: &Client, workspace: &std::path::Path, mut id: u64) -> u64 {
+    // A new island: the start circle, 150 m high, over a 4 km square shown 640 px wide.
+    id = new_scene(client, "island", id).await;
+    let map = client.find(Locator::Id("map")).await.unwrap();
+    assert_eq!(result_field(client, "max").await.as_f64(), Some(150.0));
+
+    // A hill dragged out to 80 px (500 m) north-east of the centre.
+    choose_tool(client, "hill").await;
+    drag(client, &map, &[(60.0, -40.0), (100.0, -40.0), (140.0, -40.0)]).await;
+    id = next_result(client, id).await;
+    let hill = &doc(client).await["generator"]["island"]["operations"][0]["add_hill"];
+    let (centre, radius) = (&hill["center"], hill["radii"][0].as_f64().unwrap());
+    assert!((centre[0].as_f64().unwrap() - 2375.0).abs() < 20.0, "{hill}");
+    assert!((centre[1].as_f64().unwrap() - 2250.0).abs() < 20.0, "{hill}");
+    assert!((radius - 500.0).abs() < 20.0, "{hill}");
+    let max = result_field(client, "max").await.as_f64().unwrap();
+    assert!(max > 500.0, "the hill raised the island to {max} m");
+    // The heightfield read back by the page has that maximum, north-east of the centre.
+    let peak = js(
+        client,
+        "const r = window.studio.result; let k = 0; \
+         for (let i = 1; i < r.z.length; i++) if (r.z[i] > r.z[k]) k = i; \
+         return [r.z[k], k % r.width, Math.floor(k / r.width)]",
+    )
+    .await;
+    assert_eq!(peak[0].as_f64().unwrap(), max);
+    assert!(peak[1].as_u64().unwrap() > 256 && peak[2].as_u64().unwrap() < 256, "peak at {peak}");
+
+    // A stroke out across the eastern coast and back supplements the land there.
+    let area = |summary: Value| summary["island"]["area"].as_f64().unwrap();
+    let before = area(result_field(client, "summary").await);
+    choose_tool(client, "stroke").await;
+    let bump: Vec<(f64, f64)> =
+        (0..=12).map(|k| (230.0 + 100.0 * (f64::from(k) * 0.26).sin(), -60.0 + 10.0 * f64::from(k))).collect();
+    drag(client, &map, &bump).await;
+    id = next_result(client, id).await;
+    assert!(
+        doc(client).await["generator"]["island"]["operations"][1]["stroke"]["points"].as_array().unwrap().len() >= 5
+    );
+    let stroked = area(result_field(client, "summary").await);
+    assert!(stroked > before * 1.01, "the stroke added land: {before} → {stroked} m²");
+
+    // Undo takes the stroke back: the same island as before it.
+    client.find(Locator::Id("undo")).await.unwrap().click().await.unwrap();
+    id = next_result(client, id).await;
+    assert_eq!(doc(client).await["generator"]["island"]["operations"].as_array().unwrap().len(), 1);
+    assert_eq!(area(result_field(client, "summary").await), before);
+
+    // A crater in the hill: a hollow (negative hill) dragged at its centre.
+    choose_tool(client, "hollow").await;
+    drag(client, &map, &[(60.0, -40.0), (75.0, -40.0), (90.0, -40.0)]).await;
+    id = next_result(client, id).await;
+    let crater = &doc(client).await["generator"]["island"]["operations"][1]["add_hill"];
+    assert!(crater["height"].as_f64().unwrap() < 0.0, "{crater}");
+
+    save_and_reload(client, workspace, id).await
+}
+
+/// Saves the scene, starts something else, and loads it back; the last result's id.
+async fn save_and_reload(client: &Client, workspace: &std::path::Path, mut id: u64) -> u64 {
+    let name = client.find(Locator::Id("name")).await.unwrap();
+    name.clear().await.unwrap();
+    name.send_keys("e2e-island.json").await.unwrap();
+    client.find(Locator::Id("save")).await.unwrap().click().await.unwrap();
+    let saved = doc(client).await;
+    wait_for(client, "document.getElementById('status').textContent.startsWith('saved')").await;
+    let scene = |v: &Value| relief::Scene::from_json(&v.to_string()).unwrap();
+    let on_disk = relief::pipeline::load_scene(workspace.join("e2e-island.json")).unwrap();
+    assert_eq!(on_disk, scene(&saved));
+    id = new_scene(client, "contours", id).await;
+    client.find(Locator::Id("load")).await.unwrap().select_by_value("e2e-island.json").await.unwrap();
+    id = next_result(client, id).await;
+    assert_eq!(scene(&doc(client).await), on_disk);
+    id
+}
+
+/// Draws a region and a warp on the contour template.
+async fn contour_gestures(client: &Client, map: &Element, mut id: u64) {
+    // A contour scene: a region drawn corner by corner inside the 600 m one, at 900 m.
+    id = new_scene(client, "contours", id).await;
+    choose_tool(client, "region").await;
+    let height = client.find(Locator::Id("height")).await.unwrap();
+    height.clear().await.unwrap();
+    height.send_keys("900").await.unwrap();
+    for (x, y) in [(-60.0, -30.0), (0.0, -35.0), (10.0, 0.0)] {
+        drag(client, map, &[(x, y)]).await;
+    }
+    let mut close = MouseActions::new("mouse".into()).then(PointerAction::MoveToElement {
+        element: map.clone(),
+        duration: None,
+        x: -55.0,
+        y: 5.0,
+    });
+    for _ in 0..2 {
+        close = close
+            .then(PointerAction::Down { button: MOUSE_BUTTON_LEFT })
+            .then(PointerAction::Up { button: MOUSE_BUTTON_LEFT });
+    }
+    client.perform_actions(close).await.unwrap();
+    id = next_result(client, id).await;
+    let regions = doc(client).await["generator"]["contours"]["regions"].clone();
+    assert_eq!(regions.as_array().unwrap().len(), 3, "{regions}");
+    assert_eq!(regions[2]["height"].as_f64(), Some(900.0));
+    assert!(regions[2]["polygon"]["exterior"].as_array().unwrap().len() >= 4);
+    // The region is the 900 m contour: the terrain passes through its corners at 900 m.
+    let at_corners = js(
+        client,
+        "const r = window.studio.result, e = r.extent; \
+         return window.studio.doc.generator.contours.regions[2].polygon.exterior.map(([x, y]) => { \
+           const i = Math.round((x - e.min[0]) / (e.max[0] - e.min[0]) * (r.width - 1)); \
+           const j = Math.round((e.max[1] - y) / (e.max[1] - e.min[1]) * (r.height - 1)); \
+           return r.z[j * r.width + i]; })",
+    )
+    .await;
+    for z in at_corners.as_array().unwrap() {
+        assert!((z.as_f64().unwrap() - 900.0).abs() < 40.0, "corners at {at_corners}, the region's height is 900 m");
+    }
+    assert!(result_field(client, "max").await.as_f64().unwrap() > 900.0);
+
+    // A warp stroke dragged across the range becomes an edit, and generates.
+    choose_tool(client, "warp").await;
+    drag(client, map, &[(-120.0, 60.0), (-60.0, 40.0), (0.0, 20.0), (40.0, 10.0)]).await;
+    next_result(client, id).await;
+    assert!(doc(client).await["edits"][0]["warp"]["stroke"].as_array().unwrap().len() >= 3);
+}
+
+async fn wait_for(client: &Client, condition: &str) {
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while js(client, &format!("return {condition}")).await != json!(true) {
+        assert!(Instant::now() < deadline, "waiting for {condition}");
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+}

@@ -1,0 +1,593 @@
+// relief studio: the scene is the document. Every gesture edits the scene JSON, which the server
+// generates (POST /api/generate); the heightfield comes back as f32 samples for the 2D map and
+// the 3D view. Plain JavaScript, no build step: the server ships this file as it is.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+
+// ---------------------------------------------------------------------------------------------
+// The document, with undo and redo.
+
+const past = { undo: [], redo: [] };
+let doc = null;
+
+/** Replaces the document by `next` (a scene object); `record` keeps the old one for undo. */
+function setDoc(next, record = true) {
+  if (record && doc) {
+    past.undo.push(JSON.stringify(doc));
+    past.redo.length = 0;
+  }
+  doc = next;
+  $("scene").value = JSON.stringify(doc, null, 1);
+  updateButtons();
+  scheduleGenerate();
+}
+
+/** Applies `edit` to a copy of the document and records it. */
+function editDoc(edit) {
+  const next = JSON.parse(JSON.stringify(doc));
+  edit(next);
+  setDoc(next);
+}
+
+function undo() {
+  if (!past.undo.length) return;
+  past.redo.push(JSON.stringify(doc));
+  setDoc(JSON.parse(past.undo.pop()), false);
+}
+
+function redo() {
+  if (!past.redo.length) return;
+  past.undo.push(JSON.stringify(doc));
+  setDoc(JSON.parse(past.redo.pop()), false);
+}
+
+function updateButtons() {
+  $("undo").disabled = !past.undo.length;
+  $("redo").disabled = !past.redo.length;
+  const kind = generatorKind();
+  $("island-tools").classList.toggle("hidden", kind !== "island");
+  $("contour-tools").classList.toggle("hidden", kind !== "contours");
+}
+
+/** The generator's name: `island`, `contours`, `diffusion`, `gaussian` or `orometry`. */
+function generatorKind() {
+  return doc && doc.generator ? Object.keys(doc.generator)[0] : null;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Generation: a newer edit supersedes a running one.
+
+let result = null; // { id, width, height, min, max, extent, sea_level, z: Float32Array }
+let generation = 0;
+let inFlight = null;
+let timer = null;
+
+function scheduleGenerate() {
+  clearTimeout(timer);
+  timer = setTimeout(generate, 120);
+}
+
+function setState(state, text) {
+  document.body.dataset.state = state;
+  $("status").textContent = text;
+}
+
+async function generate() {
+  const mine = ++generation;
+  if (inFlight) inFlight.abort();
+  inFlight = new AbortController();
+  const signal = inFlight.signal;
+  setState("generating", "generating…");
+  const start = performance.now();
+  try {
+    const response = await fetch("/api/generate", { method: "POST", body: JSON.stringify(doc), signal });
+    const body = await response.json();
+    if (mine !== generation) return;
+    if (!response.ok) {
+      $("message").textContent = (body.path ? body.path + ": " : "") + body.error;
+      setState("error", "error " + response.status);
+      return;
+    }
+    const samples = await fetch(`/api/results/${body.id}/elevation`, { signal });
+    const z = new Float32Array(await samples.arrayBuffer());
+    if (mine !== generation) return;
+    result = Object.assign(body, { z });
+    $("message").textContent = "";
+    $("download").href = `/api/results/${result.id}/download/${$("format").value}`;
+    $("summary").textContent = summaryText(body);
+    drawMap();
+    draw3d();
+    const total = performance.now() - start;
+    document.body.dataset.resultId = String(result.id);
+    setState("idle", `${result.width}×${result.height} · server ${body.ms.toFixed(0)} ms · shown in ${total.toFixed(0)} ms`);
+  } catch (error) {
+    if (error.name !== "AbortError") {
+      $("message").textContent = String(error);
+      setState("error", "failed");
+    }
+  }
+}
+
+function summaryText(r) {
+  const lines = [`elevation ${r.min.toFixed(1)} … ${r.max.toFixed(1)} m`];
+  if (r.sea_level !== null && r.sea_level !== undefined) lines.push(`sea level ${r.sea_level.toFixed(1)} m`);
+  const timings = (r.summary && r.summary.timings) || [];
+  for (const t of timings) lines.push(`${t.step}: ${t.ms.toFixed(0)} ms`);
+  for (const w of (r.summary && r.summary.warnings) || []) lines.push(`warning: ${w}`);
+  return lines.join("\n");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Colours and shading shared by both views.
+
+function seaLevel() {
+  return result.sea_level === null || result.sea_level === undefined ? -Infinity : result.sea_level;
+}
+
+/** Hypsometric tint of `z`: blues under the sea, green to brown to white above it. */
+function tint(z) {
+  const sea = seaLevel();
+  if (!(z === z)) return [40, 40, 40];
+  if (z < sea) {
+    const t = Math.min(1, (sea - z) / Math.max(1, sea - result.min));
+    return [40 - 20 * t, 90 - 40 * t, 160 - 50 * t];
+  }
+  const low = Math.max(sea, result.min);
+  const t = Math.max(0, Math.min(1, (z - low) / Math.max(1e-6, result.max - low)));
+  const stops = [[0, [86, 140, 80]], [0.35, [170, 170, 100]], [0.7, [140, 100, 70]], [1, [240, 240, 240]]];
+  for (let k = 1; k < stops.length; k++) {
+    if (t <= stops[k][0]) {
+      const [t0, c0] = stops[k - 1];
+      const [t1, c1] = stops[k];
+      const u = (t - t0) / (t1 - t0);
+      return c0.map((c, i) => c + (c1[i] - c) * u);
+    }
+  }
+  return stops[stops.length - 1][1];
+}
+
+/** A round contour interval giving about 20 levels. */
+function contourInterval() {
+  const raw = Math.max(1e-6, (result.max - result.min) / 20);
+  const p = Math.pow(10, Math.floor(Math.log10(raw)));
+  return [1, 2, 5, 10].map((m) => m * p).find((s) => s >= raw);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The 2D map: shaded relief, tint, contours, and the scene's inputs over them.
+
+const view = { scale: 1, ox: 0, oy: 0 };
+
+function worldToCanvas([x, y]) {
+  const e = result.extent;
+  return [view.ox + (x - e.min[0]) * view.scale, view.oy + (e.max[1] - y) * view.scale];
+}
+
+function canvasToWorld(cx, cy) {
+  const e = result.extent;
+  return [e.min[0] + (cx - view.ox) / view.scale, e.max[1] - (cy - view.oy) / view.scale];
+}
+
+function drawMap() {
+  const canvas = $("map");
+  const ctx = canvas.getContext("2d");
+  ctx.fillStyle = "#111";
+  ctx.fillRect(0, 0, canvas.width, canvas.height);
+  if (!result) return;
+  const { width: w, height: h, z } = result;
+  const e = result.extent;
+  const dx = (e.max[0] - e.min[0]) / Math.max(1, w - 1);
+  const dy = (e.max[1] - e.min[1]) / Math.max(1, h - 1);
+  const image = new ImageData(w, h);
+  const interval = contourInterval();
+  const band = (v) => Math.floor((v - result.min) / interval);
+  for (let j = 0; j < h; j++) {
+    for (let i = 0; i < w; i++) {
+      const k = j * w + i;
+      const v = z[k];
+      const gx = (z[j * w + Math.min(w - 1, i + 1)] - z[j * w + Math.max(0, i - 1)]) / (2 * dx);
+      const gy = (z[Math.max(0, j - 1) * w + i] - z[Math.min(h - 1, j + 1) * w + i]) / (2 * dy);
+      // Light from the north-west, 45° up.
+      const n = Math.hypot(gx, gy, 1);
+      const shade = Math.max(0, (gx * -0.5 + gy * 0.5 + 0.7071) / n) * 0.75 + 0.35;
+      let c = tint(v).map((x) => Math.min(255, x * shade));
+      const line = (i + 1 < w && band(z[k + 1]) !== band(v)) || (j + 1 < h && band(z[k + w]) !== band(v));
+      if (line) c = c.map((x) => x * 0.55);
+      image.data.set([c[0], c[1], c[2], 255], 4 * k);
+    }
+  }
+  const off = new OffscreenCanvas(w, h);
+  off.getContext("2d").putImageData(image, 0, 0);
+  view.scale = Math.min(canvas.width / (e.max[0] - e.min[0]), canvas.height / (e.max[1] - e.min[1]));
+  view.ox = (canvas.width - (e.max[0] - e.min[0]) * view.scale) / 2;
+  view.oy = (canvas.height - (e.max[1] - e.min[1]) * view.scale) / 2;
+  ctx.imageSmoothingEnabled = true;
+  ctx.drawImage(off, view.ox, view.oy, (e.max[0] - e.min[0]) * view.scale, (e.max[1] - e.min[1]) * view.scale);
+  drawInputs(ctx);
+}
+
+function polyline(ctx, points, close) {
+  if (!points || points.length < 2) return;
+  ctx.beginPath();
+  points.forEach((p, k) => {
+    const [x, y] = worldToCanvas(p);
+    if (k === 0) ctx.moveTo(x, y);
+    else ctx.lineTo(x, y);
+  });
+  if (close) ctx.closePath();
+  ctx.stroke();
+}
+
+/** The island's hills after its operations: `{center, radii, height}` in index order. */
+function islandHills() {
+  const hills = [];
+  for (const op of doc.generator.island.operations || []) {
+    const [name, v] = Object.entries(op)[0];
+    if (name === "add_hill") hills.push({ center: v.center, radii: v.radii, height: v.height });
+    else if (name === "move_hill" && hills[v.hill]) hills[v.hill].center = v.center;
+    else if (name === "resize_hill" && hills[v.hill]) hills[v.hill].radii = v.radii;
+    else if (name === "remove_hill") hills.splice(v.hill, 1);
+  }
+  return hills;
+}
+
+function drawInputs(ctx) {
+  ctx.lineWidth = 1.5;
+  const kind = generatorKind();
+  if (kind === "island") {
+    ctx.strokeStyle = "rgba(255, 230, 120, 0.9)";
+    for (const op of doc.generator.island.operations || []) {
+      const [name, v] = Object.entries(op)[0];
+      if (name === "stroke" || name === "coastline") polyline(ctx, v.points, name === "coastline");
+    }
+    islandHills().forEach((hill, k) => {
+      const [x, y] = worldToCanvas(hill.center);
+      ctx.strokeStyle = hill.height < 0 ? "rgba(120, 200, 255, 0.9)" : "rgba(255, 255, 255, 0.9)";
+      ctx.beginPath();
+      ctx.ellipse(x, y, hill.radii[0] * view.scale, hill.radii[1] * view.scale, 0, 0, 2 * Math.PI);
+      ctx.stroke();
+      ctx.fillStyle = "#fff";
+      ctx.fillText(String(k), x + 3, y - 3);
+    });
+  } else if (kind === "contours") {
+    for (const region of doc.generator.contours.regions || []) {
+      ctx.strokeStyle = region.depression ? "rgba(120, 200, 255, 0.9)" : "rgba(255, 255, 255, 0.8)";
+      ctx.setLineDash(region.depression ? [4, 3] : []);
+      polyline(ctx, region.polygon.exterior, true);
+    }
+    ctx.setLineDash([]);
+    ctx.strokeStyle = "rgba(255, 150, 80, 0.9)";
+    for (const edit of doc.edits || []) {
+      if (edit.warp) polyline(ctx, edit.warp.stroke, false);
+    }
+  }
+  if (pending.points.length) {
+    ctx.strokeStyle = "#ff0";
+    polyline(ctx, pending.points, false);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tools: each gesture becomes one scene edit.
+
+const pending = { points: [], start: null, hill: -1 };
+
+function tool() {
+  return document.querySelector('input[name="tool"]:checked').value;
+}
+
+function pointerWorld(event) {
+  const canvas = $("map");
+  const rect = canvas.getBoundingClientRect();
+  const cx = ((event.clientX - rect.left) * canvas.width) / rect.width;
+  const cy = ((event.clientY - rect.top) * canvas.height) / rect.height;
+  return canvasToWorld(cx, cy).map((v) => Math.round(v * 100) / 100);
+}
+
+function onPointerDown(event) {
+  if (!result) return;
+  const p = pointerWorld(event);
+  const t = tool();
+  if (t === "region" || t === "depression") {
+    pending.points.push(p);
+    drawMap();
+    return;
+  }
+  $("map").setPointerCapture(event.pointerId);
+  pending.start = p;
+  pending.points = [p];
+  if (t === "move-hill") {
+    const hills = islandHills();
+    const near = (h) => Math.hypot(h.center[0] - p[0], h.center[1] - p[1]);
+    pending.hill = hills.length ? hills.indexOf(hills.reduce((a, b) => (near(a) <= near(b) ? a : b))) : -1;
+  }
+}
+
+function onPointerMove(event) {
+  if (!pending.start) return;
+  const p = pointerWorld(event);
+  const last = pending.points[pending.points.length - 1];
+  if (Math.hypot(p[0] - last[0], p[1] - last[1]) * view.scale >= 4) {
+    pending.points.push(p);
+    drawMap();
+  }
+}
+
+function onPointerUp(event) {
+  if (!pending.start) return;
+  const end = pointerWorld(event);
+  const start = pending.start;
+  const points = pending.points;
+  pending.start = null;
+  pending.points = [];
+  const t = tool();
+  const height = Number($("height").value);
+  if ((t === "stroke" || t === "coastline") && points.length >= 3) {
+    const ring = t === "coastline" ? points.concat([points[0]]) : points;
+    editDoc((d) => d.generator.island.operations.push({ [t]: { points: ring } }));
+  } else if (t === "hill" || t === "hollow") {
+    const r = Math.max(Math.hypot(end[0] - start[0], end[1] - start[1]), 8 / view.scale);
+    const h = t === "hollow" ? -Math.abs(height) : Math.abs(height);
+    editDoc((d) => d.generator.island.operations.push({ add_hill: { center: start, radii: [r, r], height: h } }));
+  } else if (t === "move-hill" && pending.hill >= 0) {
+    const hill = pending.hill;
+    editDoc((d) => d.generator.island.operations.push({ move_hill: { hill, center: end } }));
+  } else if (t === "warp" && points.length >= 2) {
+    const radius = Number($("warp-radius").value);
+    editDoc((d) => (d.edits = (d.edits || []).concat([{ warp: { stroke: points, radius } }])));
+  } else {
+    drawMap();
+  }
+}
+
+function closeRegion() {
+  const t = tool();
+  if ((t !== "region" && t !== "depression") || pending.points.length < 3) return;
+  // A double-click adds its point twice; drop repeats.
+  const ring = pending.points.filter((p, k, all) => k === 0 || p[0] !== all[k - 1][0] || p[1] !== all[k - 1][1]);
+  pending.points = [];
+  const region = t === "depression" ? { polygon: { exterior: ring }, depression: true } : { polygon: { exterior: ring }, height: Number($("height").value) };
+  editDoc((d) => d.generator.contours.regions.push(region));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The 3D view: the heightfield as a lit mesh, orbit camera (drag to turn, wheel to zoom).
+
+const orbit = { yaw: 0.6, pitch: 0.7, distance: 2.6 };
+let gl = null;
+let mesh = null;
+
+const VERTEX = `
+attribute vec3 position; attribute vec3 normal; attribute vec3 colour;
+uniform mat4 transform; varying vec3 shade;
+void main() {
+  float light = max(dot(normalize(normal), normalize(vec3(-0.5, 0.8, 0.4))), 0.0) * 0.8 + 0.25;
+  shade = colour * light;
+  gl_Position = transform * vec4(position, 1.0);
+}`;
+const FRAGMENT = `precision mediump float; varying vec3 shade; void main() { gl_FragColor = vec4(shade, 1.0); }`;
+
+function setup3d() {
+  gl = $("view3d").getContext("webgl", { preserveDrawingBuffer: true, antialias: true });
+  if (!gl) return;
+  const compile = (type, source) => {
+    const shader = gl.createShader(type);
+    gl.shaderSource(shader, source);
+    gl.compileShader(shader);
+    return shader;
+  };
+  const program = gl.createProgram();
+  gl.attachShader(program, compile(gl.VERTEX_SHADER, VERTEX));
+  gl.attachShader(program, compile(gl.FRAGMENT_SHADER, FRAGMENT));
+  gl.linkProgram(program);
+  gl.useProgram(program);
+  gl.program = program;
+  gl.enable(gl.DEPTH_TEST);
+}
+
+/** Builds the mesh from the result: at most 181 × 181 vertices (16-bit indices). */
+function build3d() {
+  const { width: w, height: h, z } = result;
+  const e = result.extent;
+  const step = Math.max(1, Math.ceil(Math.max(w, h) / 181));
+  const nx = Math.floor((w - 1) / step) + 1;
+  const ny = Math.floor((h - 1) / step) + 1;
+  const size = Math.max(e.max[0] - e.min[0], e.max[1] - e.min[1]);
+  const exaggeration = 2.0;
+  const height = (i, j) => {
+    const v = z[Math.min(h - 1, j * step) * w + Math.min(w - 1, i * step)];
+    return v === v ? v : result.min;
+  };
+  const positions = new Float32Array(nx * ny * 3);
+  const normals = new Float32Array(nx * ny * 3);
+  const colours = new Float32Array(nx * ny * 3);
+  const sx = ((e.max[0] - e.min[0]) / size) * 2;
+  const sz = ((e.max[1] - e.min[1]) / size) * 2;
+  const hy = (exaggeration * 2) / size;
+  for (let j = 0; j < ny; j++) {
+    for (let i = 0; i < nx; i++) {
+      const k = j * nx + i;
+      const v = height(i, j);
+      positions.set([(i / Math.max(1, nx - 1) - 0.5) * sx, (v - result.min) * hy, (j / Math.max(1, ny - 1) - 0.5) * sz], 3 * k);
+      const gx = (height(Math.min(nx - 1, i + 1), j) - height(Math.max(0, i - 1), j)) * hy / (2 * sx / Math.max(1, nx - 1));
+      const gz = (height(i, Math.min(ny - 1, j + 1)) - height(i, Math.max(0, j - 1))) * hy / (2 * sz / Math.max(1, ny - 1));
+      normals.set([-gx, 1, -gz], 3 * k);
+      colours.set(tint(v).map((c) => c / 255), 3 * k);
+    }
+  }
+  const indices = new Uint16Array((nx - 1) * (ny - 1) * 6);
+  let n = 0;
+  for (let j = 0; j + 1 < ny; j++) {
+    for (let i = 0; i + 1 < nx; i++) {
+      const a = j * nx + i;
+      indices.set([a, a + nx, a + 1, a + 1, a + nx, a + nx + 1], n);
+      n += 6;
+    }
+  }
+  const buffer = (data, name) => {
+    const b = gl.createBuffer();
+    gl.bindBuffer(gl.ARRAY_BUFFER, b);
+    gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
+    const at = gl.getAttribLocation(gl.program, name);
+    gl.enableVertexAttribArray(at);
+    gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 0, 0);
+    return b;
+  };
+  if (mesh) mesh.buffers.forEach((b) => gl.deleteBuffer(b));
+  const buffers = [buffer(positions, "position"), buffer(normals, "normal"), buffer(colours, "colour")];
+  const elements = gl.createBuffer();
+  gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, elements);
+  gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, indices, gl.STATIC_DRAW);
+  buffers.push(elements);
+  mesh = { buffers, count: indices.length };
+}
+
+function multiply(a, b) {
+  const out = new Float32Array(16);
+  for (let c = 0; c < 4; c++) for (let r = 0; r < 4; r++) {
+    let s = 0;
+    for (let k = 0; k < 4; k++) s += a[k * 4 + r] * b[c * 4 + k];
+    out[c * 4 + r] = s;
+  }
+  return out;
+}
+
+function perspective(fovy, aspect, near, far) {
+  const f = 1 / Math.tan(fovy / 2);
+  const nf = 1 / (near - far);
+  return new Float32Array([f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, (far + near) * nf, -1, 0, 0, 2 * far * near * nf, 0]);
+}
+
+function lookAt(eye, target) {
+  const sub = (a, b) => a.map((v, i) => v - b[i]);
+  const norm = (a) => { const l = Math.hypot(...a); return a.map((v) => v / l); };
+  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const zAxis = norm(sub(eye, target));
+  const xAxis = norm(cross([0, 1, 0], zAxis));
+  const yAxis = cross(zAxis, xAxis);
+  return new Float32Array([
+    xAxis[0], yAxis[0], zAxis[0], 0, xAxis[1], yAxis[1], zAxis[1], 0, xAxis[2], yAxis[2], zAxis[2], 0,
+    -dot(xAxis, eye), -dot(yAxis, eye), -dot(zAxis, eye), 1,
+  ]);
+}
+
+function draw3d(rebuild = true) {
+  if (!gl || !result) return;
+  if (rebuild) build3d();
+  const canvas = $("view3d");
+  gl.viewport(0, 0, canvas.width, canvas.height);
+  gl.clearColor(0.07, 0.08, 0.1, 1);
+  gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+  const d = orbit.distance;
+  const eye = [d * Math.cos(orbit.pitch) * Math.sin(orbit.yaw), d * Math.sin(orbit.pitch), d * Math.cos(orbit.pitch) * Math.cos(orbit.yaw)];
+  const transform = multiply(perspective(0.8, canvas.width / canvas.height, 0.05, 20), lookAt(eye, [0, 0.2, 0]));
+  gl.uniformMatrix4fv(gl.getUniformLocation(gl.program, "transform"), false, transform);
+  gl.drawElements(gl.TRIANGLES, mesh.count, gl.UNSIGNED_SHORT, 0);
+}
+
+function setupOrbit() {
+  const canvas = $("view3d");
+  let drag = null;
+  canvas.addEventListener("pointerdown", (e) => { drag = [e.clientX, e.clientY]; canvas.setPointerCapture(e.pointerId); });
+  canvas.addEventListener("pointerup", () => { drag = null; });
+  canvas.addEventListener("pointermove", (e) => {
+    if (!drag) return;
+    orbit.yaw -= (e.clientX - drag[0]) * 0.01;
+    orbit.pitch = Math.max(0.05, Math.min(1.5, orbit.pitch + (e.clientY - drag[1]) * 0.01));
+    drag = [e.clientX, e.clientY];
+    draw3d(false);
+  });
+  canvas.addEventListener("wheel", (e) => {
+    e.preventDefault();
+    orbit.distance = Math.max(0.8, Math.min(8, orbit.distance * Math.exp(e.deltaY * 0.001)));
+    draw3d(false);
+  }, { passive: false });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files: templates, save, load.
+
+async function loadTemplate(name) {
+  const response = await fetch(`/api/templates/${name}`);
+  past.undo.length = 0;
+  past.redo.length = 0;
+  doc = null;
+  setDoc(await response.json(), false);
+}
+
+async function save() {
+  const name = $("name").value.trim();
+  const response = await fetch(`/api/scenes/${encodeURIComponent(name)}`, { method: "PUT", body: JSON.stringify(doc) });
+  if (response.ok) {
+    setState(document.body.dataset.state, `saved ${name}`);
+    await listScenes();
+  } else {
+    const body = await response.json();
+    $("message").textContent = (body.path ? body.path + ": " : "") + body.error;
+  }
+}
+
+async function listScenes() {
+  const { scenes } = await (await fetch("/api/scenes")).json();
+  const select = $("load");
+  select.length = 1;
+  for (const name of scenes) select.add(new Option(name, name));
+}
+
+async function load(name) {
+  const response = await fetch(`/api/scenes/${encodeURIComponent(name)}`);
+  if (!response.ok) return;
+  $("name").value = name;
+  setDoc(await response.json());
+}
+
+function applyText() {
+  try {
+    setDoc(JSON.parse($("scene").value));
+  } catch (error) {
+    $("message").textContent = "scene JSON: " + error.message;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+async function start() {
+  const info = await (await fetch("/api/info")).json();
+  for (const name of info.templates) $("template").add(new Option(name, name));
+  $("new").onclick = () => loadTemplate($("template").value);
+  $("undo").onclick = undo;
+  $("redo").onclick = redo;
+  $("save").onclick = save;
+  $("load").onchange = (e) => e.target.value && load(e.target.value);
+  $("generate").onclick = generate;
+  $("apply").onclick = applyText;
+  $("format").onchange = () => result && ($("download").href = `/api/results/${result.id}/download/${$("format").value}`);
+  $("filters").onclick = () => editDoc((d) => d.generator.island.operations.push({ add_filters: { coverage: 1 } }));
+  const map = $("map");
+  map.addEventListener("pointerdown", onPointerDown);
+  map.addEventListener("pointermove", onPointerMove);
+  map.addEventListener("pointerup", onPointerUp);
+  map.addEventListener("dblclick", closeRegion);
+  document.addEventListener("keydown", (e) => {
+    if (e.target.tagName === "TEXTAREA" || e.target.tagName === "INPUT") return;
+    if ((e.ctrlKey || e.metaKey) && e.key === "z") { e.preventDefault(); undo(); }
+    if ((e.ctrlKey || e.metaKey) && e.key === "y") { e.preventDefault(); redo(); }
+    if (e.key === "Enter") closeRegion();
+    if (e.key === "Escape") { pending.points = []; drawMap(); }
+  });
+  setup3d();
+  setupOrbit();
+  await listScenes();
+  await loadTemplate("demo");
+}
+
+// For the browser tests and the console.
+window.studio = {
+  get doc() { return doc; },
+  get result() { return result; },
+  setDoc, editDoc, undo, redo, generate, save, load, loadTemplate, closeRegion,
+};
+
+start();
