@@ -57,6 +57,9 @@ pub enum ReliefError {
         /// The cap.
         limit: u64,
     },
+    /// The caller cancelled the run ([`crate::Progress::cancelled`]).
+    #[error("cancelled")]
+    Cancelled,
     /// A step of the pipeline failed on valid input (a bug or an exhausted resource).
     #[error("{step}: {source}")]
     Pipeline {

@@ -11,7 +11,7 @@ use relief::eden_growth::{FbmProbability, Fronts, Region};
 use relief::heightfield::Heightfield;
 use relief::heightfield::noise::Fbm;
 use relief::hydrology::{Field, Outlets, StreamPower, Thermal, depressions};
-use relief::pipeline::{Progress, generate, run};
+use relief::pipeline::{Progress, generate, load_scene, run};
 use relief::poisson_sampling::Polygon;
 use relief::scene::{
     ContoursGenerator, Edit, Generator, HistogramSource, Outputs, PostProcess, Probability, Reconstruction,
@@ -261,6 +261,48 @@ impl Progress for Steps {
     fn finish(&mut self, step: &'static str, _: std::time::Duration) {
         self.0.push((step, true));
     }
+}
+
+/// Cancels the run once `after` steps have finished, or once `after_units` units of a counted
+/// step are done.
+struct CancelAfter {
+    steps: Steps,
+    after: usize,
+    units: u64,
+    after_units: u64,
+}
+
+impl Progress for CancelAfter {
+    fn start(&mut self, step: &'static str) {
+        self.steps.start(step);
+    }
+    fn finish(&mut self, step: &'static str, elapsed: std::time::Duration) {
+        self.steps.finish(step, elapsed);
+    }
+    fn advance(&mut self, _: &'static str, done: u64, _: u64) {
+        self.units = done;
+    }
+    fn cancelled(&self) -> bool {
+        self.steps.0.iter().filter(|(_, finished)| *finished).count() >= self.after || self.units >= self.after_units
+    }
+}
+
+#[test]
+fn a_cancelled_run_stops_before_its_next_step_or_unit() {
+    let scene = full_scene(ReconstructionMode::Interpolated);
+    let mut progress = CancelAfter { steps: Steps::default(), after: 2, units: 0, after_units: u64::MAX };
+    let error = generate(&scene, &root(), &mut progress).unwrap_err();
+    assert!(matches!(error, relief::ReliefError::Cancelled), "{error}");
+    let started: Vec<&str> = progress.steps.0.iter().filter(|(_, f)| !f).map(|(s, _)| *s).collect();
+    assert_eq!(started, ["inputs", "graph"], "no step starts after the cancel");
+    // Within a counted step: an island's operations stop after the first.
+    let mut island = load_scene(root().join("fixtures/scenes/volcano-island-sketch.json")).unwrap();
+    island.reconstruction.resolution = [64, 64];
+    let mut progress = CancelAfter { steps: Steps::default(), after: usize::MAX, units: 0, after_units: 1 };
+    let error = generate(&island, &root(), &mut progress).unwrap_err();
+    assert!(matches!(error, relief::ReliefError::Cancelled), "{error}");
+    assert_eq!(progress.units, 1);
+    assert!(generate(&island, &root(), &mut ()).is_ok());
 }
 
 #[test]

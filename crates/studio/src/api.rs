@@ -9,6 +9,10 @@
 //! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16` |
 //! | `GET /api/scenes`, `GET`/`PUT /api/scenes/{name}` | saved scenes |
 //! | `PUT /api/files/{name}` | upload an input (DEM, image, vector terrain) |
+//! | `GET /api/progress`, `POST /api/cancel` | the session's running generation: its step, or stop it |
+//!
+//! A page names its session in the `x-relief-session` header: a session's new generation
+//! cancels the one it still runs (a newer edit supersedes an older one), which then answers 409.
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -17,7 +21,7 @@ use axum::Json;
 use axum::Router;
 use axum::body::Bytes;
 use axum::extract::{DefaultBodyLimit, Path, State};
-use axum::http::{StatusCode, header};
+use axum::http::{HeaderMap, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use relief::Scene;
@@ -25,6 +29,7 @@ use relief::heightfield::Heightfield;
 use serde_json::{Value, json};
 
 use crate::error::ApiError;
+use crate::jobs::{Job, Jobs};
 use crate::results::Results;
 use crate::workspace::Workspace;
 
@@ -34,11 +39,17 @@ pub(crate) struct App {
     workspace: Workspace,
     budget: relief::Budget,
     results: Mutex<Results>,
+    jobs: Jobs,
 }
 
 impl App {
     pub(crate) fn new(workspace: Workspace, config: &crate::Config) -> Self {
-        Self { workspace, budget: config.budget, results: Mutex::new(Results::new(config.kept_results)) }
+        Self {
+            workspace,
+            budget: config.budget,
+            results: Mutex::new(Results::new(config.kept_results)),
+            jobs: Jobs::default(),
+        }
     }
 
     fn result(&self, id: u64) -> Result<Arc<Heightfield>, ApiError> {
@@ -64,6 +75,8 @@ pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
         .route("/api/scenes", get(scenes))
         .route("/api/scenes/{name}", get(read_scene).put(write_scene))
         .route("/api/files/{name}", axum::routing::put(upload))
+        .route("/api/progress", get(progress))
+        .route("/api/cancel", post(cancel))
         .fallback(|| async { ApiError::not_found("no such route") })
         .layer(DefaultBodyLimit::max(max_body_bytes))
         .with_state(app)
@@ -94,15 +107,35 @@ fn parse_scene(body: &[u8]) -> Result<Scene, ApiError> {
     Ok(scene)
 }
 
-async fn generate(State(app): Shared, body: Bytes) -> Result<Json<Value>, ApiError> {
+/// The session a request names (`x-relief-session`), if any.
+fn session(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
+    let Some(value) = headers.get("x-relief-session") else { return Ok(None) };
+    let text = value
+        .to_str()
+        .ok()
+        .filter(|t| (1..=64).contains(&t.len()) && t.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-'));
+    text.map(|t| Some(t.to_owned()))
+        .ok_or_else(|| ApiError::bad_request("x-relief-session: 1 to 64 letters, digits or `-`"))
+}
+
+async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes) -> Result<Json<Value>, ApiError> {
     let scene = parse_scene(&body)?;
     let start = Instant::now();
-    let worker = Arc::clone(&app);
-    let terrain = tokio::task::spawn_blocking(move || {
-        relief::pipeline::generate_with(&scene, worker.workspace.root(), &worker.budget, &mut ())
+    let session = session(&headers)?;
+    let job = app.jobs.start(session.as_deref())?;
+    let (worker, running) = (Arc::clone(&app), Arc::clone(&job));
+    let generated = tokio::task::spawn_blocking(move || {
+        let mut progress = crate::jobs::JobProgress(running);
+        relief::pipeline::generate_with(&scene, worker.workspace.root(), &worker.budget, &mut progress)
     })
-    .await
-    .map_err(ApiError::internal)??;
+    .await;
+    app.jobs.end(session.as_deref(), &job);
+    let terrain = match generated.map_err(ApiError::internal)? {
+        Err(relief::ReliefError::Cancelled) => {
+            return Err(ApiError::new(StatusCode::CONFLICT, "cancelled: a newer generation superseded it"));
+        }
+        other => other?,
+    };
     let ms = start.elapsed().as_secs_f64() * 1e3;
     let hf = &terrain.heightfield;
     let (min, max) = hf.min_max().unwrap_or((0.0, 0.0));
@@ -186,6 +219,23 @@ async fn read_scene(State(app): Shared, Path(name): Path<String>) -> Result<Resp
 async fn write_scene(State(app): Shared, Path(name): Path<String>, body: Bytes) -> Result<StatusCode, ApiError> {
     let scene = parse_scene(&body)?;
     app.workspace.write_scene(&name, &scene.to_json())?;
+    Ok(StatusCode::NO_CONTENT)
+}
+
+async fn progress(State(app): Shared, headers: HeaderMap) -> Result<Json<Value>, ApiError> {
+    let session = session(&headers)?.ok_or_else(|| ApiError::bad_request("progress needs x-relief-session"))?;
+    let state = app.jobs.get(&session).map(|job: Arc<Job>| job.state());
+    Ok(Json(match state {
+        Some(s) => json!({ "running": true, "step": s.step, "done": s.done, "total": s.total }),
+        None => json!({ "running": false }),
+    }))
+}
+
+async fn cancel(State(app): Shared, headers: HeaderMap) -> Result<StatusCode, ApiError> {
+    let session = session(&headers)?.ok_or_else(|| ApiError::bad_request("cancel needs x-relief-session"))?;
+    if let Some(job) = app.jobs.get(&session) {
+        job.cancel();
+    }
     Ok(StatusCode::NO_CONTENT)
 }
 

@@ -41,6 +41,7 @@
 mod api;
 mod assets;
 mod error;
+mod jobs;
 mod results;
 mod workspace;
 

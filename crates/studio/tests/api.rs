@@ -26,7 +26,16 @@ impl Studio {
 
     /// Sends `method path` with `body`; the status and the body's bytes.
     fn send(&self, method: &str, path: &str, body: impl Into<Body>) -> (StatusCode, Vec<u8>) {
-        let request = Request::builder().method(method).uri(path).body(body.into()).unwrap();
+        self.send_as(None, method, path, body)
+    }
+
+    /// [`Studio::send`] for a session.
+    fn send_as(&self, session: Option<&str>, method: &str, path: &str, body: impl Into<Body>) -> (StatusCode, Vec<u8>) {
+        let mut request = Request::builder().method(method).uri(path);
+        if let Some(session) = session {
+            request = request.header("x-relief-session", session);
+        }
+        let request = request.body(body.into()).unwrap();
         let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
         runtime.block_on(async {
             let response = self.router.clone().oneshot(request).await.unwrap();
@@ -193,6 +202,50 @@ fn a_scene_reads_inputs_from_the_workspace_and_nowhere_else() {
     }
     let (status, _) = studio.send("PUT", "/api/files/run.sh", "echo");
     assert_eq!(status, StatusCode::UNSUPPORTED_MEDIA_TYPE);
+}
+
+#[test]
+fn a_newer_generation_of_a_session_supersedes_the_running_one() {
+    let studio = Studio::new();
+    // A slow scene: the contour template grown from 400 000 particles.
+    let mut slow = studio.template("contours");
+    slow["generator"]["contours"]["particles"] = 400_000.into();
+    let quick = island_scene(&studio).to_string();
+    let progress = |session| {
+        let (_, bytes) = studio.send_as(Some(session), "GET", "/api/progress", Body::empty());
+        serde_json::from_slice::<Value>(&bytes).unwrap()
+    };
+    // Stopped by a newer generation of its session, then by the page's cancel button.
+    for interrupt in ["generate", "cancel"] {
+        assert_eq!(progress("s1")["running"], false);
+        std::thread::scope(|scope| {
+            let running = scope.spawn(|| studio.send_as(Some("s1"), "POST", "/api/generate", slow.to_string()));
+            // Wait until it is growing.
+            let start = std::time::Instant::now();
+            loop {
+                let state = progress("s1");
+                if state["running"] == true && matches!(state["step"].as_str(), Some("graph" | "growth")) {
+                    break;
+                }
+                assert!(start.elapsed().as_secs() < 60 && !running.is_finished(), "never saw it grow: {state}");
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+            // Another session's edit does not touch it; this session's does.
+            let (status, _) = studio.send_as(Some("s2"), "POST", "/api/generate", quick.clone());
+            assert_eq!(status, StatusCode::OK);
+            assert_eq!(progress("s1")["running"], true);
+            let (status, _) = match interrupt {
+                "generate" => studio.send_as(Some("s1"), "POST", "/api/generate", quick.clone()),
+                _ => studio.send_as(Some("s1"), "POST", "/api/cancel", Body::empty()),
+            };
+            assert!(status.is_success(), "{interrupt}: {status}");
+            let (status, body) = running.join().unwrap();
+            assert_eq!(status, StatusCode::CONFLICT, "{interrupt}: {}", String::from_utf8_lossy(&body));
+        });
+    }
+    assert_eq!(progress("s1")["running"], false);
+    let (status, _) = studio.send_as(Some("bad/name"), "GET", "/api/progress", Body::empty());
+    assert_eq!(status, StatusCode::BAD_REQUEST);
 }
 
 /// A gray PNG of `size`² pixels.

@@ -73,6 +73,12 @@ function setState(state, text) {
   $("status").textContent = text;
 }
 
+// This page's session: its newer generation cancels its older one on the server too.
+const session = Array.from(crypto.getRandomValues(new Uint8Array(12)), (b) => b.toString(16).padStart(2, "0")).join("");
+const headers = { "x-relief-session": session };
+// End-to-end times of the generations shown: [{ server_ms, total_ms }].
+const timings = [];
+
 async function generate() {
   const mine = ++generation;
   if (inFlight) inFlight.abort();
@@ -80,10 +86,11 @@ async function generate() {
   const signal = inFlight.signal;
   setState("generating", "generating…");
   const start = performance.now();
+  const poll = setInterval(() => showProgress(mine), 250);
   try {
-    const response = await fetch("/api/generate", { method: "POST", body: JSON.stringify(doc), signal });
+    const response = await fetch("/api/generate", { method: "POST", body: JSON.stringify(doc), headers, signal });
     const body = await response.json();
-    if (mine !== generation) return;
+    if (mine !== generation || response.status === 409) return;
     if (!response.ok) {
       $("message").textContent = (body.path ? body.path + ": " : "") + body.error;
       setState("error", "error " + response.status);
@@ -99,6 +106,7 @@ async function generate() {
     drawMap();
     draw3d();
     const total = performance.now() - start;
+    timings.push({ server_ms: body.ms, total_ms: total });
     document.body.dataset.resultId = String(result.id);
     setState("idle", `${result.width}×${result.height} · server ${body.ms.toFixed(0)} ms · shown in ${total.toFixed(0)} ms`);
   } catch (error) {
@@ -106,7 +114,25 @@ async function generate() {
       $("message").textContent = String(error);
       setState("error", "failed");
     }
+  } finally {
+    clearInterval(poll);
   }
+}
+
+/** Shows the server's step while generation `mine` runs. */
+async function showProgress(mine) {
+  const state = await (await fetch("/api/progress", { headers })).json();
+  if (mine !== generation || document.body.dataset.state !== "generating" || !state.running) return;
+  const counted = state.total ? ` ${state.done}/${state.total}` : "";
+  $("status").textContent = `generating: ${state.step}${counted}…`;
+}
+
+/** Stops the running generation, on the server too. */
+async function cancel() {
+  generation++;
+  if (inFlight) inFlight.abort();
+  await fetch("/api/cancel", { method: "POST", headers });
+  setState("idle", "cancelled");
 }
 
 function summaryText(r) {
@@ -562,6 +588,7 @@ async function start() {
   $("save").onclick = save;
   $("load").onchange = (e) => e.target.value && load(e.target.value);
   $("generate").onclick = generate;
+  $("cancel").onclick = cancel;
   $("apply").onclick = applyText;
   $("format").onchange = () => result && ($("download").href = `/api/results/${result.id}/download/${$("format").value}`);
   $("filters").onclick = () => editDoc((d) => d.generator.island.operations.push({ add_filters: { coverage: 1 } }));
@@ -587,7 +614,7 @@ async function start() {
 window.studio = {
   get doc() { return doc; },
   get result() { return result; },
-  setDoc, editDoc, undo, redo, generate, save, load, loadTemplate, closeRegion,
+  timings, setDoc, editDoc, undo, redo, generate, cancel, save, load, loadTemplate, closeRegion,
 };
 
 start();

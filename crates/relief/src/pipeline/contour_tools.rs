@@ -65,6 +65,7 @@ pub(super) fn apply_tools(
             }
         };
         tick.tick();
+        tick.check()?;
     }
     Ok(())
 }

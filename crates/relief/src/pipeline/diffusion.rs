@@ -43,8 +43,7 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
     })?;
     let curves = with_border(g, g.all_curves(), &grid)?;
     let terrain = timer
-        .step("diffusion", || diffusion::generate(&curves, &grid, &options))
-        .map_err(|e| E::located(GENERATOR, e))?;
+        .step("diffusion", || diffusion::generate(&curves, &grid, &options).map_err(|e| E::located(GENERATOR, e)))?;
     let warnings = noise_warning(&g.all_curves(), &terrain.smooth).into_iter().collect();
     Ok(Generated {
         heightfield: terrain.heightfield,

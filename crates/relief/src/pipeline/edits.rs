@@ -141,6 +141,7 @@ pub(super) fn apply_edits(
             },
         };
         tick.tick();
+        tick.check()?;
     }
     Ok(set)
 }

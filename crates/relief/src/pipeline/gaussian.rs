@@ -84,6 +84,7 @@ fn apply_tools(
         })?;
         env.budget.primitives(terrain.len() as u64, &cx.here)?;
         tick.tick();
+        tick.check()?;
     }
     Ok(())
 }

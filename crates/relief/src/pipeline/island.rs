@@ -49,6 +49,7 @@ pub(super) fn generate(
             .map_err(|e| fail(IslandError::Operation { index, source: Box::new(e) }))?;
             warnings.extend(kinds.and_then(|kinds| stroke_warning(index, &kinds, before, island.area())));
             tick.tick();
+            tick.check()?;
         }
         Ok::<_, ReliefError>((island, warnings))
     })?;

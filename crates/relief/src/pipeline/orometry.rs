@@ -53,7 +53,7 @@ pub(super) fn generate(
             AnalysisOptions { min_prominence: least_prominence(&tree, base), ..AnalysisOptions::default() }
         }
     };
-    let terrain = timer.step("terrain orometry", || terrain_orometry(&heightfield, &target, &analysis));
+    let terrain = timer.step("terrain orometry", || Ok(terrain_orometry(&heightfield, &target, &analysis)))?;
     let types = g.types.as_ref().map_or(1, |t| t.sources.len() + 1);
     let report = Report::Orometry(summary(tree, &target, types, terrain));
     Ok(Generated {

@@ -40,6 +40,7 @@ pub(super) fn post_process(
 ) -> Result<Heightfield, ReliefError> {
     let outlets = outlets(sea_level);
     for (k, step) in post.iter().enumerate() {
+        tick.check()?;
         let fail = |kind: &str, e: HydrologyError| match e {
             HydrologyError::InvalidParameter { .. } | HydrologyError::LengthMismatch { .. } => {
                 E::located(&format!("post[{k}].{kind}"), e)

@@ -5,6 +5,8 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 
+use crate::ReliefError;
+
 /// Receives the pipeline's progress: each step starts, then finishes. The contour generator's
 /// steps are `"inputs"`, `"graph"`, `"growth"`, `"heights"`, `"contours"`, `"edits"` and
 /// `"reconstruction"`; the raster generators name theirs (`"diffusion"`, `"island"`,
@@ -22,6 +24,26 @@ pub trait Progress {
     /// unit). Called with `done` rising from 0 to `total`; ignored by default.
     fn advance(&mut self, step: &'static str, done: u64, total: u64) {
         let _ = (step, done, total);
+    }
+
+    /// Whether the caller wants the run to stop: checked before each step (and, in counted
+    /// steps, before each unit of work), the run then ends with [`ReliefError::Cancelled`].
+    /// Never, by default.
+    fn cancelled(&self) -> bool {
+        false
+    }
+}
+
+/// What a step returns that can stand for a cancelled step: results whose error is a
+/// [`ReliefError`].
+pub(crate) trait Interruptible {
+    /// The value of a step that did not run.
+    fn cancelled() -> Self;
+}
+
+impl<T> Interruptible for Result<T, ReliefError> {
+    fn cancelled() -> Self {
+        Err(ReliefError::Cancelled)
     }
 }
 
@@ -50,22 +72,31 @@ impl<'a> Timer<'a> {
         Self { progress, timings: Vec::new() }
     }
 
-    /// Runs `f` as the step `step`.
-    pub(crate) fn step<T>(&mut self, step: &'static str, f: impl FnOnce() -> T) -> T {
+    /// Runs `f` as the step `step`, unless the caller has cancelled the run.
+    pub(crate) fn step<T: Interruptible>(&mut self, step: &'static str, f: impl FnOnce() -> T) -> T {
         self.timed(step, |_| f())
     }
 
-    /// Runs `f` as the step `step` of `total` units of work; `f` reports each unit done through
-    /// the [`Tick`] it is given.
-    pub(crate) fn counted<T>(&mut self, step: &'static str, total: u64, f: impl FnOnce(&mut Tick<'_>) -> T) -> T {
+    /// Runs `f` as the step `step` of `total` units of work, unless the caller has cancelled
+    /// the run; `f` reports each unit done through the [`Tick`] it is given.
+    pub(crate) fn counted<T: Interruptible>(
+        &mut self,
+        step: &'static str,
+        total: u64,
+        f: impl FnOnce(&mut Tick<'_>) -> T,
+    ) -> T {
         self.timed(step, |progress| {
             progress.advance(step, 0, total);
             f(&mut Tick { progress, step, done: 0, total })
         })
     }
 
-    /// Starts `step`, runs `f` with the caller's progress, finishes it and keeps its time.
-    fn timed<T>(&mut self, step: &'static str, f: impl FnOnce(&mut dyn Progress) -> T) -> T {
+    /// Starts `step`, runs `f` with the caller's progress, finishes it and keeps its time; a
+    /// cancelled run skips it.
+    fn timed<T: Interruptible>(&mut self, step: &'static str, f: impl FnOnce(&mut dyn Progress) -> T) -> T {
+        if self.progress.cancelled() {
+            return T::cancelled();
+        }
         self.progress.start(step);
         let start = Instant::now();
         let out = f(&mut *self.progress);
@@ -89,5 +120,11 @@ impl Tick<'_> {
     pub(crate) fn tick(&mut self) {
         self.done = (self.done + 1).min(self.total);
         self.progress.advance(self.step, self.done, self.total);
+    }
+
+    /// [`ReliefError::Cancelled`] when the caller has cancelled the run: checked by counted
+    /// steps between their units.
+    pub(crate) fn check(&self) -> Result<(), ReliefError> {
+        if self.progress.cancelled() { Err(ReliefError::Cancelled) } else { Ok(()) }
     }
 }
