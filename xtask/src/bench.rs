@@ -25,6 +25,8 @@ pub(crate) fn run(root: &Path, quick: bool, packages: &[String], report_only: bo
     report.push_str(&crate::prominence::prominence_runs(root, quick)?);
     let fit_again = !report_only && (packages.is_empty() || packages.iter().any(|p| p == "relief-gaussian-terrain"));
     report.push_str(&vectorize_runs(root, quick, !fit_again)?);
+    let studio_again = !report_only && (packages.is_empty() || packages.iter().any(|p| p == "relief-studio"));
+    report.push_str(&studio_runs(root, !studio_again)?);
     let out = root.join("docs/benchmarks.md");
     let tmp = out.with_extension("md.tmp");
     fs::write(&tmp, report).with_context(|| format!("writing {}", tmp.display()))?;
@@ -120,6 +122,48 @@ fn vectorize_runs(root: &Path, quick: bool, reprint: bool) -> Result<String> {
         let _ = writeln!(lines, "- {}", String::from_utf8_lossy(&out.stdout).trim());
     }
     lines.push_str(&fidelity_runs(root, quick)?);
+    fs::write(&cache, &lines).with_context(|| format!("writing {}", cache.display()))?;
+    md.push_str(&lines);
+    md.push('\n');
+    Ok(md)
+}
+
+/// The studio's latency as a user sees it: edit → map and 3D view redrawn, measured by the page in
+/// headless Chromium (`crates/studio/tests/browser.rs` with `RELIEF_STUDIO_LATENCY`). Needs
+/// `chromium` and `chromedriver`; without them, or on a report-only run, the section keeps the
+/// last run's lines (`target/studio-latency.md`).
+fn studio_runs(root: &Path, reprint: bool) -> Result<String> {
+    let cache = root.join("target/studio-latency.md");
+    let mut md = String::from(
+        "## studio
+
+relief studio in headless Chromium (software WebGL) on the same machine as its server: the \
+         page's own time from a gesture's edit to the map and the 3D view redrawn (*end to end*), and the server's \
+         generation (*server*). The issue's targets: an island edit under 100 ms end to end at 512², a 50 000-node \
+         contour regrowth under 1 s. Run: `RELIEF_E2E=1 RELIEF_STUDIO_LATENCY=1 cargo test --release -p \
+         relief-studio --test browser -- --nocapture`.\n\n",
+    );
+    let on_path = |name: &str| {
+        std::env::var_os("PATH").is_some_and(|paths| std::env::split_paths(&paths).any(|d| d.join(name).is_file()))
+    };
+    if reprint || !on_path("chromedriver") {
+        md.push_str(&fs::read_to_string(&cache).unwrap_or_else(|_| "(not run yet)\n".into()));
+        md.push('\n');
+        return Ok(md);
+    }
+    let out = Command::new(env!("CARGO"))
+        .current_dir(root)
+        .env("RELIEF_E2E", "1")
+        .env("RELIEF_STUDIO_LATENCY", "1")
+        .args(["test", "--quiet", "--release", "-p", "relief-studio", "--test", "browser", "--", "--nocapture"])
+        .output()
+        .context("could not start the studio's browser test")?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    anyhow::ensure!(out.status.success(), "the studio's browser test failed: {stderr}");
+    let mut lines = String::new();
+    for line in stderr.lines().filter(|l| l.contains("end to end")) {
+        let _ = writeln!(lines, "- {line}");
+    }
     fs::write(&cache, &lines).with_context(|| format!("writing {}", cache.display()))?;
     md.push_str(&lines);
     md.push('\n');

@@ -263,6 +263,30 @@ impl Progress for Steps {
     }
 }
 
+/// A preview is the same heightfield as a full run, post steps included, without the analyses.
+#[test]
+fn a_preview_is_the_generated_heightfield() {
+    for name in ["volcano-island-sketch", "lake", "mesa"] {
+        let mut scene = load_scene(root().join(format!("fixtures/scenes/{name}.json"))).unwrap();
+        scene.reconstruction.resolution = [96, 96];
+        if name == "volcano-island-sketch" {
+            // The crater filled: a post step that changes the heightfield.
+            scene.post = vec![serde_json::from_str(r#"{"fill": {}}"#).unwrap()];
+        }
+        let dir = root().join("fixtures/scenes");
+        let full = generate(&scene, &dir, &mut ()).unwrap();
+        let mut steps = Steps::default();
+        let preview = relief::pipeline::preview_with(&scene, &dir, &relief::Budget::default(), &mut steps).unwrap();
+        assert_eq!(preview.heightfield, full.heightfield, "{name}");
+        if name == "volcano-island-sketch" {
+            assert_eq!(full.summary.drainage.closed_basins, 0, "the post step ran");
+        }
+        assert_eq!(preview.sea_level, full.sea_level, "{name}");
+        assert!(!steps.0.iter().any(|(s, _)| *s == "drainage"), "{name}: {:?}", steps.0);
+        assert_eq!(preview.timings.len() * 2, steps.0.len(), "{name}");
+    }
+}
+
 /// Cancels the run once `after` steps have finished, or once `after_units` units of a counted
 /// step are done.
 struct CancelAfter {

@@ -4,7 +4,7 @@
 //! |---|---|
 //! | `GET /api/info` | version, workspace folder, template names |
 //! | `GET /api/templates/{name}` | a starter scene |
-//! | `POST /api/generate` | generate the scene in the body; the result's id, size, range, summary |
+//! | `POST /api/generate` | generate the scene in the body (a preview: no drainage analysis or raster contours); the result's id, size, range, step times, warnings |
 //! | `GET /api/results/{id}/elevation` | its samples, f32 little-endian, north row first |
 //! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16` |
 //! | `GET /api/scenes`, `GET`/`PUT /api/scenes/{name}` | saved scenes |
@@ -126,27 +126,23 @@ async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes) -> Result
     let (worker, running) = (Arc::clone(&app), Arc::clone(&job));
     let generated = tokio::task::spawn_blocking(move || {
         let mut progress = crate::jobs::JobProgress(running);
-        relief::pipeline::generate_with(&scene, worker.workspace.root(), &worker.budget, &mut progress)
+        relief::pipeline::preview_with(&scene, worker.workspace.root(), &worker.budget, &mut progress)
     })
     .await;
     app.jobs.end(session.as_deref(), &job);
-    let terrain = match generated.map_err(ApiError::internal)? {
+    let preview = match generated.map_err(ApiError::internal)? {
         Err(relief::ReliefError::Cancelled) => {
             return Err(ApiError::new(StatusCode::CONFLICT, "cancelled: a newer generation superseded it"));
         }
         other => other?,
     };
     let ms = start.elapsed().as_secs_f64() * 1e3;
-    let hf = &terrain.heightfield;
+    let hf = &preview.heightfield;
     let (min, max) = hf.min_max().unwrap_or((0.0, 0.0));
     let extent = hf.extent();
-    let summary = serde_json::to_value(&terrain.summary).map_err(ApiError::internal)?;
     let (width, height) = (hf.nx(), hf.ny());
-    let id = app
-        .results
-        .lock()
-        .map_err(|_| ApiError::internal("the results store is poisoned"))?
-        .insert(terrain.heightfield);
+    let results = app.results.lock();
+    let id = results.map_err(|_| ApiError::internal("the results store is poisoned"))?.insert(preview.heightfield);
     Ok(Json(json!({
         "id": id,
         "width": width,
@@ -154,9 +150,10 @@ async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes) -> Result
         "min": min,
         "max": max,
         "extent": { "min": [extent.min.x, extent.min.y], "max": [extent.max.x, extent.max.y] },
-        "sea_level": terrain.sea_level,
+        "sea_level": preview.sea_level,
         "ms": ms,
-        "summary": summary,
+        "timings": preview.timings,
+        "warnings": preview.warnings,
     })))
 }
 

@@ -44,7 +44,7 @@ async fn connect(driver: &std::path::Path) -> (Driver, Client) {
         .expect("starting chromedriver");
     let driver = Driver(child);
     let options = json!({
-        "args": ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1500,1100",
+        "args": ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1900,1000",
                  "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
     });
     let mut capabilities = serde_json::Map::new();
@@ -142,9 +142,73 @@ fn a_user_draws_an_island_undoes_saves_and_reloads_it() {
 
 async fn scenario(client: &Client, workspace: &std::path::Path) {
     let id = demo_and_3d(client).await;
+    screenshot(client, "studio-demo").await;
     let id = island_gestures(client, workspace, id).await;
     let map = client.find(Locator::Id("map")).await.unwrap();
-    contour_gestures(client, &map, id).await;
+    let id = contour_gestures(client, &map, id).await;
+    if std::env::var_os("RELIEF_STUDIO_LATENCY").is_some() {
+        latency(client, &map, id).await;
+    }
+}
+
+/// With `RELIEF_SCREENSHOTS=DIR`, saves the page as `DIR/name.png`.
+async fn screenshot(client: &Client, name: &str) {
+    if let Some(dir) = std::env::var_os("RELIEF_SCREENSHOTS") {
+        let png = client.screenshot().await.unwrap();
+        std::fs::write(std::path::Path::new(&dir).join(format!("{name}.png")), png).unwrap();
+    }
+}
+
+/// With `RELIEF_STUDIO_LATENCY` set, prints the page's end-to-end times (edit → map and 3D view
+/// redrawn) of island hill moves at 512² and of contour regrowths from 50 000 nodes at 512².
+async fn latency(client: &Client, map: &Element, mut id: u64) {
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let timings = |client: &Client, from: usize| {
+        let client = client.clone();
+        async move {
+            let all = js(&client, "return window.studio.timings").await;
+            let all = all.as_array().unwrap()[from..].to_vec();
+            let get = |key: &str| all.iter().map(|t| t[key].as_f64().unwrap()).collect::<Vec<f64>>();
+            (get("server_ms"), get("total_ms"))
+        }
+    };
+    id = new_scene(client, "island", id).await;
+    choose_tool(client, "hill").await;
+    drag(client, map, &[(0.0, 0.0), (60.0, 0.0)]).await;
+    id = next_result(client, id).await;
+    choose_tool(client, "move-hill").await;
+    let from = js(client, "return window.studio.timings.length").await.as_u64().unwrap() as usize;
+    for k in 0..20 {
+        let x = f64::from(k % 5) * 10.0;
+        drag(client, map, &[(x, 0.0), (x + 10.0, 5.0)]).await;
+        id = next_result(client, id).await;
+    }
+    let (server, total) = timings(client, from).await;
+    eprintln!(
+        "island 512², move a hill: server {:.1} ms, end to end {:.1} ms (medians of 20)",
+        median(server),
+        median(total)
+    );
+    id = new_scene(client, "contours", id).await;
+    let from = js(client, "return window.studio.timings.length").await.as_u64().unwrap() as usize;
+    for k in 0..5 {
+        let script = format!(
+            "window.studio.editDoc(d => {{ d.generator.contours.particles = 50000; \
+             d.generator.contours.regions[1].height = {}; }})",
+            600 + 50 * k
+        );
+        js(client, &script).await;
+        id = next_result(client, id).await;
+    }
+    let (server, total) = timings(client, from).await;
+    eprintln!(
+        "contours 512², regrow 50 000 nodes: server {:.0} ms, end to end {:.0} ms (medians of 5)",
+        median(server),
+        median(total)
+    );
 }
 
 /// The demo generates on load and shows in 3D; its result's id.
@@ -194,8 +258,9 @@ async fn island_gestures(client: &Client, workspace: &std::path::Path, mut id: u
     assert!(peak[1].as_u64().unwrap() > 256 && peak[2].as_u64().unwrap() < 256, "peak at {peak}");
 
     // A stroke out across the eastern coast and back supplements the land there.
-    let area = |summary: Value| summary["island"]["area"].as_f64().unwrap();
-    let before = area(result_field(client, "summary").await);
+    let land = "return window.studio.result.z.filter(v => v > window.studio.result.sea_level).length";
+    let area = |count: Value| count.as_f64().unwrap();
+    let before = area(js(client, land).await);
     choose_tool(client, "stroke").await;
     let bump: Vec<(f64, f64)> =
         (0..=12).map(|k| (230.0 + 100.0 * (f64::from(k) * 0.26).sin(), -60.0 + 10.0 * f64::from(k))).collect();
@@ -204,14 +269,14 @@ async fn island_gestures(client: &Client, workspace: &std::path::Path, mut id: u
     assert!(
         doc(client).await["generator"]["island"]["operations"][1]["stroke"]["points"].as_array().unwrap().len() >= 5
     );
-    let stroked = area(result_field(client, "summary").await);
-    assert!(stroked > before * 1.01, "the stroke added land: {before} → {stroked} m²");
+    let stroked = area(js(client, land).await);
+    assert!(stroked > before * 1.01, "the stroke added land: {before} → {stroked} samples");
 
     // Undo takes the stroke back: the same island as before it.
     client.find(Locator::Id("undo")).await.unwrap().click().await.unwrap();
     id = next_result(client, id).await;
     assert_eq!(doc(client).await["generator"]["island"]["operations"].as_array().unwrap().len(), 1);
-    assert_eq!(area(result_field(client, "summary").await), before);
+    assert_eq!(area(js(client, land).await), before);
 
     // A crater in the hill: a hollow (negative hill) dragged at its centre.
     choose_tool(client, "hollow").await;
@@ -219,6 +284,7 @@ async fn island_gestures(client: &Client, workspace: &std::path::Path, mut id: u
     id = next_result(client, id).await;
     let crater = &doc(client).await["generator"]["island"]["operations"][1]["add_hill"];
     assert!(crater["height"].as_f64().unwrap() < 0.0, "{crater}");
+    screenshot(client, "studio-island").await;
 
     save_and_reload(client, workspace, id).await
 }
@@ -241,8 +307,8 @@ async fn save_and_reload(client: &Client, workspace: &std::path::Path, mut id: u
     id
 }
 
-/// Draws a region and a warp on the contour template.
-async fn contour_gestures(client: &Client, map: &Element, mut id: u64) {
+/// Draws a region and a warp on the contour template; the last result's id.
+async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     // A contour scene: a region drawn corner by corner inside the 600 m one, at 900 m.
     id = new_scene(client, "contours", id).await;
     choose_tool(client, "region").await;
@@ -287,8 +353,10 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) {
     // A warp stroke dragged across the range becomes an edit, and generates.
     choose_tool(client, "warp").await;
     drag(client, map, &[(-120.0, 60.0), (-60.0, 40.0), (0.0, 20.0), (40.0, 10.0)]).await;
-    next_result(client, id).await;
+    id = next_result(client, id).await;
     assert!(doc(client).await["edits"][0]["warp"]["stroke"].as_array().unwrap().len() >= 3);
+    screenshot(client, "studio-contours").await;
+    id
 }
 
 async fn wait_for(client: &Client, condition: &str) {

@@ -103,6 +103,7 @@ async function generate() {
     $("message").textContent = "";
     $("download").href = `/api/results/${result.id}/download/${$("format").value}`;
     $("summary").textContent = summaryText(body);
+    renderRelief();
     drawMap();
     draw3d();
     const total = performance.now() - start;
@@ -138,9 +139,8 @@ async function cancel() {
 function summaryText(r) {
   const lines = [`elevation ${r.min.toFixed(1)} … ${r.max.toFixed(1)} m`];
   if (r.sea_level !== null && r.sea_level !== undefined) lines.push(`sea level ${r.sea_level.toFixed(1)} m`);
-  const timings = (r.summary && r.summary.timings) || [];
-  for (const t of timings) lines.push(`${t.step}: ${t.ms.toFixed(0)} ms`);
-  for (const w of (r.summary && r.summary.warnings) || []) lines.push(`warning: ${w}`);
+  for (const t of r.timings || []) lines.push(`${t.step}: ${t.ms.toFixed(0)} ms`);
+  for (const w of r.warnings || []) lines.push(`warning: ${w}`);
   return lines.join("\n");
 }
 
@@ -195,41 +195,70 @@ function canvasToWorld(cx, cy) {
   return [e.min[0] + (cx - view.ox) / view.scale, e.max[1] - (cy - view.oy) / view.scale];
 }
 
+/** The tint of 1024 elevations evenly spread over the result's range, RGB. */
+function tintTable() {
+  const table = new Uint8ClampedArray(3 * 1024);
+  for (let k = 0; k < 1024; k++) {
+    table.set(tint(result.min + ((result.max - result.min) * k) / 1023), 3 * k);
+  }
+  return table;
+}
+
+/** The index of `v` in the tint table. */
+function tintIndex(v) {
+  const t = (v - result.min) / Math.max(1e-9, result.max - result.min);
+  return v === v ? Math.max(0, Math.min(1023, Math.round(t * 1023))) : 0;
+}
+
+// The shaded relief of the current result, drawn once per result; gestures redraw over it.
+let relief = null;
+
+/** Renders the result's shaded relief, tint and contours into `relief`. */
+function renderRelief() {
+  const { width: w, height: h, z } = result;
+  const e = result.extent;
+  const dx = (e.max[0] - e.min[0]) / Math.max(1, w - 1);
+  const dy = (e.max[1] - e.min[1]) / Math.max(1, h - 1);
+  const image = new ImageData(w, h);
+  const data = image.data;
+  const table = tintTable();
+  const interval = contourInterval();
+  const band = new Int32Array(w * h);
+  for (let k = 0; k < w * h; k++) band[k] = Math.floor((z[k] - result.min) / interval);
+  for (let j = 0; j < h; j++) {
+    const up = Math.max(0, j - 1) * w;
+    const down = Math.min(h - 1, j + 1) * w;
+    for (let i = 0; i < w; i++) {
+      const k = j * w + i;
+      const gx = (z[j * w + Math.min(w - 1, i + 1)] - z[j * w + Math.max(0, i - 1)]) / (2 * dx);
+      const gy = (z[up + i] - z[down + i]) / (2 * dy);
+      // Light from the north-west, 45° up; darker on contour lines.
+      let shade = Math.max(0, (gx * -0.5 + gy * 0.5 + 0.7071) / Math.sqrt(gx * gx + gy * gy + 1)) * 0.75 + 0.35;
+      if ((i + 1 < w && band[k + 1] !== band[k]) || (j + 1 < h && band[k + w] !== band[k])) shade *= 0.55;
+      const c = 3 * tintIndex(z[k]);
+      data[4 * k] = table[c] * shade;
+      data[4 * k + 1] = table[c + 1] * shade;
+      data[4 * k + 2] = table[c + 2] * shade;
+      data[4 * k + 3] = 255;
+    }
+  }
+  relief = new OffscreenCanvas(w, h);
+  relief.getContext("2d").putImageData(image, 0, 0);
+}
+
+/** Draws the relief and the scene's inputs on the map. */
 function drawMap() {
   const canvas = $("map");
   const ctx = canvas.getContext("2d");
   ctx.fillStyle = "#111";
   ctx.fillRect(0, 0, canvas.width, canvas.height);
   if (!result) return;
-  const { width: w, height: h, z } = result;
   const e = result.extent;
-  const dx = (e.max[0] - e.min[0]) / Math.max(1, w - 1);
-  const dy = (e.max[1] - e.min[1]) / Math.max(1, h - 1);
-  const image = new ImageData(w, h);
-  const interval = contourInterval();
-  const band = (v) => Math.floor((v - result.min) / interval);
-  for (let j = 0; j < h; j++) {
-    for (let i = 0; i < w; i++) {
-      const k = j * w + i;
-      const v = z[k];
-      const gx = (z[j * w + Math.min(w - 1, i + 1)] - z[j * w + Math.max(0, i - 1)]) / (2 * dx);
-      const gy = (z[Math.max(0, j - 1) * w + i] - z[Math.min(h - 1, j + 1) * w + i]) / (2 * dy);
-      // Light from the north-west, 45° up.
-      const n = Math.hypot(gx, gy, 1);
-      const shade = Math.max(0, (gx * -0.5 + gy * 0.5 + 0.7071) / n) * 0.75 + 0.35;
-      let c = tint(v).map((x) => Math.min(255, x * shade));
-      const line = (i + 1 < w && band(z[k + 1]) !== band(v)) || (j + 1 < h && band(z[k + w]) !== band(v));
-      if (line) c = c.map((x) => x * 0.55);
-      image.data.set([c[0], c[1], c[2], 255], 4 * k);
-    }
-  }
-  const off = new OffscreenCanvas(w, h);
-  off.getContext("2d").putImageData(image, 0, 0);
   view.scale = Math.min(canvas.width / (e.max[0] - e.min[0]), canvas.height / (e.max[1] - e.min[1]));
   view.ox = (canvas.width - (e.max[0] - e.min[0]) * view.scale) / 2;
   view.oy = (canvas.height - (e.max[1] - e.min[1]) * view.scale) / 2;
   ctx.imageSmoothingEnabled = true;
-  ctx.drawImage(off, view.ox, view.oy, (e.max[0] - e.min[0]) * view.scale, (e.max[1] - e.min[1]) * view.scale);
+  ctx.drawImage(relief, view.ox, view.oy, (e.max[0] - e.min[0]) * view.scale, (e.max[1] - e.min[1]) * view.scale);
   drawInputs(ctx);
 }
 
@@ -421,6 +450,7 @@ function build3d() {
   const ny = Math.floor((h - 1) / step) + 1;
   const size = Math.max(e.max[0] - e.min[0], e.max[1] - e.min[1]);
   const exaggeration = 2.0;
+  const table = tintTable();
   const height = (i, j) => {
     const v = z[Math.min(h - 1, j * step) * w + Math.min(w - 1, i * step)];
     return v === v ? v : result.min;
@@ -439,7 +469,8 @@ function build3d() {
       const gx = (height(Math.min(nx - 1, i + 1), j) - height(Math.max(0, i - 1), j)) * hy / (2 * sx / Math.max(1, nx - 1));
       const gz = (height(i, Math.min(ny - 1, j + 1)) - height(i, Math.max(0, j - 1))) * hy / (2 * sz / Math.max(1, ny - 1));
       normals.set([-gx, 1, -gz], 3 * k);
-      colours.set(tint(v).map((c) => c / 255), 3 * k);
+      const c = 3 * tintIndex(v);
+      colours.set([table[c] / 255, table[c + 1] / 255, table[c + 2] / 255], 3 * k);
     }
   }
   const indices = new Uint16Array((nx - 1) * (ny - 1) * 6);

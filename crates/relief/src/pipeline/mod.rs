@@ -150,17 +150,77 @@ pub fn generate_with(
     budget: &Budget,
     progress: &mut dyn Progress,
 ) -> Result<Terrain, ReliefError> {
+    let mut timer = Timer::new(progress);
+    let generated = generate_raw(scene, base_dir, budget, &mut timer)?;
+    finish(scene, generated, &mut timer)
+}
+
+/// A heightfield generated for an interactive preview (relief studio): what [`generate_with`]
+/// computes, post steps included, without the analyses that only the summary and the outputs
+/// use (drainage, the histogram, a raster generator's contours).
+#[derive(Debug, Clone)]
+pub struct Preview {
+    /// The final heightfield, the same samples as [`Terrain::heightfield`].
+    pub heightfield: Heightfield,
+    /// Elevation below which the terrain is sea; `None` when it has no sea.
+    pub sea_level: Option<f64>,
+    /// What the user should know about the result, as in [`Summary::warnings`].
+    pub warnings: Vec<String>,
+    /// The steps' times.
+    pub timings: Vec<Timing>,
+}
+
+/// [`generate_with`] for a preview: the same heightfield, sooner.
+///
+/// # Errors
+/// As [`generate_with`].
+pub fn preview_with(
+    scene: &Scene,
+    base_dir: &Path,
+    budget: &Budget,
+    progress: &mut dyn Progress,
+) -> Result<Preview, ReliefError> {
+    let mut timer = Timer::new(progress);
+    let Generated { heightfield, sea_level, mut vector, warnings, .. } =
+        generate_raw(scene, base_dir, budget, &mut timer)?;
+    let heightfield = post(scene, heightfield, sea_level, &mut vector, &mut timer)?;
+    Ok(Preview { heightfield, sea_level, warnings, timings: std::mem::take(&mut timer.timings) })
+}
+
+/// The generator's own steps, under the budget.
+fn generate_raw(
+    scene: &Scene,
+    base_dir: &Path,
+    budget: &Budget,
+    timer: &mut Timer<'_>,
+) -> Result<Generated, ReliefError> {
     budget.check(scene)?;
     let env = &Env { dir: base_dir, budget: *budget, inputs: &scene.inputs };
-    let mut timer = Timer::new(progress);
-    let generated = match &scene.generator {
-        Generator::Contours(g) => contours::generate(scene, g, env, &mut timer),
-        Generator::Diffusion(g) => diffusion::generate(scene, g, &mut timer),
-        Generator::Island(g) => island::generate(scene, g, env, &mut timer),
-        Generator::Gaussian(g) => gaussian::generate(scene, g, env, &mut timer),
-        Generator::Orometry(g) => orometry::generate(scene, g, env, &mut timer),
-    }?;
-    finish(scene, generated, &mut timer)
+    match &scene.generator {
+        Generator::Contours(g) => contours::generate(scene, g, env, timer),
+        Generator::Diffusion(g) => diffusion::generate(scene, g, timer),
+        Generator::Island(g) => island::generate(scene, g, env, timer),
+        Generator::Gaussian(g) => gaussian::generate(scene, g, env, timer),
+        Generator::Orometry(g) => orometry::generate(scene, g, env, timer),
+    }
+}
+
+/// The scene's post steps on `heightfield` (a details step also updates the vector terrain).
+fn post(
+    scene: &Scene,
+    heightfield: Heightfield,
+    sea_level: Option<f64>,
+    vector: &mut Option<VectorResult>,
+    timer: &mut Timer<'_>,
+) -> Result<Heightfield, ReliefError> {
+    if scene.post.is_empty() {
+        return Ok(heightfield);
+    }
+    let work = post::post_work(&scene.post);
+    let terrain = vector.as_mut().map(|v| &mut v.terrain);
+    timer.counted("post-process", work, |tick| {
+        post::post_process(heightfield, &scene.post, sea_level, terrain, scene.seed, tick)
+    })
 }
 
 /// The shared end of every run: post-processes, drainage, the contours of a raster generator at
@@ -176,15 +236,7 @@ fn finish(scene: &Scene, generated: Generated, timer: &mut Timer<'_>) -> Result<
                 .into(),
         );
     }
-    let heightfield = if scene.post.is_empty() {
-        heightfield
-    } else {
-        let work = post::post_work(&scene.post);
-        let terrain = vector.as_mut().map(|v| &mut v.terrain);
-        timer.counted("post-process", work, |tick| {
-            post::post_process(heightfield, &scene.post, sea_level, terrain, scene.seed, tick)
-        })?
-    };
+    let heightfield = post(scene, heightfield, sea_level, &mut vector, timer)?;
     let drainage = timer.step("drainage", || post::drainage(&heightfield, sea_level))?;
     let (contours, histogram) = match (contours, &report) {
         (Some(contours), Report::Contours { histogram, .. }) => (contours, histogram.clone()),
