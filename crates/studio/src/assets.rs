@@ -13,5 +13,6 @@ pub(crate) fn templates() -> Vec<(&'static str, String)> {
         ("demo", relief::scene::DEMO_SCENE.to_owned()),
         ("island", include_str!("../web/templates/island.json").to_owned()),
         ("contours", include_str!("../web/templates/contours.json").to_owned()),
+        ("curves", include_str!("../web/templates/curves.json").to_owned()),
     ]
 }

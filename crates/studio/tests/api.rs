@@ -75,9 +75,21 @@ fn the_page_and_its_scripts_are_served() {
     }
     let (status, info) = studio.json("GET", "/api/info", Body::empty());
     assert_eq!(status, StatusCode::OK);
-    assert_eq!(info["templates"], serde_json::json!(["demo", "island", "contours"]));
+    assert_eq!(info["templates"], serde_json::json!(["demo", "island", "contours", "curves"]));
     let (status, error) = studio.json("GET", "/api/nothing", Body::empty());
     assert_eq!((status, error["error"].as_str()), (StatusCode::NOT_FOUND, Some("no such route")));
+}
+
+#[test]
+fn every_template_generates() {
+    let studio = Studio::new();
+    for name in ["demo", "island", "contours", "curves"] {
+        let mut scene = studio.template(name);
+        scene["reconstruction"]["resolution"] = serde_json::json!([96, 96]);
+        let (status, result) = studio.json("POST", "/api/generate", scene.to_string());
+        assert_eq!(status, StatusCode::OK, "{name}: {result}");
+        assert!(result["max"].as_f64().unwrap() > result["min"].as_f64().unwrap() + 100.0, "{name}: {result}");
+    }
 }
 
 #[test]
@@ -246,6 +258,34 @@ fn a_newer_generation_of_a_session_supersedes_the_running_one() {
     assert_eq!(progress("s1")["running"], false);
     let (status, _) = studio.send_as(Some("bad/name"), "GET", "/api/progress", Body::empty());
     assert_eq!(status, StatusCode::BAD_REQUEST);
+}
+
+#[test]
+fn an_uploaded_dem_is_vectorized_and_synthesized_from() {
+    let studio = Studio::new();
+    let dem = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/dem/jacksboro.asc")).unwrap();
+    let (status, _) = studio.send("PUT", "/api/files/jacksboro.asc", dem);
+    assert_eq!(status, StatusCode::NO_CONTENT);
+    // As the page's "Vectorize it" and "Synthesize from it" buttons write them, smaller.
+    let vector = serde_json::json!({
+        "version": 1,
+        "generator": { "gaussian": { "source": { "kind": "dem", "path": "jacksboro.asc", "primitives": 100,
+                                                  "iterations": 10, "resolution": 64 }, "operations": [] } },
+        "reconstruction": { "resolution": [64, 64] }
+    });
+    let orometry = serde_json::json!({
+        "version": 1,
+        "domain": { "min": [0, 0], "max": [20000, 20000] },
+        "generator": { "orometry": { "source": { "kind": "dem", "path": "jacksboro.asc", "min_prominence": 100 } } },
+        "reconstruction": { "resolution": [64, 64] }
+    });
+    for scene in [vector, orometry] {
+        let (status, result) = studio.json("POST", "/api/generate", scene.to_string());
+        assert_eq!(status, StatusCode::OK, "{result}");
+        // Jacksboro spans 236 … 1076 m: both keep most of that relief.
+        let relief = result["max"].as_f64().unwrap() - result["min"].as_f64().unwrap();
+        assert!(relief > 400.0, "{result}");
+    }
 }
 
 /// A gray PNG of `size`² pixels.

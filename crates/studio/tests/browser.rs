@@ -146,6 +146,7 @@ async fn scenario(client: &Client, workspace: &std::path::Path) {
     let id = island_gestures(client, workspace, id).await;
     let map = client.find(Locator::Id("map")).await.unwrap();
     let id = contour_gestures(client, &map, id).await;
+    let id = curve_and_upload_gestures(client, &map, workspace, id).await;
     if std::env::var_os("RELIEF_STUDIO_LATENCY").is_some() {
         latency(client, &map, id).await;
     }
@@ -356,7 +357,83 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     id = next_result(client, id).await;
     assert!(doc(client).await["edits"][0]["warp"]["stroke"].as_array().unwrap().len() >= 3);
     screenshot(client, "studio-contours").await;
+
+    // Deleting the 900 m contour (the height setting) flattens its inside to a low dome.
+    let inside = "const r = window.studio.result, e = r.extent, [x, y] = window.studio.doc.edits[0].warp.stroke[0]; \
+                  const c = window.studio.doc.generator.contours.regions[2].polygon.exterior; \
+                  const cx = c.reduce((s, p) => s + p[0], 0) / c.length, cy = c.reduce((s, p) => s + p[1], 0) / c.length; \
+                  const i = Math.round((cx - e.min[0]) / (e.max[0] - e.min[0]) * (r.width - 1)); \
+                  const j = Math.round((e.max[1] - cy) / (e.max[1] - e.min[1]) * (r.height - 1)); \
+                  return [r.z[j * r.width + i], cx, cy]";
+    let before = js(client, inside).await;
+    assert!(before[0].as_f64().unwrap() > 900.0, "{before}");
+    choose_tool(client, "delete").await;
+    drag(client, map, &[(-25.0, -15.0)]).await;
+    id = next_result(client, id).await;
+    assert_eq!(doc(client).await["edits"][1]["delete"]["height"].as_f64(), Some(900.0));
+    let after = js(client, inside).await;
+    assert!(after[0].as_f64().unwrap() < before[0].as_f64().unwrap() - 100.0, "{before} → {after}");
     id
+}
+
+/// A ridge dragged on the feature-curve template; a mask uploaded and traced as an island's
+/// coast; the last result's id.
+async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &std::path::Path, mut id: u64) -> u64 {
+    // The curve template: 8 km shown 640 px wide. A ridge dragged west to east across the
+    // north, its crest at the height setting (900 m) halfway.
+    id = new_scene(client, "curves", id).await;
+    choose_tool(client, "ridge").await;
+    let course: Vec<(f64, f64)> = (0..=20).map(|k| (-200.0 + 20.0 * f64::from(k), -220.0)).collect();
+    drag(client, map, &course).await;
+    id = next_result(client, id).await;
+    let ridge = &doc(client).await["generator"]["diffusion"]["presets"][1]["ridge"];
+    assert_eq!(ridge["peak_h"].as_f64(), Some(900.0), "{ridge}");
+    assert!(ridge["points"].as_array().unwrap().len() >= 5, "{ridge}");
+    // Halfway along (the map's middle column, 220 px north of the centre): the crest height.
+    let crest = js(
+        client,
+        "const r = window.studio.result; const j = Math.round((320 - 220) / 640 * (r.height - 1)); \
+         return r.z[j * r.width + Math.round((r.width - 1) / 2)]",
+    )
+    .await;
+    assert!((crest.as_f64().unwrap() - 900.0).abs() < 90.0, "the crest is at {crest} m");
+    screenshot(client, "studio-curves").await;
+
+    // A paint-program mask uploaded through the page, then traced as a new island's coast: a
+    // square of land over the map's western half.
+    let mask = workspace.join("upload-source.png");
+    write_mask(&mask);
+    id = new_scene(client, "island", id).await;
+    let land = "return window.studio.result.z.filter(v => v > window.studio.result.sea_level).length";
+    let circle = js(client, land).await.as_f64().unwrap();
+    client.find(Locator::Id("upload")).await.unwrap().send_keys(mask.to_str().unwrap()).await.unwrap();
+    wait_for(client, "!document.getElementById('trace').disabled").await;
+    client.find(Locator::Id("trace")).await.unwrap().click().await.unwrap();
+    id = next_result(client, id).await;
+    assert_eq!(doc(client).await["generator"]["island"]["coastline_image"]["path"], "upload-source.png");
+    assert!(workspace.join("upload-source.png").is_file());
+    let traced = js(client, land).await.as_f64().unwrap();
+    // The circle covers π·0.4² ≈ 50 % of the map, the mask's square 36 %.
+    assert!(traced < 0.85 * circle, "{circle} → {traced} land samples");
+    let west = js(
+        client,
+        "const r = window.studio.result; let w = 0, e = 0; \
+         r.z.forEach((v, k) => { if (v > r.sea_level) { if (k % r.width < r.width / 2) w++; else e++; } }); return [w, e]",
+    )
+    .await;
+    assert!(west[0].as_f64().unwrap() > 3.0 * west[1].as_f64().unwrap(), "land west/east: {west}");
+    id
+}
+
+/// A 200² gray PNG: white land over x in 10–130 and y in 40–160, black sea elsewhere.
+fn write_mask(path: &std::path::Path) {
+    let file = std::fs::File::create(path).unwrap();
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), 200, 200);
+    encoder.set_color(png::ColorType::Grayscale);
+    let data: Vec<u8> = (0..200 * 200)
+        .map(|k| if (10..130).contains(&(k % 200)) && (40..160).contains(&(k / 200)) { 255 } else { 0 })
+        .collect();
+    encoder.write_header().unwrap().write_image_data(&data).unwrap();
 }
 
 async fn wait_for(client: &Client, condition: &str) {

@@ -48,6 +48,8 @@ function updateButtons() {
   const kind = generatorKind();
   $("island-tools").classList.toggle("hidden", kind !== "island");
   $("contour-tools").classList.toggle("hidden", kind !== "contours");
+  $("diffusion-tools").classList.toggle("hidden", kind !== "diffusion");
+  $("gaussian-tools").classList.toggle("hidden", kind !== "gaussian");
 }
 
 /** The generator's name: `island`, `contours`, `diffusion`, `gaussian` or `orometry`. */
@@ -317,6 +319,16 @@ function drawInputs(ctx) {
       if (edit.warp) polyline(ctx, edit.warp.stroke, false);
     }
   }
+  if (kind === "diffusion") {
+    const g = doc.generator.diffusion;
+    ctx.strokeStyle = "rgba(255, 90, 90, 0.9)";
+    for (const preset of g.presets || []) {
+      const v = Object.values(preset)[0];
+      if (v.points) polyline(ctx, v.points, false);
+      if (v.ends) v.ends.forEach((end) => polyline(ctx, [v.peak, end], false));
+    }
+    for (const curve of g.curves || []) polyline(ctx, curve.points, false);
+  }
   if (pending.points.length) {
     ctx.strokeStyle = "#ff0";
     polyline(ctx, pending.points, false);
@@ -352,7 +364,7 @@ function onPointerDown(event) {
   $("map").setPointerCapture(event.pointerId);
   pending.start = p;
   pending.points = [p];
-  if (t === "move-hill") {
+  if (t === "move-hill" || t === "resize-hill" || t === "remove-hill") {
     const hills = islandHills();
     const near = (h) => Math.hypot(h.center[0] - p[0], h.center[1] - p[1]);
     pending.hill = hills.length ? hills.indexOf(hills.reduce((a, b) => (near(a) <= near(b) ? a : b))) : -1;
@@ -388,12 +400,83 @@ function onPointerUp(event) {
   } else if (t === "move-hill" && pending.hill >= 0) {
     const hill = pending.hill;
     editDoc((d) => d.generator.island.operations.push({ move_hill: { hill, center: end } }));
+  } else if (t === "resize-hill" && pending.hill >= 0) {
+    const hill = pending.hill;
+    const c = islandHills()[hill].center;
+    const r = Math.max(Math.hypot(end[0] - c[0], end[1] - c[1]), 8 / view.scale);
+    editDoc((d) => d.generator.island.operations.push({ resize_hill: { hill, radii: [r, r] } }));
+  } else if (t === "remove-hill" && pending.hill >= 0) {
+    const hill = pending.hill;
+    editDoc((d) => d.generator.island.operations.push({ remove_hill: { hill } }));
   } else if (t === "warp" && points.length >= 2) {
-    const radius = Number($("warp-radius").value);
-    editDoc((d) => (d.edits = (d.edits || []).concat([{ warp: { stroke: points, radius } }])));
+    addEdit({ warp: { stroke: points, radius: radius() } });
+  } else if (CONTOUR_CLICKS[t]) {
+    addEdit(CONTOUR_CLICKS[t](start));
+  } else if ((t === "cut" || t === "paste") && points.length >= 2) {
+    addEdit({ [t]: { at: start, to: end } });
+  } else if (PRESETS[t] && points.length >= 3) {
+    const preset = PRESETS[t](simplified(points), Math.abs(Number($("height").value)));
+    editDoc((d) => (d.generator.diffusion.presets = (d.generator.diffusion.presets || []).concat([preset])));
+  } else if (GAUSSIAN_TOOLS[t]) {
+    const tool = GAUSSIAN_TOOLS[t](start, end, points.length);
+    if (tool) editDoc((d) => d.generator.gaussian.operations.push(tool));
+    else drawMap();
   } else {
     drawMap();
   }
+}
+
+/** The radius setting, world units. */
+function radius() {
+  return Math.abs(Number($("warp-radius").value)) || 1;
+}
+
+/** Appends a contour edit. */
+function addEdit(edit) {
+  editDoc((d) => (d.edits = (d.edits || []).concat([edit])));
+}
+
+// Contour tools that take one click: the edit at the point.
+const CONTOUR_CLICKS = {
+  smooth: (p) => ({ smooth: { centre: p, radius: radius(), alpha: 0.6, iterations: 4 } }),
+  slope: (p) => ({ slope: { point: p, radius: radius(), strength: 1.0 } }),
+  delete: (p) => ({ delete: { at: p, height: Number($("height").value) } }),
+  fill: (p) => ({ fill: { at: p, height: Number($("height").value) } }),
+};
+
+// Feature-curve presets from a dragged course and the height setting.
+const PRESETS = {
+  ridge: (points, h) => ({ ridge: { points, start_h: 0.3 * h, peak_h: h, end_h: 0.3 * h, angle: 30, extent: radius() } }),
+  riverbed: (points, h) => ({ riverbed: { points, start_h: 0.2 * h, end_h: 0.1 * h, width: radius() / 8, bank_angle: 8, bank: radius() } }),
+  cliff: (points, h) => ({ cliff: { points, h, drop_angle: 60, extent: radius() / 2 } }),
+  "hill-curve": (points, h) => ({ hill: { points, h, extent: radius() } }),
+  crack: (points) => ({ crack: { points, angle: 40, extent: radius() / 2 } }),
+};
+
+// Vector terrain tools from a press at `a` released at `b` (`n` points dragged).
+const GAUSSIAN_TOOLS = {
+  stamp: (a, b, n) => n >= 2 && {
+    op: "stamp", region: { shape: "circle", center: a, radius: radius() },
+    placement: { to: b, rotation: 0, scale: 1 }, mode: "copy", damping: 0.02,
+  },
+  twist: (a) => ({ op: "twist", region: { shape: "circle", center: a, radius: radius() }, angle: 1.0, falloff: 0.5 }),
+  "raise-crest": (a) => ({ op: "raise_crest", near: a, factor: 0.4 }),
+  "move-crest": (a, b, n) => n >= 2 && { op: "move_crest", near: a, by: [b[0] - a[0], b[1] - a[1]] },
+};
+
+/** At most 24 points of a dragged course, at least 1/40 of the map apart. */
+function simplified(points) {
+  const e = result.extent;
+  const spacing = Math.max(e.max[0] - e.min[0], e.max[1] - e.min[1]) / 40;
+  const kept = [points[0]];
+  for (const p of points.slice(1)) {
+    const last = kept[kept.length - 1];
+    if (Math.hypot(p[0] - last[0], p[1] - last[1]) >= spacing) kept.push(p);
+  }
+  const end = points[points.length - 1];
+  if (kept[kept.length - 1] !== end) kept.push(end);
+  const step = Math.ceil(kept.length / 24);
+  return kept.filter((_, k) => k % step === 0 || k === kept.length - 1);
 }
 
 function closeRegion() {
@@ -608,6 +691,55 @@ function applyText() {
   }
 }
 
+// Uploads: a DEM or an image into the workspace, then a scene that reads it.
+
+let uploaded = null;
+
+async function upload() {
+  const file = $("upload").files[0];
+  if (!file) return;
+  const response = await fetch(`/api/files/${encodeURIComponent(file.name)}`, { method: "PUT", body: file });
+  if (!response.ok) {
+    $("message").textContent = (await response.json()).error;
+    return;
+  }
+  uploaded = file.name;
+  setState(document.body.dataset.state, `uploaded ${file.name}`);
+  for (const id of ["vectorize", "synthesize", "trace"]) $(id).disabled = false;
+}
+
+function startFrom(scene) {
+  past.undo.length = 0;
+  past.redo.length = 0;
+  doc = null;
+  setDoc(scene, false);
+}
+
+function vectorizeUpload() {
+  startFrom({
+    version: 1, seed: 1, description: `${uploaded}, vectorized into generalized Gaussians (Perche et al. 2025).`,
+    generator: { gaussian: { source: { kind: "dem", path: uploaded, primitives: 2000, iterations: 60, resolution: 256 }, operations: [] } },
+    reconstruction: { resolution: [512, 512] },
+  });
+}
+
+function synthesizeUpload() {
+  startFrom({
+    version: 1, seed: 1, description: `A terrain synthesized from ${uploaded}'s peaks and divide tree (Argudo et al. 2019).`,
+    domain: { min: [0, 0], max: [20000, 20000] },
+    generator: { orometry: { source: { kind: "dem", path: uploaded, min_prominence: 30 } } },
+    reconstruction: { resolution: [400, 400] },
+  });
+}
+
+function traceUpload() {
+  if (generatorKind() !== "island") {
+    $("message").textContent = "Trace as coast works on an island scene: start one with New → island.";
+    return;
+  }
+  editDoc((d) => (d.generator.island.coastline_image = { path: uploaded }));
+}
+
 // ---------------------------------------------------------------------------------------------
 
 async function start() {
@@ -622,6 +754,10 @@ async function start() {
   $("cancel").onclick = cancel;
   $("apply").onclick = applyText;
   $("format").onchange = () => result && ($("download").href = `/api/results/${result.id}/download/${$("format").value}`);
+  $("upload").onchange = upload;
+  $("vectorize").onclick = vectorizeUpload;
+  $("synthesize").onclick = synthesizeUpload;
+  $("trace").onclick = traceUpload;
   $("filters").onclick = () => editDoc((d) => d.generator.island.operations.push({ add_filters: { coverage: 1 } }));
   const map = $("map");
   map.addEventListener("pointerdown", onPointerDown);
