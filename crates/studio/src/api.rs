@@ -9,6 +9,7 @@
 //! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16` |
 //! | `GET /api/scenes`, `GET`/`PUT /api/scenes/{name}` | saved scenes |
 //! | `PUT /api/files/{name}` | upload an input (DEM, image, vector terrain) |
+//! | `POST /api/export/{file}` | generate the scene in the body in full and return one of its outputs |
 //! | `GET /api/progress`, `POST /api/cancel` | the session's running generation: its step, or stop it |
 //!
 //! A page names its session in the `x-relief-session` header: a session's new generation
@@ -75,6 +76,7 @@ pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
         .route("/api/scenes", get(scenes))
         .route("/api/scenes/{name}", get(read_scene).put(write_scene))
         .route("/api/files/{name}", axum::routing::put(upload))
+        .route("/api/export/{file}", post(export))
         .route("/api/progress", get(progress))
         .route("/api/cancel", post(cancel))
         .fallback(|| async { ApiError::not_found("no such route") })
@@ -217,6 +219,66 @@ async fn write_scene(State(app): Shared, Path(name): Path<String>, body: Bytes) 
     let scene = parse_scene(&body)?;
     app.workspace.write_scene(&name, &scene.to_json())?;
     Ok(StatusCode::NO_CONTENT)
+}
+
+/// The outputs `/api/export/{file}` writes: `(file, the scene's outputs field, content type)`.
+const EXPORTS: [(&str, &str, &str); 8] = [
+    ("contours.geojson", "contours_geojson", "application/geo+json"),
+    ("contours.svg", "contours_svg", "image/svg+xml"),
+    ("preview.png", "preview", "image/png"),
+    ("summary.json", "summary", "application/json"),
+    ("divide-tree.geojson", "divide_tree", "application/geo+json"),
+    ("vector-terrain.json", "vector_terrain", "application/json"),
+    ("skeleton.geojson", "skeleton", "application/geo+json"),
+    ("terrain.glb", "mesh", "model/gltf-binary"),
+];
+
+/// The scene's outputs replaced by `file` alone.
+fn only_output(scene: &mut Scene, field: &str, file: &str) -> Result<(), ApiError> {
+    let value = if field == "mesh" { json!({ "file": file }) } else { json!(file) };
+    let outputs = json!({
+        "heightfield": [], "contours_geojson": null, "contours_svg": null, "preview": null, "summary": null,
+        field: value,
+    });
+    scene.outputs = serde_json::from_value(outputs).map_err(ApiError::internal)?;
+    Ok(())
+}
+
+/// Generates the scene in full (drainage and contours included) under the session's job and
+/// returns one output file.
+async fn export(
+    State(app): Shared,
+    Path(file): Path<String>,
+    headers: HeaderMap,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let (_, field, content_type) = EXPORTS.iter().find(|(name, ..)| *name == file).ok_or_else(|| {
+        let names: Vec<&str> = EXPORTS.iter().map(|(n, ..)| *n).collect();
+        ApiError::not_found(format!("no export {file}: one of {}", names.join(", ")))
+    })?;
+    let mut scene = parse_scene(&body)?;
+    only_output(&mut scene, field, &file)?;
+    let session = session(&headers)?;
+    let job = app.jobs.start(session.as_deref())?;
+    let (worker, running, name) = (Arc::clone(&app), Arc::clone(&job), file.clone());
+    let written = tokio::task::spawn_blocking(move || -> Result<Option<Vec<u8>>, ApiError> {
+        let dir = tempfile::tempdir().map_err(ApiError::internal)?;
+        let mut progress = crate::jobs::JobProgress(running);
+        match relief::pipeline::run_with(&scene, worker.workspace.root(), dir.path(), &worker.budget, &mut progress) {
+            Err(relief::ReliefError::Cancelled) => Err(ApiError::new(StatusCode::CONFLICT, "cancelled")),
+            Err(error) => Err(error.into()),
+            Ok(_) => Ok(std::fs::read(dir.path().join(&name)).ok()),
+        }
+    })
+    .await;
+    app.jobs.end(session.as_deref(), &job);
+    let bytes = written.map_err(ApiError::internal)??.ok_or_else(|| {
+        let generator = "this scene's generator does not write";
+        ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, format!("{generator} {file}"))
+    })?;
+    let disposition = format!("attachment; filename=\"{file}\"");
+    Ok(([(header::CONTENT_TYPE, (*content_type).to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes)
+        .into_response())
 }
 
 async fn progress(State(app): Shared, headers: HeaderMap) -> Result<Json<Value>, ApiError> {

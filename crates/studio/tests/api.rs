@@ -140,6 +140,33 @@ fn downloads_read_back_as_the_generated_heightfield() {
 }
 
 #[test]
+fn every_output_is_exported_from_a_full_run() {
+    let studio = Studio::new();
+    let scene = island_scene(&studio).to_string();
+    let (status, bytes) = studio.send("POST", "/api/export/contours.geojson", scene.clone());
+    assert_eq!(status, StatusCode::OK);
+    let geojson: Value = serde_json::from_slice(&bytes).unwrap();
+    let features = geojson["features"].as_array().unwrap();
+    assert!(features.len() >= 10 && features.iter().all(|f| f["properties"]["elevation"].is_number()));
+    let (_, svg) = studio.send("POST", "/api/export/contours.svg", scene.clone());
+    assert!(svg.starts_with(b"<svg"));
+    let (_, glb) = studio.send("POST", "/api/export/terrain.glb", scene.clone());
+    assert_eq!(&glb[..4], b"glTF");
+    let (_, png) = studio.send("POST", "/api/export/preview.png", scene.clone());
+    assert_eq!(&png[1..4], b"PNG");
+    // The summary of a full run: the drainage analysis a preview skips.
+    let (status, summary) = studio.json("POST", "/api/export/summary.json", scene.clone());
+    assert_eq!(status, StatusCode::OK);
+    assert!(summary["drainage"]["closed_basins"].is_number(), "{summary}");
+    // A gaussian output of an island scene, an unknown export.
+    let (status, error) = studio.json("POST", "/api/export/skeleton.geojson", scene.clone());
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(error["error"].as_str().unwrap().contains("does not write skeleton.geojson"), "{error}");
+    let (status, _) = studio.send("POST", "/api/export/passwd", scene);
+    assert_eq!(status, StatusCode::NOT_FOUND);
+}
+
+#[test]
 fn a_bad_scene_gets_a_4xx_naming_its_json_path() {
     let studio = Studio::new();
     let mut scene = island_scene(&studio);

@@ -298,6 +298,10 @@ async fn save_and_reload(client: &Client, workspace: &std::path::Path, mut id: u
     client.find(Locator::Id("save")).await.unwrap().click().await.unwrap();
     let saved = doc(client).await;
     wait_for(client, "document.getElementById('status').textContent.startsWith('saved')").await;
+    // Export the contours of a full run.
+    client.find(Locator::Id("export")).await.unwrap().select_by_value("contours.geojson").await.unwrap();
+    client.find(Locator::Id("export-button")).await.unwrap().click().await.unwrap();
+    wait_for(client, "document.getElementById('status').textContent === 'exported contours.geojson'").await;
     let scene = |v: &Value| relief::Scene::from_json(&v.to_string()).unwrap();
     let on_disk = relief::pipeline::load_scene(workspace.join("e2e-island.json")).unwrap();
     assert_eq!(on_disk, scene(&saved));

@@ -683,6 +683,26 @@ async function load(name) {
   setDoc(await response.json());
 }
 
+/** Generates the scene in full on the server and downloads the chosen output. */
+async function exportOutput() {
+  const file = $("export").value;
+  setState(document.body.dataset.state, `exporting ${file}…`);
+  // Its own job: an edit meanwhile does not cancel it.
+  const exportHeaders = { "x-relief-session": `${session}-export` };
+  const response = await fetch(`/api/export/${file}`, { method: "POST", body: JSON.stringify(doc), headers: exportHeaders });
+  if (!response.ok) {
+    const body = await response.json();
+    $("message").textContent = (body.path ? body.path + ": " : "") + body.error;
+    return;
+  }
+  const link = document.createElement("a");
+  link.href = URL.createObjectURL(await response.blob());
+  link.download = file;
+  link.click();
+  setTimeout(() => URL.revokeObjectURL(link.href), 10000);
+  setState(document.body.dataset.state, `exported ${file}`);
+}
+
 function applyText() {
   try {
     setDoc(JSON.parse($("scene").value));
@@ -753,6 +773,7 @@ async function start() {
   $("generate").onclick = generate;
   $("cancel").onclick = cancel;
   $("apply").onclick = applyText;
+  $("export-button").onclick = exportOutput;
   $("format").onchange = () => result && ($("download").href = `/api/results/${result.id}/download/${$("format").value}`);
   $("upload").onchange = upload;
   $("vectorize").onclick = vectorizeUpload;
@@ -781,7 +802,7 @@ async function start() {
 window.studio = {
   get doc() { return doc; },
   get result() { return result; },
-  timings, setDoc, editDoc, undo, redo, generate, cancel, save, load, loadTemplate, closeRegion,
+  timings, setDoc, editDoc, undo, redo, generate, cancel, save, load, loadTemplate, closeRegion, exportOutput,
 };
 
 start();
