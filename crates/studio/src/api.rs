@@ -9,6 +9,8 @@
 //! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16` |
 //! | `GET /api/scenes`, `GET`/`PUT /api/scenes/{name}` | saved scenes |
 //! | `PUT /api/files/{name}` | upload an input (DEM, image, vector terrain) |
+//! | `POST /api/files/{name}/open` | an uploaded DEM as a result (to view, analyse, download) |
+//! | `GET /api/results/{id}/peaks?min_prominence=M` | its peaks and divide tree (akirmse's conventions) |
 //! | `POST /api/export/{file}` | generate the scene in the body in full and return one of its outputs |
 //! | `GET /api/progress`, `POST /api/cancel` | the session's running generation: its step, or stop it |
 //!
@@ -53,6 +55,26 @@ impl App {
         }
     }
 
+    /// Keeps `hf` as a result: its id, size, range and extent as the page reads them.
+    fn keep(&self, hf: Heightfield, sea_level: Option<f64>) -> Result<Value, ApiError> {
+        let (min, max) = hf.min_max().unwrap_or((0.0, 0.0));
+        let extent = hf.extent();
+        let (width, height) = (hf.nx(), hf.ny());
+        let metres = hf.grid().metres_per_unit(height / 2);
+        let mut results = self.results.lock().map_err(|_| ApiError::internal("the results store is poisoned"))?;
+        let id = results.insert(hf);
+        Ok(json!({
+            "id": id,
+            "width": width,
+            "height": height,
+            "min": min,
+            "max": max,
+            "extent": { "min": [extent.min.x, extent.min.y], "max": [extent.max.x, extent.max.y] },
+            "sea_level": sea_level,
+            "metres_per_unit": [metres.x, metres.y],
+        }))
+    }
+
     fn result(&self, id: u64) -> Result<Arc<Heightfield>, ApiError> {
         let results = self.results.lock().map_err(|_| ApiError::internal("the results store is poisoned"))?;
         results.get(id).ok_or_else(|| ApiError::not_found(format!("no result {id} (only the latest are kept)")))
@@ -76,6 +98,8 @@ pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
         .route("/api/scenes", get(scenes))
         .route("/api/scenes/{name}", get(read_scene).put(write_scene))
         .route("/api/files/{name}", axum::routing::put(upload))
+        .route("/api/files/{name}/open", post(open_file))
+        .route("/api/results/{id}/peaks", get(peaks))
         .route("/api/export/{file}", post(export))
         .route("/api/progress", get(progress))
         .route("/api/cancel", post(cancel))
@@ -139,24 +163,12 @@ async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes) -> Result
         other => other?,
     };
     let ms = start.elapsed().as_secs_f64() * 1e3;
-    let hf = &preview.heightfield;
-    let (min, max) = hf.min_max().unwrap_or((0.0, 0.0));
-    let extent = hf.extent();
-    let (width, height) = (hf.nx(), hf.ny());
-    let results = app.results.lock();
-    let id = results.map_err(|_| ApiError::internal("the results store is poisoned"))?.insert(preview.heightfield);
-    Ok(Json(json!({
-        "id": id,
-        "width": width,
-        "height": height,
-        "min": min,
-        "max": max,
-        "extent": { "min": [extent.min.x, extent.min.y], "max": [extent.max.x, extent.max.y] },
-        "sea_level": preview.sea_level,
-        "ms": ms,
-        "timings": preview.timings,
-        "warnings": preview.warnings,
-    })))
+    let timings = serde_json::to_value(&preview.timings).map_err(ApiError::internal)?;
+    let mut result = app.keep(preview.heightfield, preview.sea_level)?;
+    result["ms"] = ms.into();
+    result["timings"] = timings;
+    result["warnings"] = json!(preview.warnings);
+    Ok(Json(result))
 }
 
 /// The samples as little-endian f32, the northern row first (no-data as NaN).
@@ -296,6 +308,61 @@ async fn cancel(State(app): Shared, headers: HeaderMap) -> Result<StatusCode, Ap
         job.cancel();
     }
     Ok(StatusCode::NO_CONTENT)
+}
+
+/// Reads an uploaded DEM under the budget's cell cap and keeps it as a result.
+async fn open_file(State(app): Shared, Path(name): Path<String>) -> Result<Json<Value>, ApiError> {
+    crate::workspace::check_name(&name)?;
+    let path = app.workspace.root().join(&name);
+    if !path.is_file() {
+        return Err(ApiError::not_found(format!("no file {name}: upload it first")));
+    }
+    let limits = relief::io::Limits::default().with_max_cells(app.budget.max_cells);
+    let options = relief::io::ReadOptions::default().with_limits(limits);
+    let start = Instant::now();
+    let read = tokio::task::spawn_blocking(move || relief::io::read_with(&path, &options)).await;
+    let hf = read.map_err(ApiError::internal)?.map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))?;
+    let mut result = app.keep(hf, None)?;
+    result["ms"] = (start.elapsed().as_secs_f64() * 1e3).into();
+    result["timings"] = json!([]);
+    result["warnings"] = json!([]);
+    Ok(Json(result))
+}
+
+/// `?min_prominence=M` (default: 5 % of the result's relief).
+#[derive(Debug, serde::Deserialize)]
+struct PeaksQuery {
+    min_prominence: Option<f64>,
+}
+
+/// The result's peaks at least `min_prominence` prominent and the key saddles joining them,
+/// each with its ridge line.
+async fn peaks(
+    State(app): Shared,
+    Path(id): Path<u64>,
+    axum::extract::Query(query): axum::extract::Query<PeaksQuery>,
+) -> Result<Json<Value>, ApiError> {
+    let hf = app.result(id)?;
+    let analysed = tokio::task::spawn_blocking(move || {
+        let (lo, hi) = hf.min_max().unwrap_or((0.0, 0.0));
+        let min_prominence = query.min_prominence.unwrap_or(0.05 * f64::from(hi - lo));
+        let options = relief::orometry::AnalysisOptions { min_prominence, ridge_lines: true, ..Default::default() };
+        relief::orometry::analyze(&hf, &options).map(|o| (o, min_prominence))
+    })
+    .await
+    .map_err(ApiError::internal)?;
+    let (orometry, min_prominence) = analysed.map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))?;
+    let peaks: Vec<Value> = orometry
+        .peaks
+        .iter()
+        .map(|p| json!({ "position": p.position, "elevation": p.elevation, "prominence": p.prominence }))
+        .collect();
+    let saddles: Vec<Value> = orometry
+        .saddles
+        .iter()
+        .map(|s| json!({ "position": s.position, "elevation": s.elevation, "peaks": s.peaks, "ridge": s.ridge }))
+        .collect();
+    Ok(Json(json!({ "min_prominence": min_prominence, "peaks": peaks, "saddles": saddles })))
 }
 
 async fn upload(State(app): Shared, Path(name): Path<String>, body: Bytes) -> Result<StatusCode, ApiError> {

@@ -315,6 +315,38 @@ fn an_uploaded_dem_is_vectorized_and_synthesized_from() {
     }
 }
 
+#[test]
+fn an_uploaded_dem_opens_with_its_peaks_and_divide_tree() {
+    let studio = Studio::new();
+    let dem = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/dem/jacksboro.asc")).unwrap();
+    studio.send("PUT", "/api/files/jacksboro.asc", dem);
+    let (status, result) = studio.json("POST", "/api/files/jacksboro.asc/open", Body::empty());
+    assert_eq!(status, StatusCode::OK, "{result}");
+    assert_eq!((result["min"].as_f64(), result["max"].as_f64()), (Some(236.0), Some(1076.0)));
+    let (status, tree) =
+        studio.json("GET", &format!("/api/results/{}/peaks?min_prominence=100", result["id"]), Body::empty());
+    assert_eq!(status, StatusCode::OK, "{tree}");
+    let (peaks, saddles) = (tree["peaks"].as_array().unwrap(), tree["saddles"].as_array().unwrap());
+    assert!(peaks.len() >= 5, "{} peaks", peaks.len());
+    assert!(peaks.iter().all(|p| p["prominence"].as_f64().unwrap() >= 100.0));
+    assert!(peaks.iter().any(|p| p["elevation"].as_f64() == Some(1076.0)), "the summit is a peak");
+    // A divide tree: one key saddle fewer than peaks, each below the two peaks it joins, with
+    // its ridge line.
+    assert_eq!(saddles.len() + 1, peaks.len());
+    for saddle in saddles {
+        let z = saddle["elevation"].as_f64().unwrap();
+        for k in saddle["peaks"].as_array().unwrap() {
+            assert!(peaks[k.as_u64().unwrap() as usize]["elevation"].as_f64().unwrap() > z, "{saddle}");
+        }
+        assert!(saddle["ridge"].as_array().unwrap().len() >= 2, "{saddle}");
+    }
+    let (status, _) = studio.json("POST", "/api/files/nothing.asc/open", Body::empty());
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    let (status, _) =
+        studio.send("GET", &format!("/api/results/{}/peaks?min_prominence=-1", result["id"]), Body::empty());
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+}
+
 /// A gray PNG of `size`² pixels.
 fn image_bytes(size: u32, pixel: impl Fn(u32, u32) -> u8) -> Vec<u8> {
     let mut bytes = Vec::new();

@@ -216,7 +216,14 @@ async fn latency(client: &Client, map: &Element, mut id: u64) {
 async fn demo_and_3d(client: &Client) -> u64 {
     // The demo scene generates on load, and the 3D view shows it: not one flat colour.
     let id = next_result(client, 0).await;
-    let colours = js(
+    let colours = colours_3d(client).await;
+    assert!(colours.as_u64().unwrap() > 100, "the 3D view is blank: {colours} colours");
+    id
+}
+
+/// How many colours the 3D view shows: a blank or flat view has a handful.
+async fn colours_3d(client: &Client) -> Value {
+    js(
         client,
         "const c = document.getElementById('view3d'); const gl = c.getContext('webgl'); \
          const px = new Uint8Array(4 * c.width * c.height); \
@@ -224,9 +231,7 @@ async fn demo_and_3d(client: &Client) -> u64 {
          const seen = new Set(); for (let k = 0; k < px.length; k += 4) seen.add(px[k] << 16 | px[k + 1] << 8 | px[k + 2]); \
          return seen.size",
     )
-    .await;
-    assert!(colours.as_u64().unwrap() > 100, "the 3D view is blank: {colours} colours");
-    id
+    .await
 }
 
 /// Hill, stroke, undo and crater on a new island, then save and reload; the last result's id.
@@ -426,6 +431,28 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     )
     .await;
     assert!(west[0].as_f64().unwrap() > 3.0 * west[1].as_f64().unwrap(), "land west/east: {west}");
+
+    // A real DEM uploaded and opened as it is, with its peaks and divide tree drawn.
+    let dem = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/dem/jacksboro.asc");
+    client
+        .find(Locator::Id("upload"))
+        .await
+        .unwrap()
+        .send_keys(dem.canonicalize().unwrap().to_str().unwrap())
+        .await
+        .unwrap();
+    wait_for(client, "document.getElementById('status').textContent === 'uploaded jacksboro.asc'").await;
+    client.find(Locator::Id("open-dem")).await.unwrap().click().await.unwrap();
+    id = next_result(client, id).await;
+    assert_eq!(result_field(client, "max").await.as_f64(), Some(1076.0));
+    // A geographic DEM (degrees) in metres in 3D: not blank.
+    let colours = colours_3d(client).await;
+    assert!(colours.as_u64().unwrap() > 100, "the DEM's 3D view is blank: {colours} colours");
+    let prominence = client.find(Locator::Id("min-prominence")).await.unwrap();
+    prominence.send_keys("100").await.unwrap();
+    client.find(Locator::Id("show-peaks")).await.unwrap().click().await.unwrap();
+    wait_for(client, "Number(document.body.dataset.peaks || 0) >= 5").await;
+    screenshot(client, "studio-peaks").await;
     id
 }
 

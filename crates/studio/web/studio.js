@@ -101,16 +101,9 @@ async function generate() {
     const samples = await fetch(`/api/results/${body.id}/elevation`, { signal });
     const z = new Float32Array(await samples.arrayBuffer());
     if (mine !== generation) return;
-    result = Object.assign(body, { z });
-    $("message").textContent = "";
-    $("download").href = `/api/results/${result.id}/download/${$("format").value}`;
-    $("summary").textContent = summaryText(body);
-    renderRelief();
-    drawMap();
-    draw3d();
+    showResult(Object.assign(body, { z }));
     const total = performance.now() - start;
     timings.push({ server_ms: body.ms, total_ms: total });
-    document.body.dataset.resultId = String(result.id);
     setState("idle", `${result.width}×${result.height} · server ${body.ms.toFixed(0)} ms · shown in ${total.toFixed(0)} ms`);
   } catch (error) {
     if (error.name !== "AbortError") {
@@ -120,6 +113,20 @@ async function generate() {
   } finally {
     clearInterval(poll);
   }
+}
+
+/** Makes `r` (a result with its samples `z`) the current one and draws it. */
+function showResult(r) {
+  result = r;
+  $("message").textContent = "";
+  $("download").href = `/api/results/${result.id}/download/${$("format").value}`;
+  $("summary").textContent = summaryText(r);
+  renderRelief();
+  peaks = null;
+  drawMap();
+  draw3d();
+  loadPeaks();
+  document.body.dataset.resultId = String(result.id);
 }
 
 /** Shows the server's step while generation `mine` runs. */
@@ -185,16 +192,18 @@ function contourInterval() {
 // ---------------------------------------------------------------------------------------------
 // The 2D map: shaded relief, tint, contours, and the scene's inputs over them.
 
-const view = { scale: 1, ox: 0, oy: 0 };
+// World units to canvas pixels: `sx`, `sy` per unit along x and y (equal on planar grids; a
+// geographic grid's degrees of longitude are narrower), the origin at (`ox`, `oy`).
+const view = { scale: 1, sx: 1, sy: 1, ox: 0, oy: 0 };
 
 function worldToCanvas([x, y]) {
   const e = result.extent;
-  return [view.ox + (x - e.min[0]) * view.scale, view.oy + (e.max[1] - y) * view.scale];
+  return [view.ox + (x - e.min[0]) * view.sx, view.oy + (e.max[1] - y) * view.sy];
 }
 
 function canvasToWorld(cx, cy) {
   const e = result.extent;
-  return [e.min[0] + (cx - view.ox) / view.scale, e.max[1] - (cy - view.oy) / view.scale];
+  return [e.min[0] + (cx - view.ox) / view.sx, e.max[1] - (cy - view.oy) / view.sy];
 }
 
 /** The tint of 1024 elevations evenly spread over the result's range, RGB. */
@@ -219,8 +228,9 @@ let relief = null;
 function renderRelief() {
   const { width: w, height: h, z } = result;
   const e = result.extent;
-  const dx = (e.max[0] - e.min[0]) / Math.max(1, w - 1);
-  const dy = (e.max[1] - e.min[1]) / Math.max(1, h - 1);
+  const [mx, my] = result.metres_per_unit;
+  const dx = (mx * (e.max[0] - e.min[0])) / Math.max(1, w - 1);
+  const dy = (my * (e.max[1] - e.min[1])) / Math.max(1, h - 1);
   const image = new ImageData(w, h);
   const data = image.data;
   const table = tintTable();
@@ -256,11 +266,14 @@ function drawMap() {
   ctx.fillRect(0, 0, canvas.width, canvas.height);
   if (!result) return;
   const e = result.extent;
-  view.scale = Math.min(canvas.width / (e.max[0] - e.min[0]), canvas.height / (e.max[1] - e.min[1]));
-  view.ox = (canvas.width - (e.max[0] - e.min[0]) * view.scale) / 2;
-  view.oy = (canvas.height - (e.max[1] - e.min[1]) * view.scale) / 2;
+  const [mx, my] = result.metres_per_unit;
+  const [width, height] = [mx * (e.max[0] - e.min[0]), my * (e.max[1] - e.min[1])];
+  const perMetre = Math.min(canvas.width / width, canvas.height / height);
+  [view.sx, view.sy, view.scale] = [perMetre * mx, perMetre * my, perMetre * mx];
+  view.ox = (canvas.width - width * perMetre) / 2;
+  view.oy = (canvas.height - height * perMetre) / 2;
   ctx.imageSmoothingEnabled = true;
-  ctx.drawImage(relief, view.ox, view.oy, (e.max[0] - e.min[0]) * view.scale, (e.max[1] - e.min[1]) * view.scale);
+  ctx.drawImage(relief, view.ox, view.oy, width * perMetre, height * perMetre);
   drawInputs(ctx);
 }
 
@@ -302,7 +315,7 @@ function drawInputs(ctx) {
       const [x, y] = worldToCanvas(hill.center);
       ctx.strokeStyle = hill.height < 0 ? "rgba(120, 200, 255, 0.9)" : "rgba(255, 255, 255, 0.9)";
       ctx.beginPath();
-      ctx.ellipse(x, y, hill.radii[0] * view.scale, hill.radii[1] * view.scale, 0, 0, 2 * Math.PI);
+      ctx.ellipse(x, y, hill.radii[0] * view.sx, hill.radii[1] * view.sy, 0, 0, 2 * Math.PI);
       ctx.stroke();
       ctx.fillStyle = "#fff";
       ctx.fillText(String(k), x + 3, y - 3);
@@ -329,10 +342,48 @@ function drawInputs(ctx) {
     }
     for (const curve of g.curves || []) polyline(ctx, curve.points, false);
   }
+  if (peaks && $("show-peaks").checked) drawPeaks(ctx);
   if (pending.points.length) {
     ctx.strokeStyle = "#ff0";
     polyline(ctx, pending.points, false);
   }
+}
+
+// The result's peaks and divide tree (GET /api/results/{id}/peaks), drawn when asked for.
+let peaks = null;
+
+async function loadPeaks() {
+  if (!result || !$("show-peaks").checked) return;
+  const id = result.id;
+  const min = $("min-prominence").value;
+  const query = min === "" ? "" : `?min_prominence=${Number(min)}`;
+  const response = await fetch(`/api/results/${id}/peaks${query}`);
+  const body = await response.json();
+  if (!result || result.id !== id) return;
+  if (!response.ok) {
+    $("message").textContent = body.error;
+    return;
+  }
+  peaks = body;
+  document.body.dataset.peaks = String(peaks.peaks.length);
+  drawMap();
+}
+
+function drawPeaks(ctx) {
+  ctx.strokeStyle = "rgba(255, 120, 200, 0.9)";
+  for (const saddle of peaks.saddles) polyline(ctx, saddle.ridge, false);
+  const ranked = peaks.peaks.map((p, k) => [p.prominence, k]).sort((a, b) => b[0] - a[0]);
+  const labelled = new Set(ranked.slice(0, 12).map(([, k]) => k));
+  ctx.fillStyle = "rgba(255, 120, 200, 1)";
+  peaks.peaks.forEach((p, k) => {
+    const [x, y] = worldToCanvas(p.position);
+    ctx.beginPath();
+    ctx.moveTo(x, y - 5);
+    ctx.lineTo(x - 4, y + 3);
+    ctx.lineTo(x + 4, y + 3);
+    ctx.fill();
+    if (labelled.has(k)) ctx.fillText(`${p.elevation.toFixed(0)} (${p.prominence.toFixed(0)})`, x + 5, y - 5);
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -529,9 +580,11 @@ function build3d() {
   const { width: w, height: h, z } = result;
   const e = result.extent;
   const step = Math.max(1, Math.ceil(Math.max(w, h) / 181));
+  // Metres on every axis (a geographic grid's degrees too).
+  const [mx, my] = result.metres_per_unit;
   const nx = Math.floor((w - 1) / step) + 1;
   const ny = Math.floor((h - 1) / step) + 1;
-  const size = Math.max(e.max[0] - e.min[0], e.max[1] - e.min[1]);
+  const size = Math.max(mx * (e.max[0] - e.min[0]), my * (e.max[1] - e.min[1]));
   const exaggeration = 2.0;
   const table = tintTable();
   const height = (i, j) => {
@@ -541,8 +594,8 @@ function build3d() {
   const positions = new Float32Array(nx * ny * 3);
   const normals = new Float32Array(nx * ny * 3);
   const colours = new Float32Array(nx * ny * 3);
-  const sx = ((e.max[0] - e.min[0]) / size) * 2;
-  const sz = ((e.max[1] - e.min[1]) / size) * 2;
+  const sx = ((mx * (e.max[0] - e.min[0])) / size) * 2;
+  const sz = ((my * (e.max[1] - e.min[1])) / size) * 2;
   const hy = (exaggeration * 2) / size;
   for (let j = 0; j < ny; j++) {
     for (let i = 0; i < nx; i++) {
@@ -725,7 +778,7 @@ async function upload() {
   }
   uploaded = file.name;
   setState(document.body.dataset.state, `uploaded ${file.name}`);
-  for (const id of ["vectorize", "synthesize", "trace"]) $(id).disabled = false;
+  for (const id of ["vectorize", "synthesize", "trace", "open-dem"]) $(id).disabled = false;
 }
 
 function startFrom(scene) {
@@ -733,6 +786,20 @@ function startFrom(scene) {
   past.redo.length = 0;
   doc = null;
   setDoc(scene, false);
+}
+
+/** Shows the uploaded DEM itself as the current result (the scene is unchanged). */
+async function openUpload() {
+  generation++;
+  const response = await fetch(`/api/files/${encodeURIComponent(uploaded)}/open`, { method: "POST" });
+  const body = await response.json();
+  if (!response.ok) {
+    $("message").textContent = body.error;
+    return;
+  }
+  const z = new Float32Array(await (await fetch(`/api/results/${body.id}/elevation`)).arrayBuffer());
+  showResult(Object.assign(body, { z }));
+  setState("idle", `${uploaded}: ${body.width}×${body.height}`);
 }
 
 function vectorizeUpload() {
@@ -779,6 +846,9 @@ async function start() {
   $("vectorize").onclick = vectorizeUpload;
   $("synthesize").onclick = synthesizeUpload;
   $("trace").onclick = traceUpload;
+  $("open-dem").onclick = openUpload;
+  $("show-peaks").onchange = () => (peaks ? drawMap() : loadPeaks());
+  $("min-prominence").onchange = loadPeaks;
   $("filters").onclick = () => editDoc((d) => d.generator.island.operations.push({ add_filters: { coverage: 1 } }));
   const map = $("map");
   map.addEventListener("pointerdown", onPointerDown);
