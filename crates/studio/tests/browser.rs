@@ -319,46 +319,52 @@ async fn save_and_reload(client: &Client, workspace: &std::path::Path, mut id: u
 
 /// Draws a region and a warp on the contour template; the last result's id.
 async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
-    // A contour scene: a region drawn corner by corner inside the 600 m one, at 900 m.
+    // The contour template has one range at 600 m. A summit region drawn corner by corner
+    // inside it at 900 m; a second range at 600 m in the east, with a crater in it.
     id = new_scene(client, "contours", id).await;
-    choose_tool(client, "region").await;
-    let height = client.find(Locator::Id("height")).await.unwrap();
-    height.clear().await.unwrap();
-    height.send_keys("900").await.unwrap();
-    for (x, y) in [(-60.0, -30.0), (0.0, -35.0), (10.0, 0.0)] {
-        drag(client, map, &[(x, y)]).await;
-    }
-    let mut close = MouseActions::new("mouse".into()).then(PointerAction::MoveToElement {
-        element: map.clone(),
-        duration: None,
-        x: -55.0,
-        y: 5.0,
-    });
-    for _ in 0..2 {
-        close = close
-            .then(PointerAction::Down { button: MOUSE_BUTTON_LEFT })
-            .then(PointerAction::Up { button: MOUSE_BUTTON_LEFT });
-    }
-    client.perform_actions(close).await.unwrap();
-    id = next_result(client, id).await;
+    let corners = [(-60.0, -30.0), (0.0, -35.0), (10.0, 0.0), (-55.0, 5.0)];
+    id = draw_region(client, map, "region", "900", &corners, id).await;
     let regions = doc(client).await["generator"]["contours"]["regions"].clone();
     assert_eq!(regions.as_array().unwrap().len(), 3, "{regions}");
     assert_eq!(regions[2]["height"].as_f64(), Some(900.0));
     assert!(regions[2]["polygon"]["exterior"].as_array().unwrap().len() >= 4);
     // The region is the 900 m contour: the terrain passes through its corners at 900 m.
-    let at_corners = js(
-        client,
-        "const r = window.studio.result, e = r.extent; \
-         return window.studio.doc.generator.contours.regions[2].polygon.exterior.map(([x, y]) => { \
-           const i = Math.round((x - e.min[0]) / (e.max[0] - e.min[0]) * (r.width - 1)); \
-           const j = Math.round((e.max[1] - y) / (e.max[1] - e.min[1]) * (r.height - 1)); \
-           return r.z[j * r.width + i]; })",
-    )
-    .await;
-    for z in at_corners.as_array().unwrap() {
-        assert!((z.as_f64().unwrap() - 900.0).abs() < 40.0, "corners at {at_corners}, the region's height is 900 m");
+    for z in at_corners(client, 2).await {
+        assert!((z - 900.0).abs() < 40.0, "a corner at {z} m, the region's height is 900 m");
     }
     assert!(result_field(client, "max").await.as_f64().unwrap() > 900.0);
+    let range = [(110.0, 25.0), (180.0, 30.0), (185.0, 90.0), (115.0, 95.0)];
+    id = draw_region(client, map, "region", "600", &range, id).await;
+    for z in at_corners(client, 3).await {
+        assert!((z - 600.0).abs() < 40.0, "a corner of the second range at {z} m");
+    }
+    let crater = [(135.0, 48.0), (160.0, 48.0), (160.0, 72.0), (135.0, 72.0)];
+    id = draw_region(client, map, "depression", "600", &crater, id).await;
+    assert_eq!(doc(client).await["generator"]["contours"]["regions"][4]["depression"], true);
+    // The crater's floor lies below its rim.
+    let floor = js(
+        client,
+        "const r = window.studio.result, e = r.extent; \
+         const c = window.studio.doc.generator.contours.regions[4].polygon.exterior; \
+         const cx = c.reduce((s, p) => s + p[0], 0) / c.length, cy = c.reduce((s, p) => s + p[1], 0) / c.length; \
+         const i = Math.round((cx - e.min[0]) / (e.max[0] - e.min[0]) * (r.width - 1)); \
+         const j = Math.round((e.max[1] - cy) / (e.max[1] - e.min[1]) * (r.height - 1)); \
+         return r.z[j * r.width + i]",
+    )
+    .await
+    .as_f64()
+    .unwrap();
+    let rim = at_corners(client, 4).await;
+    assert!(rim.iter().all(|&z| z > floor + 20.0), "the crater's floor {floor} m, its rim {rim:?}");
+    // The Download link fetches the heightfield as OpenEXR, 512² f32 samples.
+    let exr = js(
+        client,
+        "return fetch(document.getElementById('download').href).then(r => r.arrayBuffer()) \
+         .then(b => [b.byteLength, Array.from(new Uint8Array(b, 0, 4))])",
+    )
+    .await;
+    assert_eq!(exr[1], json!([0x76, 0x2f, 0x31, 0x01]), "{exr}");
+    assert!(exr[0].as_u64().unwrap() > 512 * 512, "{exr}");
 
     // A warp stroke dragged across the range becomes an edit, and generates.
     choose_tool(client, "warp").await;
@@ -377,12 +383,53 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     let before = js(client, inside).await;
     assert!(before[0].as_f64().unwrap() > 900.0, "{before}");
     choose_tool(client, "delete").await;
+    let height = client.find(Locator::Id("height")).await.unwrap();
+    height.clear().await.unwrap();
+    height.send_keys("900").await.unwrap();
     drag(client, map, &[(-25.0, -15.0)]).await;
     id = next_result(client, id).await;
     assert_eq!(doc(client).await["edits"][1]["delete"]["height"].as_f64(), Some(900.0));
     let after = js(client, inside).await;
     assert!(after[0].as_f64().unwrap() < before[0].as_f64().unwrap() - 100.0, "{before} → {after}");
     id
+}
+
+/// Clicks a region's corners with `tool` (`region` or `depression`) at height `h`, double-clicks
+/// its last corner; the result's id.
+async fn draw_region(client: &Client, map: &Element, tool: &str, h: &str, corners: &[(f64, f64)], id: u64) -> u64 {
+    choose_tool(client, tool).await;
+    let height = client.find(Locator::Id("height")).await.unwrap();
+    height.clear().await.unwrap();
+    height.send_keys(h).await.unwrap();
+    let (last, others) = corners.split_last().unwrap();
+    for &(x, y) in others {
+        drag(client, map, &[(x, y)]).await;
+    }
+    let mut close = MouseActions::new("mouse".into()).then(PointerAction::MoveToElement {
+        element: map.clone(),
+        duration: None,
+        x: last.0,
+        y: last.1,
+    });
+    for _ in 0..2 {
+        close = close
+            .then(PointerAction::Down { button: MOUSE_BUTTON_LEFT })
+            .then(PointerAction::Up { button: MOUSE_BUTTON_LEFT });
+    }
+    client.perform_actions(close).await.unwrap();
+    next_result(client, id).await
+}
+
+/// The elevations at the corners of the scene's region `k`.
+async fn at_corners(client: &Client, k: usize) -> Vec<f64> {
+    let script = format!(
+        "const r = window.studio.result, e = r.extent; \
+         return window.studio.doc.generator.contours.regions[{k}].polygon.exterior.map(([x, y]) => {{ \
+           const i = Math.round((x - e.min[0]) / (e.max[0] - e.min[0]) * (r.width - 1)); \
+           const j = Math.round((e.max[1] - y) / (e.max[1] - e.min[1]) * (r.height - 1)); \
+           return r.z[j * r.width + i]; }})"
+    );
+    js(client, &script).await.as_array().unwrap().iter().map(|z| z.as_f64().unwrap()).collect()
 }
 
 /// A ridge dragged on the feature-curve template; a mask uploaded and traced as an island's
