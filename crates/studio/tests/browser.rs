@@ -373,6 +373,20 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     assert!(doc(client).await["edits"][0]["warp"]["stroke"].as_array().unwrap().len() >= 3);
     screenshot(client, "studio-contours").await;
 
+    // A painted growth map: the stroke's file is uploaded and becomes the probability map.
+    let before =
+        js(client, "return Array.from(window.studio.result.z.slice(0, 512 * 512).filter((_, k) => k % 997 === 0))")
+            .await;
+    choose_tool(client, "paint").await;
+    drag(client, map, &[(-150.0, 100.0), (-100.0, 120.0), (-50.0, 130.0), (0.0, 120.0)]).await;
+    id = next_result(client, id).await;
+    let path = doc(client).await["generator"]["contours"]["probability"]["image"]["path"].as_str().unwrap().to_owned();
+    assert!(path.starts_with("growth-") && path.ends_with("-1.png"), "{path}");
+    let after =
+        js(client, "return Array.from(window.studio.result.z.slice(0, 512 * 512).filter((_, k) => k % 997 === 0))")
+            .await;
+    assert_ne!(before, after, "the painted map changed the growth");
+
     // Deleting the 900 m contour (the height setting) flattens its inside to a low dome.
     let inside = "const r = window.studio.result, e = r.extent, [x, y] = window.studio.doc.edits[0].warp.stroke[0]; \
                   const c = window.studio.doc.generator.contours.regions[2].polygon.exterior; \
@@ -478,6 +492,20 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     )
     .await;
     assert!(west[0].as_f64().unwrap() > 3.0 * west[1].as_f64().unwrap(), "land west/east: {west}");
+
+    // The same mask as a label image: a new contour scene whose land is its white square.
+    client.find(Locator::Id("labels")).await.unwrap().click().await.unwrap();
+    id = next_result(client, id).await;
+    assert_eq!(doc(client).await["generator"]["contours"]["label_image"]["path"], "upload-source.png");
+    let west = js(
+        client,
+        "const r = window.studio.result; let w = 0, e = 0; \
+         r.z.forEach((v, k) => { if (v > 1) { if (k % r.width < r.width / 2) w++; else e++; } }); return [w, e]",
+    )
+    .await;
+    // The square spans x = 500 … 6500 of 0 … 10 000: three times as much land west of the middle.
+    let ratio = west[0].as_f64().unwrap() / west[1].as_f64().unwrap();
+    assert!((2.0..4.5).contains(&ratio), "labelled land west/east: {west}");
 
     // A real DEM uploaded and opened as it is, with its peaks and divide tree drawn.
     let dem = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/dem/jacksboro.asc");

@@ -343,6 +343,13 @@ function drawInputs(ctx) {
     for (const curve of g.curves || []) polyline(ctx, curve.points, false);
   }
   if (peaks && $("show-peaks").checked) drawPeaks(ctx);
+  if (paint.canvas && tool() === "paint" && sameExtent(paint.extent, result.extent)) {
+    const [x0, y0] = worldToCanvas([paint.extent.min[0], paint.extent.max[1]]);
+    const [x1, y1] = worldToCanvas([paint.extent.max[0], paint.extent.min[1]]);
+    ctx.globalAlpha = 0.3;
+    ctx.drawImage(paint.canvas, x0, y0, x1 - x0, y1 - y0);
+    ctx.globalAlpha = 1;
+  }
   if (pending.points.length) {
     ctx.strokeStyle = "#ff0";
     polyline(ctx, pending.points, false);
@@ -403,10 +410,59 @@ function pointerWorld(event) {
   return canvasToWorld(cx, cy).map((v) => Math.round(v * 100) / 100);
 }
 
+// The growth-probability painting (a gray image over the result's extent, brighter grows first):
+// each stroke is uploaded as a new file and set as the scene's probability map, so undo brings
+// the earlier painting back.
+const paint = { canvas: null, strokes: 0, extent: null };
+
+function paintAt(p) {
+  const e = paint.extent;
+  const c = paint.canvas;
+  const x = ((p[0] - e.min[0]) / (e.max[0] - e.min[0])) * c.width;
+  const y = ((e.max[1] - p[1]) / (e.max[1] - e.min[1])) * c.height;
+  const r = (radius() / (e.max[0] - e.min[0])) * c.width;
+  const ctx = c.getContext("2d");
+  const brush = ctx.createRadialGradient(x, y, 0, x, y, r);
+  brush.addColorStop(0, "rgba(255, 255, 255, 0.35)");
+  brush.addColorStop(1, "rgba(255, 255, 255, 0)");
+  ctx.fillStyle = brush;
+  ctx.fillRect(x - r, y - r, 2 * r, 2 * r);
+}
+
+function startPainting() {
+  if (!paint.canvas || !sameExtent(paint.extent, result.extent)) {
+    paint.canvas = new OffscreenCanvas(256, 256);
+    const ctx = paint.canvas.getContext("2d");
+    ctx.fillStyle = "rgb(128, 128, 128)";
+    ctx.fillRect(0, 0, 256, 256);
+    paint.extent = result.extent;
+  }
+}
+
+function sameExtent(a, b) {
+  return a && b && a.min[0] === b.min[0] && a.min[1] === b.min[1] && a.max[0] === b.max[0] && a.max[1] === b.max[1];
+}
+
+async function finishPainting() {
+  const blob = await paint.canvas.convertToBlob({ type: "image/png" });
+  const name = `growth-${session}-${++paint.strokes}.png`;
+  const response = await fetch(`/api/files/${name}`, { method: "PUT", body: blob });
+  if (!response.ok) {
+    $("message").textContent = (await response.json()).error;
+    return;
+  }
+  const extent = paint.extent;
+  editDoc((d) => (d.generator.contours.probability = { image: { path: name, extent } }));
+}
+
 function onPointerDown(event) {
   if (!result) return;
   const p = pointerWorld(event);
   const t = tool();
+  if (t === "paint") {
+    startPainting();
+    paintAt(p);
+  }
   if (t === "region" || t === "depression") {
     pending.points.push(p);
     drawMap();
@@ -427,6 +483,7 @@ function onPointerMove(event) {
   const p = pointerWorld(event);
   const last = pending.points[pending.points.length - 1];
   if (Math.hypot(p[0] - last[0], p[1] - last[1]) * view.scale >= 4) {
+    if (tool() === "paint") paintAt(p);
     pending.points.push(p);
     drawMap();
   }
@@ -451,6 +508,8 @@ function onPointerUp(event) {
   } else if (t === "move-hill" && pending.hill >= 0) {
     const hill = pending.hill;
     editDoc((d) => d.generator.island.operations.push({ move_hill: { hill, center: end } }));
+  } else if (t === "paint") {
+    finishPainting();
   } else if (t === "resize-hill" && pending.hill >= 0) {
     const hill = pending.hill;
     const c = islandHills()[hill].center;
@@ -778,7 +837,7 @@ async function upload() {
   }
   uploaded = file.name;
   setState(document.body.dataset.state, `uploaded ${file.name}`);
-  for (const id of ["vectorize", "synthesize", "trace", "open-dem"]) $(id).disabled = false;
+  for (const id of ["vectorize", "synthesize", "trace", "open-dem", "labels"]) $(id).disabled = false;
 }
 
 function startFrom(scene) {
@@ -819,6 +878,18 @@ function synthesizeUpload() {
   });
 }
 
+function labelUpload() {
+  startFrom({
+    version: 1, seed: 1, description: `${uploaded}'s colour areas as nested regions (the contours paper's label images).`,
+    generator: { contours: {
+      label_image: { path: uploaded, extent: { min: [0, 0], max: [10000, 10000] } },
+      histogram: { uniform: { min: 0, max: Math.abs(Number($("height").value)) || 1000 } },
+      particles: 20000,
+    } },
+    reconstruction: { resolution: [512, 512] },
+  });
+}
+
 function traceUpload() {
   if (generatorKind() !== "island") {
     $("message").textContent = "Trace as coast works on an island scene: start one with New → island.";
@@ -846,6 +917,7 @@ async function start() {
   $("vectorize").onclick = vectorizeUpload;
   $("synthesize").onclick = synthesizeUpload;
   $("trace").onclick = traceUpload;
+  $("labels").onclick = labelUpload;
   $("open-dem").onclick = openUpload;
   $("show-peaks").onchange = () => (peaks ? drawMap() : loadPeaks());
   $("min-prominence").onchange = loadPeaks;
