@@ -1,0 +1,60 @@
+//! Saved scenes and uploaded inputs in the workspace.
+
+use std::time::Instant;
+
+use axum::Json;
+use axum::body::Bytes;
+use axum::extract::{Path, State};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde_json::{Value, json};
+
+use super::{Shared, parse_scene};
+use crate::error::ApiError;
+
+/// `GET /api/scenes`: the saved scenes' names.
+pub(super) async fn scenes(State(app): Shared) -> Result<Json<Value>, ApiError> {
+    Ok(Json(json!({ "scenes": app.workspace.scenes()? })))
+}
+
+/// `GET /api/scenes/{name}`: a saved scene's text.
+pub(super) async fn read_scene(State(app): Shared, Path(name): Path<String>) -> Result<Response, ApiError> {
+    let text = app.workspace.read_scene(&name)?;
+    Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response())
+}
+
+/// Saves a scene after checking it parses: a saved scene always loads.
+pub(super) async fn write_scene(
+    State(app): Shared,
+    Path(name): Path<String>,
+    body: Bytes,
+) -> Result<StatusCode, ApiError> {
+    let scene = parse_scene(&body)?;
+    app.workspace.write_scene(&name, &scene.to_json())?;
+    Ok(StatusCode::NO_CONTENT)
+}
+
+/// Reads an uploaded DEM under the budget's cell cap and keeps it as a result.
+pub(super) async fn open_file(State(app): Shared, Path(name): Path<String>) -> Result<Json<Value>, ApiError> {
+    crate::workspace::check_name(&name)?;
+    let path = app.workspace.root().join(&name);
+    if !path.is_file() {
+        return Err(ApiError::not_found(format!("no file {name}: upload it first")));
+    }
+    let limits = relief::io::Limits::default().with_max_cells(app.budget.max_cells);
+    let options = relief::io::ReadOptions::default().with_limits(limits);
+    let start = Instant::now();
+    let read = tokio::task::spawn_blocking(move || relief::io::read_with(&path, &options)).await;
+    let hf = read.map_err(ApiError::internal)?.map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))?;
+    let mut result = app.keep(hf, None)?;
+    result["ms"] = (start.elapsed().as_secs_f64() * 1e3).into();
+    result["timings"] = json!([]);
+    result["warnings"] = json!([]);
+    Ok(Json(result))
+}
+
+/// `PUT /api/files/{name}`: saves an uploaded input, atomically.
+pub(super) async fn upload(State(app): Shared, Path(name): Path<String>, body: Bytes) -> Result<StatusCode, ApiError> {
+    app.workspace.write_input(&name, &body)?;
+    Ok(StatusCode::NO_CONTENT)
+}

@@ -1,0 +1,150 @@
+//! The routes: the page, and the JSON API the page drives.
+//!
+//! | Route | What |
+//! |---|---|
+//! | `GET /api/info` | version, workspace folder, template names |
+//! | `GET /api/templates/{name}` | a starter scene |
+//! | `POST /api/generate` | generate the scene in the body (a preview: no drainage analysis or raster contours); the result's id, size, range, step times, warnings |
+//! | `GET /api/results/{id}/elevation` | its samples, f32 little-endian, north row first |
+//! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16` |
+//! | `GET /api/scenes`, `GET`/`PUT /api/scenes/{name}` | saved scenes |
+//! | `PUT /api/files/{name}` | upload an input (DEM, image, vector terrain) |
+//! | `POST /api/files/{name}/open` | an uploaded DEM as a result (to view, analyse, download) |
+//! | `GET /api/results/{id}/peaks?min_prominence=M` | its peaks and divide tree (akirmse's conventions) |
+//! | `POST /api/export/{file}` | generate the scene in the body in full and return one of its outputs |
+//! | `GET /api/progress`, `POST /api/cancel` | the session's running generation: its step, or stop it |
+//!
+//! A page names its session in the `x-relief-session` header: a session's new generation
+//! cancels the one it still runs (a newer edit supersedes an older one), which then answers 409.
+
+use std::sync::{Arc, Mutex};
+
+use axum::Json;
+use axum::Router;
+use axum::extract::{DefaultBodyLimit, Path, State};
+use axum::http::{HeaderMap, header};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use relief::Scene;
+use relief::heightfield::Heightfield;
+use serde_json::{Value, json};
+
+mod files;
+mod outputs;
+mod run;
+
+use crate::error::ApiError;
+use crate::jobs::Jobs;
+use crate::results::Results;
+use crate::workspace::Workspace;
+
+/// What every request shares.
+#[derive(Debug)]
+pub(crate) struct App {
+    workspace: Workspace,
+    budget: relief::Budget,
+    results: Mutex<Results>,
+    jobs: Jobs,
+}
+
+impl App {
+    pub(crate) fn new(workspace: Workspace, config: &crate::Config) -> Self {
+        Self {
+            workspace,
+            budget: config.budget,
+            results: Mutex::new(Results::new(config.kept_results)),
+            jobs: Jobs::default(),
+        }
+    }
+
+    /// Keeps `hf` as a result: its id, size, range and extent as the page reads them.
+    pub(crate) fn keep(&self, hf: Heightfield, sea_level: Option<f64>) -> Result<Value, ApiError> {
+        let (min, max) = hf.min_max().unwrap_or((0.0, 0.0));
+        let extent = hf.extent();
+        let (width, height) = (hf.nx(), hf.ny());
+        let metres = hf.grid().metres_per_unit(height / 2);
+        let mut results = self.results.lock().map_err(|_| ApiError::internal("the results store is poisoned"))?;
+        let id = results.insert(hf);
+        Ok(json!({
+            "id": id,
+            "width": width,
+            "height": height,
+            "min": min,
+            "max": max,
+            "extent": { "min": [extent.min.x, extent.min.y], "max": [extent.max.x, extent.max.y] },
+            "sea_level": sea_level,
+            "metres_per_unit": [metres.x, metres.y],
+        }))
+    }
+
+    pub(crate) fn result(&self, id: u64) -> Result<Arc<Heightfield>, ApiError> {
+        let results = self.results.lock().map_err(|_| ApiError::internal("the results store is poisoned"))?;
+        results.get(id).ok_or_else(|| ApiError::not_found(format!("no result {id} (only the latest are kept)")))
+    }
+}
+
+/// The state every handler takes.
+type Shared = State<Arc<App>>;
+
+/// Every route, with bodies capped at `max_body_bytes`.
+pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
+    let mut router = Router::new();
+    for (route, content_type, body) in crate::assets::FILES {
+        router = router.route(route, get(move || async move { ([(header::CONTENT_TYPE, content_type)], body) }));
+    }
+    router
+        .route("/api/info", get(info))
+        .route("/api/templates/{name}", get(template))
+        .route("/api/generate", post(run::generate))
+        .route("/api/export/{file}", post(run::export))
+        .route("/api/progress", get(run::progress))
+        .route("/api/cancel", post(run::cancel))
+        .route("/api/results/{id}/elevation", get(outputs::elevation))
+        .route("/api/results/{id}/download/{format}", get(outputs::download))
+        .route("/api/results/{id}/peaks", get(outputs::peaks))
+        .route("/api/scenes", get(files::scenes))
+        .route("/api/scenes/{name}", get(files::read_scene).put(files::write_scene))
+        .route("/api/files/{name}", axum::routing::put(files::upload))
+        .route("/api/files/{name}/open", post(files::open_file))
+        .fallback(|| async { ApiError::not_found("no such route") })
+        .layer(DefaultBodyLimit::max(max_body_bytes))
+        .with_state(app)
+}
+
+/// `GET /api/info`: the version, the workspace and the template names.
+async fn info(State(app): Shared) -> Json<Value> {
+    let templates: Vec<&str> = crate::assets::templates().iter().map(|(name, _)| *name).collect();
+    Json(json!({
+        "version": env!("CARGO_PKG_VERSION"),
+        "workspace": app.workspace.root(),
+        "templates": templates,
+    }))
+}
+
+/// `GET /api/templates/{name}`: a starter scene.
+async fn template(Path(name): Path<String>) -> Result<Response, ApiError> {
+    let (_, text) = crate::assets::templates()
+        .into_iter()
+        .find(|(n, _)| *n == name)
+        .ok_or_else(|| ApiError::not_found(format!("no template {name}")))?;
+    Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response())
+}
+
+/// Parses a request body as a scene.
+pub(crate) fn parse_scene(body: &[u8]) -> Result<Scene, ApiError> {
+    let text = std::str::from_utf8(body).map_err(|e| ApiError::bad_request(format!("the scene is not UTF-8: {e}")))?;
+    let scene = Scene::from_json(text)?;
+    Workspace::check_inputs(&scene)?;
+    Ok(scene)
+}
+
+/// The session a request names (`x-relief-session`), if any.
+pub(crate) fn session(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
+    let Some(value) = headers.get("x-relief-session") else { return Ok(None) };
+    let text = value
+        .to_str()
+        .ok()
+        .filter(|t| (1..=64).contains(&t.len()) && t.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-'));
+    text.map(|t| Some(t.to_owned()))
+        .ok_or_else(|| ApiError::bad_request("x-relief-session: 1 to 64 letters, digits or `-`"))
+}

@@ -1,0 +1,98 @@
+//! A result's samples for the views, its heightfield as a file, and its peaks.
+
+use axum::Json;
+use axum::extract::{Path, State};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde_json::{Value, json};
+
+use super::Shared;
+use crate::error::ApiError;
+use relief::heightfield::Heightfield;
+
+/// The samples as little-endian f32, the northern row first (no-data as NaN).
+fn north_up_bytes(hf: &Heightfield) -> Vec<u8> {
+    let nx = hf.nx();
+    let rows: Vec<&[f32]> = hf.samples().chunks(nx).collect();
+    let south_first = hf.grid().cell_size().y > 0.0;
+    let ordered: Box<dyn Iterator<Item = &&[f32]>> =
+        if south_first { Box::new(rows.iter().rev()) } else { Box::new(rows.iter()) };
+    ordered.flat_map(|row| row.iter()).flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// `GET /api/results/{id}/elevation`: the samples for the views.
+pub(super) async fn elevation(State(app): Shared, Path(id): Path<u64>) -> Result<Response, ApiError> {
+    let hf = app.result(id)?;
+    let bytes = tokio::task::spawn_blocking(move || north_up_bytes(&hf)).await.map_err(ApiError::internal)?;
+    Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
+}
+
+/// The download formats: `(name in the route, extension, content type)`.
+const DOWNLOADS: [(&str, &str, &str); 5] = [
+    ("exr", "exr", "image/x-exr"),
+    ("png", "png", "image/png"),
+    ("tif", "tif", "image/tiff"),
+    ("asc", "asc", "text/plain"),
+    ("r16", "r16", "application/octet-stream"),
+];
+
+/// `GET /api/results/{id}/download/{format}`: the heightfield as a file.
+pub(super) async fn download(
+    State(app): Shared,
+    Path((id, format)): Path<(u64, String)>,
+) -> Result<Response, ApiError> {
+    let (_, extension, content_type) = DOWNLOADS.iter().find(|(name, ..)| *name == format).ok_or_else(|| {
+        let names: Vec<&str> = DOWNLOADS.iter().map(|(n, ..)| *n).collect();
+        ApiError::not_found(format!("no format {format}: one of {}", names.join(", ")))
+    })?;
+    let hf = app.result(id)?;
+    let file = format!("terrain.{extension}");
+    let name = file.clone();
+    let bytes = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, ApiError> {
+        let dir = tempfile::tempdir().map_err(ApiError::internal)?;
+        let path = dir.path().join(&name);
+        relief::io::write(&path, &hf).map_err(ApiError::internal)?;
+        std::fs::read(&path).map_err(ApiError::internal)
+    })
+    .await
+    .map_err(ApiError::internal)??;
+    let disposition = format!("attachment; filename=\"{file}\"");
+    Ok(([(header::CONTENT_TYPE, (*content_type).to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes)
+        .into_response())
+}
+
+/// `?min_prominence=M` (default: 5 % of the result's relief).
+#[derive(Debug, serde::Deserialize)]
+pub(super) struct PeaksQuery {
+    min_prominence: Option<f64>,
+}
+
+/// The result's peaks at least `min_prominence` prominent and the key saddles joining them,
+/// each with its ridge line.
+pub(super) async fn peaks(
+    State(app): Shared,
+    Path(id): Path<u64>,
+    axum::extract::Query(query): axum::extract::Query<PeaksQuery>,
+) -> Result<Json<Value>, ApiError> {
+    let hf = app.result(id)?;
+    let analysed = tokio::task::spawn_blocking(move || {
+        let (lo, hi) = hf.min_max().unwrap_or((0.0, 0.0));
+        let min_prominence = query.min_prominence.unwrap_or(0.05 * f64::from(hi - lo));
+        let options = relief::orometry::AnalysisOptions { min_prominence, ridge_lines: true, ..Default::default() };
+        relief::orometry::analyze(&hf, &options).map(|o| (o, min_prominence))
+    })
+    .await
+    .map_err(ApiError::internal)?;
+    let (orometry, min_prominence) = analysed.map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))?;
+    let peaks: Vec<Value> = orometry
+        .peaks
+        .iter()
+        .map(|p| json!({ "position": p.position, "elevation": p.elevation, "prominence": p.prominence }))
+        .collect();
+    let saddles: Vec<Value> = orometry
+        .saddles
+        .iter()
+        .map(|s| json!({ "position": s.position, "elevation": s.elevation, "peaks": s.peaks, "ridge": s.ridge }))
+        .collect();
+    Ok(Json(json!({ "min_prominence": min_prominence, "peaks": peaks, "saddles": saddles })))
+}

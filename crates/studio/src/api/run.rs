@@ -1,0 +1,124 @@
+//! Generation: previews for the views, full runs for exports, and the session's job (its
+//! progress, its cancellation).
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use axum::Json;
+use axum::body::Bytes;
+use axum::extract::{Path, State};
+use axum::http::{HeaderMap, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde_json::{Value, json};
+
+use super::{Shared, parse_scene, session};
+use crate::error::ApiError;
+use crate::jobs::Job;
+use relief::Scene;
+
+/// `POST /api/generate`: the scene in the body as a preview, kept as a result.
+pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes) -> Result<Json<Value>, ApiError> {
+    let scene = parse_scene(&body)?;
+    let start = Instant::now();
+    let session = session(&headers)?;
+    let job = app.jobs.start(session.as_deref())?;
+    let (worker, running) = (Arc::clone(&app), Arc::clone(&job));
+    let generated = tokio::task::spawn_blocking(move || {
+        let mut progress = crate::jobs::JobProgress(running);
+        relief::pipeline::preview_with(&scene, worker.workspace.root(), &worker.budget, &mut progress)
+    })
+    .await;
+    app.jobs.end(session.as_deref(), &job);
+    let preview = match generated.map_err(ApiError::internal)? {
+        Err(relief::ReliefError::Cancelled) => {
+            return Err(ApiError::new(StatusCode::CONFLICT, "cancelled: a newer generation superseded it"));
+        }
+        other => other?,
+    };
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    let timings = serde_json::to_value(&preview.timings).map_err(ApiError::internal)?;
+    let mut result = app.keep(preview.heightfield, preview.sea_level)?;
+    result["ms"] = ms.into();
+    result["timings"] = timings;
+    result["warnings"] = json!(preview.warnings);
+    Ok(Json(result))
+}
+
+/// The outputs `/api/export/{file}` writes: `(file, the scene's outputs field, content type)`.
+const EXPORTS: [(&str, &str, &str); 8] = [
+    ("contours.geojson", "contours_geojson", "application/geo+json"),
+    ("contours.svg", "contours_svg", "image/svg+xml"),
+    ("preview.png", "preview", "image/png"),
+    ("summary.json", "summary", "application/json"),
+    ("divide-tree.geojson", "divide_tree", "application/geo+json"),
+    ("vector-terrain.json", "vector_terrain", "application/json"),
+    ("skeleton.geojson", "skeleton", "application/geo+json"),
+    ("terrain.glb", "mesh", "model/gltf-binary"),
+];
+
+/// The scene's outputs replaced by `file` alone.
+fn only_output(scene: &mut Scene, field: &str, file: &str) -> Result<(), ApiError> {
+    let value = if field == "mesh" { json!({ "file": file }) } else { json!(file) };
+    let outputs = json!({
+        "heightfield": [], "contours_geojson": null, "contours_svg": null, "preview": null, "summary": null,
+        field: value,
+    });
+    scene.outputs = serde_json::from_value(outputs).map_err(ApiError::internal)?;
+    Ok(())
+}
+
+/// Generates the scene in full (drainage and contours included) under the session's job and
+/// returns one output file.
+pub(super) async fn export(
+    State(app): Shared,
+    Path(file): Path<String>,
+    headers: HeaderMap,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let (_, field, content_type) = EXPORTS.iter().find(|(name, ..)| *name == file).ok_or_else(|| {
+        let names: Vec<&str> = EXPORTS.iter().map(|(n, ..)| *n).collect();
+        ApiError::not_found(format!("no export {file}: one of {}", names.join(", ")))
+    })?;
+    let mut scene = parse_scene(&body)?;
+    only_output(&mut scene, field, &file)?;
+    let session = session(&headers)?;
+    let job = app.jobs.start(session.as_deref())?;
+    let (worker, running, name) = (Arc::clone(&app), Arc::clone(&job), file.clone());
+    let written = tokio::task::spawn_blocking(move || -> Result<Option<Vec<u8>>, ApiError> {
+        let dir = tempfile::tempdir().map_err(ApiError::internal)?;
+        let mut progress = crate::jobs::JobProgress(running);
+        match relief::pipeline::run_with(&scene, worker.workspace.root(), dir.path(), &worker.budget, &mut progress) {
+            Err(relief::ReliefError::Cancelled) => Err(ApiError::new(StatusCode::CONFLICT, "cancelled")),
+            Err(error) => Err(error.into()),
+            Ok(_) => Ok(std::fs::read(dir.path().join(&name)).ok()),
+        }
+    })
+    .await;
+    app.jobs.end(session.as_deref(), &job);
+    let bytes = written.map_err(ApiError::internal)??.ok_or_else(|| {
+        let generator = "this scene's generator does not write";
+        ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, format!("{generator} {file}"))
+    })?;
+    let disposition = format!("attachment; filename=\"{file}\"");
+    Ok(([(header::CONTENT_TYPE, (*content_type).to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes)
+        .into_response())
+}
+
+/// `GET /api/progress`: where the session's running generation is.
+pub(super) async fn progress(State(app): Shared, headers: HeaderMap) -> Result<Json<Value>, ApiError> {
+    let session = session(&headers)?.ok_or_else(|| ApiError::bad_request("progress needs x-relief-session"))?;
+    let state = app.jobs.get(&session).map(|job: Arc<Job>| job.state());
+    Ok(Json(match state {
+        Some(s) => json!({ "running": true, "step": s.step, "done": s.done, "total": s.total }),
+        None => json!({ "running": false }),
+    }))
+}
+
+/// `POST /api/cancel`: stops the session's running generation.
+pub(super) async fn cancel(State(app): Shared, headers: HeaderMap) -> Result<StatusCode, ApiError> {
+    let session = session(&headers)?.ok_or_else(|| ApiError::bad_request("cancel needs x-relief-session"))?;
+    if let Some(job) = app.jobs.get(&session) {
+        job.cancel();
+    }
+    Ok(StatusCode::NO_CONTENT)
+}
