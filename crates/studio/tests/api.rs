@@ -68,7 +68,9 @@ fn island_scene(studio: &Studio) -> Value {
 #[test]
 fn the_page_and_its_scripts_are_served() {
     let studio = Studio::new();
-    for (path, needle) in [("/", "<canvas"), ("/studio.js", "fetch("), ("/studio.css", "{")] {
+    for (path, needle) in
+        [("/", "<canvas"), ("/studio.js", "fetch("), ("/view3d.js", "export function"), ("/studio.css", "{")]
+    {
         let (status, body) = studio.send("GET", path, Body::empty());
         assert_eq!(status, StatusCode::OK, "{path}");
         assert!(String::from_utf8(body).unwrap().contains(needle), "{path}");
