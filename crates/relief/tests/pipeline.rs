@@ -266,7 +266,7 @@ impl Progress for Steps {
 /// A preview is the same heightfield as a full run, post steps included, without the analyses.
 #[test]
 fn a_preview_is_the_generated_heightfield() {
-    for name in ["volcano-island-sketch", "lake", "mesa"] {
+    for name in ["volcano-island-sketch", "lake", "mesa", "orometry-jacksboro-tree"] {
         let mut scene = load_scene(root().join(format!("fixtures/scenes/{name}.json"))).unwrap();
         scene.reconstruction.resolution = [96, 96];
         if name == "volcano-island-sketch" {
@@ -284,6 +284,10 @@ fn a_preview_is_the_generated_heightfield() {
         assert_eq!(preview.sea_level, full.sea_level, "{name}");
         assert!(!steps.0.iter().any(|(s, _)| *s == "drainage"), "{name}: {:?}", steps.0);
         assert_eq!(preview.timings.len() * 2, steps.0.len(), "{name}");
+        // An orometry scene's tree, the one a full run writes.
+        let tree = full.summary.orometry.as_ref().map(|o| &o.tree);
+        assert_eq!(preview.divide_tree.as_ref(), tree, "{name}");
+        assert_eq!(tree.is_some(), name.starts_with("orometry"), "{name}");
     }
 }
 

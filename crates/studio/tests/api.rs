@@ -314,6 +314,15 @@ fn an_uploaded_dem_is_vectorized_and_synthesized_from() {
         // Jacksboro spans 236 … 1076 m: both keep most of that relief.
         let relief = result["max"].as_f64().unwrap() - result["min"].as_f64().unwrap();
         assert!(relief > 400.0, "{result}");
+        // The orometry scene sends its divide tree: a tree joins n peaks with n − 1 saddles.
+        if scene["generator"].get("orometry").is_some() {
+            let tree = &result["divide_tree"];
+            let peaks = tree["peaks"].as_array().unwrap().len();
+            assert!(peaks >= 3, "{tree}");
+            assert_eq!(tree["saddles"].as_array().unwrap().len() + 1, peaks);
+        } else {
+            assert!(result.get("divide_tree").is_none());
+        }
     }
 }
 

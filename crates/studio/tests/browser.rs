@@ -528,6 +528,35 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     client.find(Locator::Id("show-peaks")).await.unwrap().click().await.unwrap();
     wait_for(client, "Number(document.body.dataset.peaks || 0) >= 5").await;
     screenshot(client, "studio-peaks").await;
+
+    // A terrain synthesized from its divide tree; one tree peak raised to 1500 m by a click.
+    client.find(Locator::Id("show-peaks")).await.unwrap().click().await.unwrap();
+    client.find(Locator::Id("synthesize")).await.unwrap().click().await.unwrap();
+    id = next_result(client, id).await;
+    let before = result_field(client, "max").await.as_f64().unwrap();
+    assert!(before < 1400.0, "{before}");
+    let offset = js(
+        client,
+        "const r = window.studio.result, e = r.extent, p = r.divide_tree.peaks[0].position; \
+         const s = 640 / Math.max(e.max[0] - e.min[0], e.max[1] - e.min[1]); \
+         return [(p[0] - e.min[0]) * s - 320, (e.max[1] - p[1]) * s - 320]",
+    )
+    .await;
+    let at = (offset[0].as_f64().unwrap(), offset[1].as_f64().unwrap());
+    choose_tool(client, "peak-height").await;
+    let height = client.find(Locator::Id("height")).await.unwrap();
+    height.clear().await.unwrap();
+    height.send_keys("1500").await.unwrap();
+    drag(client, map, &[at]).await;
+    id = next_result(client, id).await;
+    let edit = &doc(client).await["generator"]["orometry"]["edits"][0];
+    assert_eq!(
+        (edit["op"].as_str(), edit["peak"].as_u64(), edit["elevation"].as_f64()),
+        (Some("move_peak"), Some(0), Some(1500.0))
+    );
+    let raised = result_field(client, "max").await.as_f64().unwrap();
+    assert!(raised > 1400.0, "the tree's peak 0 at 1500 m: the terrain's top at {raised} m");
+    screenshot(client, "studio-orometry").await;
     id
 }
 

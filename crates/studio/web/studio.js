@@ -50,6 +50,7 @@ function updateButtons() {
   $("contour-tools").classList.toggle("hidden", kind !== "contours");
   $("diffusion-tools").classList.toggle("hidden", kind !== "diffusion");
   $("gaussian-tools").classList.toggle("hidden", kind !== "gaussian");
+  $("orometry-tools").classList.toggle("hidden", kind !== "orometry");
 }
 
 /** The generator's name: `island`, `contours`, `diffusion`, `gaussian` or `orometry`. */
@@ -346,6 +347,7 @@ function drawInputs(ctx) {
     }
     for (const curve of g.curves || []) polyline(ctx, curve.points, false);
   }
+  if (kind === "orometry" && result.divide_tree) drawTree(ctx, result.divide_tree);
   if (peaks && $("show-peaks").checked) drawPeaks(ctx);
   if (paint.canvas && tool() === "paint" && sameExtent(paint.extent, result.extent)) {
     const [x0, y0] = worldToCanvas([paint.extent.min[0], paint.extent.max[1]]);
@@ -378,6 +380,33 @@ async function loadPeaks() {
   peaks = body;
   document.body.dataset.peaks = String(peaks.peaks.length);
   drawMap();
+}
+
+/** An orometry scene's generated divide tree: each saddle joined to its two peaks, peaks numbered. */
+function drawTree(ctx, tree) {
+  ctx.strokeStyle = "rgba(255, 200, 60, 0.9)";
+  for (const saddle of tree.saddles) {
+    polyline(ctx, [tree.peaks[saddle.peaks[0]].position, saddle.position, tree.peaks[saddle.peaks[1]].position], false);
+  }
+  ctx.fillStyle = "rgba(255, 200, 60, 1)";
+  tree.peaks.forEach((p, k) => {
+    const [x, y] = worldToCanvas(p.position);
+    ctx.fillRect(x - 2, y - 2, 5, 5);
+    ctx.fillText(String(k), x + 4, y - 4);
+  });
+}
+
+/** The index of the divide-tree peak nearest `p`, or -1 without a tree. */
+function nearestTreePeak(p) {
+  const tree = result && result.divide_tree;
+  if (!tree || !tree.peaks.length) return -1;
+  const d = (q) => Math.hypot(q.position[0] - p[0], q.position[1] - p[1]);
+  return tree.peaks.reduce((best, q, k) => (d(q) < d(tree.peaks[best]) ? k : best), 0);
+}
+
+/** Appends an edit to an orometry scene's tree. */
+function addTreeEdit(edit) {
+  editDoc((d) => (d.generator.orometry.edits = (d.generator.orometry.edits || []).concat([edit])));
 }
 
 function drawPeaks(ctx) {
@@ -514,6 +543,13 @@ function onPointerUp(event) {
     editDoc((d) => d.generator.island.operations.push({ move_hill: { hill, center: end } }));
   } else if (t === "paint") {
     finishPainting();
+  } else if (t === "move-peak" || t === "peak-height" || t === "delete-peak") {
+    const peak = nearestTreePeak(start);
+    if (peak < 0) return;
+    const position = result.divide_tree.peaks[peak].position;
+    if (t === "move-peak") addTreeEdit({ op: "move_peak", peak, position: end });
+    else if (t === "peak-height") addTreeEdit({ op: "move_peak", peak, position, elevation: height });
+    else addTreeEdit({ op: "delete_peak", peak });
   } else if (t === "resize-hill" && pending.hill >= 0) {
     const hill = pending.hill;
     const c = islandHills()[hill].center;

@@ -168,6 +168,9 @@ pub struct Preview {
     pub warnings: Vec<String>,
     /// The steps' times.
     pub timings: Vec<Timing>,
+    /// An orometry scene's divide tree (after its edits), whose peak and saddle indices the
+    /// scene's tree edits take.
+    pub divide_tree: Option<crate::orometry::DivideTree>,
 }
 
 /// [`generate_with`] for a preview: the same heightfield, sooner.
@@ -181,10 +184,14 @@ pub fn preview_with(
     progress: &mut dyn Progress,
 ) -> Result<Preview, ReliefError> {
     let mut timer = Timer::new(progress);
-    let Generated { heightfield, sea_level, mut vector, warnings, .. } =
+    let Generated { heightfield, sea_level, mut vector, warnings, report, .. } =
         generate_raw(scene, base_dir, budget, &mut timer)?;
     let heightfield = post(scene, heightfield, sea_level, &mut vector, &mut timer)?;
-    Ok(Preview { heightfield, sea_level, warnings, timings: std::mem::take(&mut timer.timings) })
+    let divide_tree = match report {
+        Report::Orometry(orometry) => Some(orometry.tree),
+        _ => None,
+    };
+    Ok(Preview { heightfield, sea_level, warnings, timings: std::mem::take(&mut timer.timings), divide_tree })
 }
 
 /// The generator's own steps, under the budget.

@@ -41,7 +41,26 @@ pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes
     result["ms"] = ms.into();
     result["timings"] = timings;
     result["warnings"] = json!(preview.warnings);
+    if let Some(tree) = &preview.divide_tree {
+        result["divide_tree"] = tree_json(tree);
+    }
     Ok(Json(result))
+}
+
+/// An orometry scene's divide tree as the page draws it: peaks and saddles in index order (the
+/// indices its tree edits take), each saddle with the two peaks it joins.
+fn tree_json(tree: &relief::orometry::DivideTree) -> Value {
+    let peaks: Vec<Value> = tree
+        .peaks
+        .iter()
+        .map(|p| json!({ "position": [p.position.x, p.position.y], "elevation": p.elevation }))
+        .collect();
+    let saddles: Vec<Value> = tree
+        .saddles
+        .iter()
+        .map(|s| json!({ "position": [s.position.x, s.position.y], "elevation": s.elevation, "peaks": s.peaks }))
+        .collect();
+    json!({ "peaks": peaks, "saddles": saddles })
 }
 
 /// The outputs `/api/export/{file}` writes: `(file, the scene's outputs field, content type)`.
