@@ -12,7 +12,9 @@
 //! binary, so a user needs nothing but `cargo run` and a browser.
 //!
 //! # Safety of a server left running
-//! - It listens where it is told ([`serve`]); `relief serve` binds 127.0.0.1.
+//! - It listens where it is told ([`serve`]); `relief serve` binds 127.0.0.1, and the studio
+//!   refuses requests whose `Host` is not a loopback name ([`Config::loopback_only`]), so a web
+//!   page cannot reach it through DNS rebinding.
 //! - Request bodies are capped ([`Config::max_body_bytes`]); scenes run under the same
 //!   [`relief::Budget`] as the CLI's.
 //! - Files live in the workspace folder only: names are plain (`[A-Za-z0-9_.-]`, no leading dot,
@@ -62,6 +64,10 @@ pub struct Config {
     pub max_body_bytes: usize,
     /// How many generated heightfields are kept for download (default 16).
     pub kept_results: usize,
+    /// Answer only requests addressed to a loopback name (`localhost`, `127.x.x.x`, `[::1]`):
+    /// a web page elsewhere cannot reach the studio by pointing its own domain at 127.0.0.1
+    /// (DNS rebinding). Default `true`; `relief serve --host` with another address turns it off.
+    pub loopback_only: bool,
 }
 
 impl Config {
@@ -72,6 +78,7 @@ impl Config {
             budget: relief::Budget::default(),
             max_body_bytes: 64 << 20,
             kept_results: 16,
+            loopback_only: true,
         }
     }
 
@@ -91,7 +98,8 @@ impl Config {
 pub fn router(config: &Config) -> Result<axum::Router, StudioError> {
     let workspace = workspace::Workspace::open(&config.workspace)?;
     let state = Arc::new(api::App::new(workspace, config));
-    Ok(api::routes(state, config.max_body_bytes))
+    let routes = api::routes(state, config.max_body_bytes);
+    Ok(if config.loopback_only { routes.layer(axum::middleware::from_fn(api::loopback_only)) } else { routes })
 }
 
 /// Serves the studio on `listener` until Ctrl-C.

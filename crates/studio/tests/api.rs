@@ -31,9 +31,20 @@ impl Studio {
 
     /// [`Studio::send`] for a session.
     fn send_as(&self, session: Option<&str>, method: &str, path: &str, body: impl Into<Body>) -> (StatusCode, Vec<u8>) {
+        self.send_with(&[("x-relief-session", session.unwrap_or_default())], method, path, body)
+    }
+
+    /// [`Studio::send`] with headers (an empty value leaves the header out).
+    fn send_with(
+        &self,
+        headers: &[(&str, &str)],
+        method: &str,
+        path: &str,
+        body: impl Into<Body>,
+    ) -> (StatusCode, Vec<u8>) {
         let mut request = Request::builder().method(method).uri(path);
-        if let Some(session) = session {
-            request = request.header("x-relief-session", session);
+        for (name, value) in headers.iter().filter(|(_, v)| !v.is_empty()) {
+            request = request.header(*name, *value);
         }
         let request = request.body(body.into()).unwrap();
         let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
@@ -92,6 +103,27 @@ fn every_template_generates() {
         assert_eq!(status, StatusCode::OK, "{name}: {result}");
         assert!(result["max"].as_f64().unwrap() > result["min"].as_f64().unwrap() + 100.0, "{name}: {result}");
     }
+}
+
+#[test]
+fn requests_addressed_to_another_host_are_refused() {
+    let studio = Studio::new();
+    for host in ["localhost:8737", "127.0.0.1:8737", "[::1]:8737"] {
+        let (status, _) = studio.send_with(&[("host", host)], "GET", "/api/info", Body::empty());
+        assert_eq!(status, StatusCode::OK, "{host}");
+    }
+    // A page whose domain was rebound to 127.0.0.1 sends its own name.
+    for (method, path) in [("GET", "/"), ("GET", "/api/scenes"), ("POST", "/api/generate")] {
+        let (status, body) = studio.send_with(&[("host", "evil.example:8737")], method, path, "{}");
+        assert_eq!(status, StatusCode::FORBIDDEN, "{method} {path}");
+        assert!(String::from_utf8_lossy(&body).contains("localhost only"));
+    }
+    // Served to other machines (`relief serve --host 0.0.0.0`), any host passes.
+    let mut open = Config::new(tempfile::tempdir().unwrap().path().join("ws"));
+    open.loopback_only = false;
+    let open = Studio { router: router(&open).unwrap(), dir: tempfile::tempdir().unwrap() };
+    let (status, _) = open.send_with(&[("host", "terrain.lan:8737")], "GET", "/api/info", Body::empty());
+    assert_eq!(status, StatusCode::OK);
 }
 
 #[test]

@@ -14,7 +14,8 @@ pub(crate) fn serve(args: &ServeArgs, ui: &mut Ui) -> Result<()> {
             .with_context(|| format!("listening on {}:{} (try another --port)", args.host, args.port))?;
         let address = listener.local_addr().context("reading the bound address")?;
         let url = format!("http://{address}/");
-        let config = relief_studio::Config::new(&args.workspace).with_budget(ui.budget());
+        let mut config = relief_studio::Config::new(&args.workspace).with_budget(ui.budget());
+        config.loopback_only = args.host.is_loopback();
         ui.say(format_args!("relief studio at {url} (workspace {}; Ctrl-C stops it)", args.workspace.display()));
         if !args.host.is_loopback() {
             ui.warn(format_args!("listening on {}: other machines can reach the studio", args.host));

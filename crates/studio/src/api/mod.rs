@@ -22,7 +22,7 @@ use std::sync::{Arc, Mutex};
 use axum::Json;
 use axum::Router;
 use axum::extract::{DefaultBodyLimit, Path, State};
-use axum::http::{HeaderMap, header};
+use axum::http::{HeaderMap, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use relief::Scene;
@@ -111,6 +111,28 @@ pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
         .with_state(app)
 }
 
+/// Refuses (403) a request whose `Host` header names anything but a loopback address: a page on
+/// another site that rebinds its domain to 127.0.0.1 sends its own domain as the host. A
+/// request without a `Host` (not from a browser) passes.
+pub(crate) async fn loopback_only(request: axum::extract::Request, next: axum::middleware::Next) -> Response {
+    let host = request.headers().get(header::HOST).map(|h| h.to_str().unwrap_or_default());
+    if host.is_none_or(is_loopback_host) {
+        next.run(request).await
+    } else {
+        let error = "the studio answers requests to localhost only (start it with --host to serve others)";
+        ApiError::new(StatusCode::FORBIDDEN, error).into_response()
+    }
+}
+
+/// `localhost`, `127.x.x.x` or `[::1]`, with or without a port.
+fn is_loopback_host(host: &str) -> bool {
+    let name = match host.strip_prefix('[') {
+        Some(rest) => rest.split(']').next().unwrap_or_default(),
+        None => host.rsplit_once(':').map_or(host, |(name, _)| name),
+    };
+    name.eq_ignore_ascii_case("localhost") || name.parse::<std::net::IpAddr>().is_ok_and(|ip| ip.is_loopback())
+}
+
 /// `GET /api/info`: the version, the workspace and the template names.
 async fn info(State(app): Shared) -> Json<Value> {
     let templates: Vec<&str> = crate::assets::templates().iter().map(|(name, _)| *name).collect();
@@ -147,4 +169,30 @@ pub(crate) fn session(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
         .filter(|t| (1..=64).contains(&t.len()) && t.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-'));
     text.map(|t| Some(t.to_owned()))
         .ok_or_else(|| ApiError::bad_request("x-relief-session: 1 to 64 letters, digits or `-`"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_loopback_hosts_pass() {
+        for host in [
+            "localhost",
+            "localhost:8737",
+            "LOCALHOST:1",
+            "127.0.0.1",
+            "127.0.0.1:8737",
+            "127.1.2.3:80",
+            "[::1]:8737",
+            "[::1]",
+        ] {
+            assert!(is_loopback_host(host), "{host}");
+        }
+        for host in
+            ["evil.example:8737", "example.com", "10.0.0.1:8737", "0.0.0.0:8737", "[::2]:80", "localhost.evil.com", ""]
+        {
+            assert!(!is_loopback_host(host), "{host}");
+        }
+    }
 }
