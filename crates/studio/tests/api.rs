@@ -280,9 +280,10 @@ fn a_scene_reads_inputs_from_the_workspace_and_nowhere_else() {
 #[test]
 fn a_newer_generation_of_a_session_supersedes_the_running_one() {
     let studio = Studio::new();
-    // A slow scene: the contour template grown from 400 000 particles.
+    // A slow scene: the contour template grown from 600 000 particles (about a second here,
+    // its growth alone hundreds of times longer than the quick scene's whole run).
     let mut slow = studio.template("contours");
-    slow["generator"]["contours"]["particles"] = 400_000.into();
+    slow["generator"]["contours"]["particles"] = 600_000.into();
     let quick = island_scene(&studio).to_string();
     let progress = |session| {
         let (_, bytes) = studio.send_as(Some(session), "GET", "/api/progress", Body::empty());
