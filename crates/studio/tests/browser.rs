@@ -557,6 +557,54 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     let raised = result_field(client, "max").await.as_f64().unwrap();
     assert!(raised > 1400.0, "the tree's peak 0 at 1500 m: the terrain's top at {raised} m");
     screenshot(client, "studio-orometry").await;
+    vector_gestures(client, map, id).await
+}
+
+/// The uploaded DEM vectorized; a landform copied and pasted elsewhere, a crest node dragged.
+async fn vector_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
+    client.find(Locator::Id("vectorize")).await.unwrap().click().await.unwrap();
+    id = next_result(client, id).await;
+    assert_eq!(doc(client).await["generator"]["gaussian"]["source"]["path"], "jacksboro.asc");
+    // Jacksboro is in degrees: a radius of 0.03° (about 3 km).
+    let radius = client.find(Locator::Id("warp-radius")).await.unwrap();
+    radius.clear().await.unwrap();
+    radius.send_keys("0.03").await.unwrap();
+    choose_tool(client, "copy-landform").await;
+    drag(client, map, &[(0.0, 0.0)]).await;
+    id = next_result(client, id).await;
+    // The sample under a point of the map, `(x, y)` pixels from its centre.
+    let at = |x: f64, y: f64| {
+        format!(
+            "const r = window.studio.result, e = r.extent, [wx, wy] = window.studio.canvasToWorld(320 + {x}, 320 + {y}); \
+             const i = Math.round((wx - e.min[0]) / (e.max[0] - e.min[0]) * (r.width - 1)); \
+             const j = Math.round((e.max[1] - wy) / (e.max[1] - e.min[1]) * (r.height - 1)); \
+             return r.z[j * r.width + i]"
+        )
+    };
+    let before = js(client, &at(150.0, 60.0)).await.as_f64().unwrap();
+    choose_tool(client, "paste-landform").await;
+    drag(client, map, &[(150.0, 60.0)]).await;
+    id = next_result(client, id).await;
+    let ops = doc(client).await["generator"]["gaussian"]["operations"].clone();
+    assert_eq!((ops[0]["op"].as_str(), ops[0]["name"].as_str()), (Some("copy"), Some("landform-1")), "{ops}");
+    assert_eq!((ops[1]["op"].as_str(), ops[1]["landform"].as_str()), (Some("paste"), Some("landform-1")), "{ops}");
+    let after = js(client, &at(150.0, 60.0)).await.as_f64().unwrap();
+    assert!((after - before).abs() > 5.0, "the pasted landform changed the ground there: {before} → {after} m");
+    // The crest skeleton appears with the crest tool; a node dragged 20 px east.
+    choose_tool(client, "move-crest").await;
+    wait_for(client, "Number(document.body.dataset.skeleton || 0) > 0").await;
+    let node = js(
+        client,
+        "const n = window.studio.skeleton[Math.floor(window.studio.skeleton.length / 2)]; \
+         const [x, y] = window.studio.worldToCanvas(n.position); return [n.id, x - 320, y - 320]",
+    )
+    .await;
+    let (x, y) = (node[1].as_f64().unwrap(), node[2].as_f64().unwrap());
+    drag(client, map, &[(x, y), (x + 10.0, y), (x + 20.0, y)]).await;
+    id = next_result(client, id).await;
+    let moved = &doc(client).await["generator"]["gaussian"]["operations"][2];
+    assert_eq!((moved["op"].as_str(), moved["node"].as_u64()), (Some("move_crest"), node[0].as_u64()), "{moved}");
+    assert!(moved["by"][0].as_f64().unwrap() > 0.0, "{moved}");
     id
 }
 

@@ -131,6 +131,7 @@ function showResult(r) {
     return [table[c], table[c + 1], table[c + 2]];
   });
   loadPeaks();
+  loadSkeleton();
   document.body.dataset.resultId = String(result.id);
 }
 
@@ -348,6 +349,7 @@ function drawInputs(ctx) {
     for (const curve of g.curves || []) polyline(ctx, curve.points, false);
   }
   if (kind === "orometry" && result.divide_tree) drawTree(ctx, result.divide_tree);
+  if (kind === "gaussian" && skeleton && tool() === "move-crest") drawSkeleton(ctx);
   if (peaks && $("show-peaks").checked) drawPeaks(ctx);
   if (paint.canvas && tool() === "paint" && sameExtent(paint.extent, result.extent)) {
     const [x0, y0] = worldToCanvas([paint.extent.min[0], paint.extent.max[1]]);
@@ -440,7 +442,9 @@ function pointerWorld(event) {
   const rect = canvas.getBoundingClientRect();
   const cx = ((event.clientX - rect.left) * canvas.width) / rect.width;
   const cy = ((event.clientY - rect.top) * canvas.height) / rect.height;
-  return canvasToWorld(cx, cy).map((v) => Math.round(v * 100) / 100);
+  // Rounded to a tenth of a pixel's size: short JSON, and no precision lost in degrees.
+  const step = Math.pow(10, Math.floor(Math.log10(1 / view.sx)) - 1);
+  return canvasToWorld(cx, cy).map((v) => Math.round(v / step) * step).map((v) => Number(v.toPrecision(12)));
 }
 
 // The growth-probability painting (a gray image over the result's extent, brighter grows first):
@@ -606,13 +610,73 @@ const PRESETS = {
 // Vector terrain tools from a press at `a` released at `b` (`n` points dragged).
 const GAUSSIAN_TOOLS = {
   stamp: (a, b, n) => n >= 2 && {
-    op: "stamp", region: { shape: "circle", center: a, radius: radius() },
-    placement: { to: b, rotation: 0, scale: 1 }, mode: "copy", damping: 0.02,
+    op: "stamp", region: circle(a), placement: { to: b, rotation: 0, scale: 1 }, mode: "copy", damping: radius() / 10,
   },
-  twist: (a) => ({ op: "twist", region: { shape: "circle", center: a, radius: radius() }, angle: 1.0, falloff: 0.5 }),
+  twist: (a) => ({ op: "twist", region: circle(a), angle: 1.0, falloff: radius() / 2 }),
+  squeeze: (a, b, n) => n >= 2 && { op: "squeeze", region: circle(a), by: [b[0] - a[0], b[1] - a[1]], falloff: radius() / 2 },
+  "copy-landform": (a) => ({ op: "copy", region: circle(a), name: `landform-${copies().length + 1}` }),
+  "paste-landform": (a) => copies().length > 0 && {
+    op: "paste", landform: copies()[copies().length - 1], footprint: radius(),
+    placement: { to: a, rotation: 0, scale: 1 }, damping: radius() / 10,
+  },
   "raise-crest": (a) => ({ op: "raise_crest", near: a, factor: 0.4 }),
-  "move-crest": (a, b, n) => n >= 2 && { op: "move_crest", near: a, by: [b[0] - a[0], b[1] - a[1]] },
+  "move-crest": (a, b, n) => {
+    if (n < 2) return false;
+    const node = nearestNode(a);
+    const by = [b[0] - a[0], b[1] - a[1]];
+    return node === null ? { op: "move_crest", near: a, by } : { op: "move_crest", node, by };
+  },
 };
+
+/** A circular selection at `p` of the radius setting. */
+function circle(p) {
+  return { shape: "circle", center: p, radius: radius() };
+}
+
+/** The landforms the scene's copy tools keep, in order. */
+function copies() {
+  return doc.generator.gaussian.operations.filter((op) => op.op === "copy" || op.op === "cut").map((op) => op.name);
+}
+
+// The crest skeleton of the current vector terrain (exported by a full run when the crest tool is
+// chosen): its nodes, whose ids `move_crest` takes.
+let skeleton = null;
+
+async function loadSkeleton() {
+  skeleton = null;
+  if (generatorKind() !== "gaussian" || tool() !== "move-crest") return;
+  const exportHeaders = { "x-relief-session": `${session}-skeleton` };
+  const response = await fetch("/api/export/skeleton.geojson", { method: "POST", body: JSON.stringify(doc), headers: exportHeaders });
+  if (!response.ok) return;
+  const geojson = await response.json();
+  skeleton = geojson.features
+    .filter((f) => f.geometry.type === "Point")
+    .map((f) => ({ id: f.properties.id, position: f.geometry.coordinates }));
+  document.body.dataset.skeleton = String(skeleton.length);
+  drawMap();
+}
+
+/** The id of the skeleton node nearest `p` within 12 pixels, or null. */
+function nearestNode(p) {
+  if (!skeleton) return null;
+  let best = null;
+  let distance = 12 / view.sx;
+  for (const node of skeleton) {
+    const d = Math.hypot(node.position[0] - p[0], node.position[1] - p[1]);
+    if (d < distance) [best, distance] = [node.id, d];
+  }
+  return best;
+}
+
+function drawSkeleton(ctx) {
+  ctx.fillStyle = "rgba(120, 255, 220, 0.95)";
+  for (const node of skeleton) {
+    const [x, y] = worldToCanvas(node.position);
+    ctx.beginPath();
+    ctx.arc(x, y, 3, 0, 2 * Math.PI);
+    ctx.fill();
+  }
+}
 
 /** At most 24 points of a dragged course, at least 1/40 of the map apart. */
 function simplified(points) {
@@ -745,7 +809,7 @@ async function openUpload() {
 function vectorizeUpload() {
   startFrom({
     version: 1, seed: 1, description: `${uploaded}, vectorized into generalized Gaussians (Perche et al. 2025).`,
-    generator: { gaussian: { source: { kind: "dem", path: uploaded, primitives: 2000, iterations: 60, resolution: 256 }, operations: [] } },
+    generator: { gaussian: { source: { kind: "dem", path: uploaded, primitives: 1000, iterations: 40, resolution: 192 }, operations: [] } },
     reconstruction: { resolution: [512, 512] },
   });
 }
@@ -802,6 +866,9 @@ async function start() {
   $("open-dem").onclick = openUpload;
   $("show-peaks").onchange = () => (peaks ? drawMap() : loadPeaks());
   $("min-prominence").onchange = loadPeaks;
+  for (const radio of document.querySelectorAll('input[name="tool"]')) {
+    radio.addEventListener("change", () => (radio.value === "move-crest" ? loadSkeleton() : drawMap()));
+  }
   $("filters").onclick = () => editDoc((d) => d.generator.island.operations.push({ add_filters: { coverage: 1 } }));
   const map = $("map");
   map.addEventListener("pointerdown", onPointerDown);
@@ -824,6 +891,8 @@ async function start() {
 window.studio = {
   get doc() { return doc; },
   get result() { return result; },
+  get skeleton() { return skeleton; },
+  worldToCanvas, canvasToWorld,
   timings, setDoc, editDoc, undo, redo, generate, cancel, save, load, loadTemplate, closeRegion, exportOutput,
 };
 
