@@ -235,15 +235,18 @@ fn scenes_save_and_load_inside_the_workspace_only() {
     let scene = island_scene(&studio);
     let (status, _) = studio.send("PUT", "/api/scenes/my-island.json", scene.to_string());
     assert_eq!(status, StatusCode::NO_CONTENT);
+    // Only scenes are listed, not the inputs beside them.
+    let (status, _) = studio.send("PUT", "/api/files/dem.asc", "ncols 2\nnrows 2\n");
+    assert_eq!(status, StatusCode::NO_CONTENT);
     let (_, list) = studio.json("GET", "/api/scenes", Body::empty());
     assert_eq!(list["scenes"], serde_json::json!(["my-island.json"]));
     let (status, back) = studio.json("GET", "/api/scenes/my-island.json", Body::empty());
     assert_eq!(status, StatusCode::OK);
     let parsed = |v: &Value| relief::Scene::from_json(&v.to_string()).unwrap();
     assert_eq!(parsed(&back), parsed(&scene));
-    // No temporary file is left beside it.
+    // No temporary file is left beside them.
     let files: Vec<_> = std::fs::read_dir(studio.dir.path().join("ws")).unwrap().collect();
-    assert_eq!(files.len(), 1);
+    assert_eq!(files.len(), 2);
     // Names that climb out, hide or are not scenes; a scene that is not valid is not saved.
     for name in ["..%2Fescape.json", ".hidden.json", "a%20b.json", "notes.txt"] {
         let (status, _) = studio.send("PUT", &format!("/api/scenes/{name}"), scene.to_string());
