@@ -27,6 +27,15 @@ fn load(glb: &[u8]) -> Loaded {
     let blob = doc.blob.clone().expect("the binary chunk");
     let primitive = doc.meshes().next().unwrap().primitives().next().unwrap();
     assert_eq!(primitive.mode(), gltf::mesh::Mode::Triangles);
+    // What an importer shows: the default scene's node holds the mesh, named; the material is
+    // matte (a terrain does not shine).
+    let scene = doc.default_scene().expect("a default scene");
+    let node = scene.nodes().next().expect("a node in the scene");
+    assert_eq!(node.mesh().map(|m| m.index()), Some(0));
+    assert_eq!((node.name(), doc.meshes().next().unwrap().name()), (Some("terrain"), Some("terrain")));
+    let material = primitive.material();
+    let pbr = material.pbr_metallic_roughness();
+    assert_eq!((material.name(), pbr.metallic_factor(), pbr.roughness_factor()), (Some("terrain"), 0.0, 1.0));
     let bounds = primitive.bounding_box();
     let reader = primitive.reader(|_| Some(&blob));
     Loaded {

@@ -291,6 +291,29 @@ fn a_preview_is_the_generated_heightfield() {
     }
 }
 
+/// Records how long each step took, as the pipeline reports it to the caller.
+#[derive(Default)]
+struct Durations(Vec<(&'static str, std::time::Duration)>);
+
+impl Progress for Durations {
+    fn start(&mut self, _: &'static str) {}
+    fn finish(&mut self, step: &'static str, elapsed: std::time::Duration) {
+        self.0.push((step, elapsed));
+    }
+}
+
+/// The summary's timings are the durations the caller was told, in milliseconds.
+#[test]
+fn the_summary_times_each_step_in_milliseconds() {
+    let mut scene = load_scene(root().join("fixtures/scenes/volcano-island-sketch.json")).unwrap();
+    scene.reconstruction.resolution = [64, 64];
+    let mut durations = Durations::default();
+    let terrain = generate(&scene, &root().join("fixtures/scenes"), &mut durations).unwrap();
+    let told: Vec<(&str, f64)> = durations.0.iter().map(|(s, d)| (*s, d.as_secs_f64() * 1000.0)).collect();
+    let reported: Vec<(&str, f64)> = terrain.summary.timings_ms.iter().map(|t| (t.step, t.ms)).collect();
+    assert_eq!(reported, told);
+}
+
 /// Cancels the run once `after` steps have finished, or once `after_units` units of a counted
 /// step are done.
 struct CancelAfter {
