@@ -73,9 +73,33 @@ pub(crate) struct Jobs {
     running: Mutex<usize>,
 }
 
+/// A job while its request is being answered. Dropping it (the request answered, or abandoned
+/// when the client disconnects) cancels the job and frees its place: an aborted request never
+/// holds a slot or keeps its generation running past the next step.
+pub(crate) struct Running<'a> {
+    jobs: &'a Jobs,
+    session: Option<String>,
+    /// The job.
+    pub(crate) job: Arc<Job>,
+}
+
+impl Drop for Running<'_> {
+    fn drop(&mut self) {
+        self.job.cancel();
+        self.jobs.end(self.session.as_deref(), &self.job);
+    }
+}
+
 impl Jobs {
+    /// A new job for `session`, cancelling the one it replaces; 503 when too many run. The job
+    /// ends when the returned guard drops.
+    pub(crate) fn run(&self, session: Option<&str>) -> Result<Running<'_>, ApiError> {
+        let job = self.start(session)?;
+        Ok(Running { jobs: self, session: session.map(str::to_owned), job })
+    }
+
     /// A new job for `session`, cancelling the one it replaces; 503 when too many run.
-    pub(crate) fn start(&self, session: Option<&str>) -> Result<Arc<Job>, ApiError> {
+    fn start(&self, session: Option<&str>) -> Result<Arc<Job>, ApiError> {
         let mut running = self.running.lock().unwrap_or_else(PoisonError::into_inner);
         if *running >= MAX_RUNNING {
             let error = format!("{MAX_RUNNING} generations are running: try again when one ends");
@@ -93,7 +117,7 @@ impl Jobs {
     }
 
     /// `job` ended: it is no longer `session`'s running job (unless a newer one replaced it).
-    pub(crate) fn end(&self, session: Option<&str>, job: &Arc<Job>) {
+    fn end(&self, session: Option<&str>, job: &Arc<Job>) {
         *self.running.lock().unwrap_or_else(PoisonError::into_inner) -= 1;
         if let Some(session) = session {
             let mut jobs = self.by_session.lock().unwrap_or_else(PoisonError::into_inner);
@@ -131,6 +155,18 @@ mod tests {
         assert!(jobs.get("a").is_none());
         jobs.end(Some("b"), &other);
         jobs.end(None, &anonymous);
+        assert_eq!(*jobs.running.lock().unwrap(), 0);
+    }
+
+    #[test]
+    fn a_dropped_guard_cancels_its_job_and_frees_its_place() {
+        let jobs = Jobs::default();
+        let running = jobs.run(Some("a")).unwrap();
+        let job = Arc::clone(&running.job);
+        assert!(jobs.get("a").is_some() && !job.cancelled.load(Ordering::Relaxed));
+        drop(running);
+        assert!(job.cancelled.load(Ordering::Relaxed), "an abandoned generation stops");
+        assert!(jobs.get("a").is_none());
         assert_eq!(*jobs.running.lock().unwrap(), 0);
     }
 

@@ -394,6 +394,33 @@ fn an_uploaded_dem_opens_with_its_peaks_and_divide_tree() {
     assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
 }
 
+/// A page that aborts its request (a newer edit, a closed tab) drops the handler: its generation
+/// is cancelled and its place freed, not left running.
+#[test]
+fn an_abandoned_request_frees_its_generation() {
+    let studio = Studio::new();
+    let mut slow = studio.template("contours");
+    slow["generator"]["contours"]["particles"] = 600_000.into();
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    runtime.block_on(async {
+        let request =
+            Request::post("/api/generate").header("x-relief-session", "gone").body(Body::from(slow.to_string()));
+        let task = tokio::spawn(studio.router.clone().oneshot(request.unwrap()));
+        let progress = || async {
+            let request = Request::get("/api/progress").header("x-relief-session", "gone").body(Body::empty()).unwrap();
+            let body = studio.router.clone().oneshot(request).await.unwrap().into_body().collect().await.unwrap();
+            serde_json::from_slice::<Value>(&body.to_bytes()).unwrap()
+        };
+        while progress().await["running"] != true {
+            assert!(!task.is_finished(), "it ended before it was seen running");
+            tokio::time::sleep(std::time::Duration::from_millis(5)).await;
+        }
+        task.abort();
+        assert!(task.await.unwrap_err().is_cancelled());
+        assert_eq!(progress().await["running"], false, "the abandoned job is gone");
+    });
+}
+
 /// A gray PNG of `size`² pixels.
 fn image_bytes(size: u32, pixel: impl Fn(u32, u32) -> u8) -> Vec<u8> {
     let mut bytes = Vec::new();

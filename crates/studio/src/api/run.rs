@@ -21,14 +21,14 @@ pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes
     let scene = parse_scene(&body)?;
     let start = Instant::now();
     let session = session(&headers)?;
-    let job = app.jobs.start(session.as_deref())?;
-    let (worker, running) = (Arc::clone(&app), Arc::clone(&job));
+    let guard = app.jobs.run(session.as_deref())?;
+    let (worker, running) = (Arc::clone(&app), Arc::clone(&guard.job));
     let generated = tokio::task::spawn_blocking(move || {
         let mut progress = crate::jobs::JobProgress(running);
         relief::pipeline::preview_with(&scene, worker.workspace.root(), &worker.budget, &mut progress)
     })
     .await;
-    app.jobs.end(session.as_deref(), &job);
+    drop(guard);
     let preview = match generated.map_err(ApiError::internal)? {
         Err(relief::ReliefError::Cancelled) => {
             return Err(ApiError::new(StatusCode::CONFLICT, "cancelled: a newer generation superseded it"));
@@ -101,8 +101,8 @@ pub(super) async fn export(
     let mut scene = parse_scene(&body)?;
     only_output(&mut scene, field, &file)?;
     let session = session(&headers)?;
-    let job = app.jobs.start(session.as_deref())?;
-    let (worker, running, name) = (Arc::clone(&app), Arc::clone(&job), file.clone());
+    let guard = app.jobs.run(session.as_deref())?;
+    let (worker, running, name) = (Arc::clone(&app), Arc::clone(&guard.job), file.clone());
     let written = tokio::task::spawn_blocking(move || -> Result<Option<Vec<u8>>, ApiError> {
         let dir = tempfile::tempdir().map_err(ApiError::internal)?;
         let mut progress = crate::jobs::JobProgress(running);
@@ -113,7 +113,7 @@ pub(super) async fn export(
         }
     })
     .await;
-    app.jobs.end(session.as_deref(), &job);
+    drop(guard);
     let bytes = written.map_err(ApiError::internal)??.ok_or_else(|| {
         let generator = "this scene's generator does not write";
         ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, format!("{generator} {file}"))
