@@ -133,6 +133,13 @@ fn is_loopback_host(host: &str) -> bool {
     name.eq_ignore_ascii_case("localhost") || name.parse::<std::net::IpAddr>().is_ok_and(|ip| ip.is_loopback())
 }
 
+/// A file to download: its content type and its name for the browser's save dialog.
+pub(crate) fn attachment(file: &str, content_type: &str, bytes: Vec<u8>) -> Response {
+    let disposition = format!("attachment; filename=\"{file}\"");
+    ([(header::CONTENT_TYPE, content_type.to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes)
+        .into_response()
+}
+
 /// `GET /api/info`: the version, the workspace and the template names.
 async fn info(State(app): Shared) -> Json<Value> {
     let templates: Vec<&str> = crate::assets::templates().iter().map(|(name, _)| *name).collect();

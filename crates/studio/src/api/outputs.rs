@@ -56,9 +56,7 @@ pub(super) async fn download(
     })
     .await
     .map_err(ApiError::internal)??;
-    let disposition = format!("attachment; filename=\"{file}\"");
-    Ok(([(header::CONTENT_TYPE, (*content_type).to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes)
-        .into_response())
+    Ok(super::attachment(&file, content_type, bytes))
 }
 
 /// `?min_prominence=M` (default: 5 % of the result's relief).

@@ -7,8 +7,8 @@ use std::time::Instant;
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
-use axum::http::{HeaderMap, StatusCode, header};
-use axum::response::{IntoResponse, Response};
+use axum::http::{HeaderMap, StatusCode};
+use axum::response::Response;
 use serde_json::{Value, json};
 
 use super::{Shared, parse_scene, session};
@@ -118,9 +118,7 @@ pub(super) async fn export(
         let generator = "this scene's generator does not write";
         ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, format!("{generator} {file}"))
     })?;
-    let disposition = format!("attachment; filename=\"{file}\"");
-    Ok(([(header::CONTENT_TYPE, (*content_type).to_owned()), (header::CONTENT_DISPOSITION, disposition)], bytes)
-        .into_response())
+    Ok(super::attachment(&file, content_type, bytes))
 }
 
 /// `GET /api/progress`: where the session's running generation is.
