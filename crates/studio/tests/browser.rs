@@ -467,6 +467,7 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     )
     .await;
     assert!((crest.as_f64().unwrap() - 900.0).abs() < 90.0, "the crest is at {crest} m");
+    id = bezier_gestures(client, map, id).await;
     screenshot(client, "studio-curves").await;
 
     // A paint-program mask uploaded through the page, then traced as a new island's coast: a
@@ -558,6 +559,73 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     assert!(raised > 1400.0, "the tree's peak 0 at 1500 m: the terrain's top at {raised} m");
     screenshot(client, "studio-orometry").await;
     vector_gestures(client, map, id).await
+}
+
+/// On the curve template (12.5 m per pixel, the map's centre at 4 km, 4 km): a free Bézier curve
+/// drawn west to east with its slopes steeper on the left, a lower constraint placed at its
+/// middle, and its end anchor dragged north.
+async fn bezier_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
+    js(
+        client,
+        "document.getElementById('height').value = 700; document.getElementById('c-theta').value = 30; \
+         document.getElementById('c-phi').value = 5; document.getElementById('warp-radius').value = 800; \
+         for (const c of ['c-elevation', 'c-slope', 'c-noise']) document.getElementById(c).checked = true",
+    )
+    .await;
+    choose_tool(client, "bezier").await;
+    let course: Vec<(f64, f64)> = (0..=20).map(|k| (-200.0 + 20.0 * f64::from(k), 220.0)).collect();
+    drag(client, map, &course).await;
+    id = next_result(client, id).await;
+    let curve = doc(client).await["generator"]["diffusion"]["curves"][0].clone();
+    let points = curve["points"].as_array().unwrap();
+    assert!(points.len() >= 4 && (points.len() - 1) % 3 == 0, "a cubic Bézier spline: {curve}");
+    assert_eq!((points[0][0].as_f64(), points[0][1].as_f64()), (Some(1500.0), Some(1250.0)), "{curve}");
+    let ends = &curve["constraints"];
+    assert_eq!((ends[0]["u"].as_f64(), ends[1]["u"].as_f64()), (Some(0.0), Some(1.0)), "{curve}");
+    assert_eq!(ends[0]["elevation"]["h"].as_f64(), Some(700.0), "{curve}");
+    assert_eq!((ends[0]["slope"]["theta"].as_f64(), ends[0]["slope"]["phi"].as_f64()), (Some(30.0), Some(5.0)));
+    let on = z_at_px(client, 0.0, 220.0).await;
+    assert!((on - 700.0).abs() < 40.0, "the curve's middle at {on} m");
+    // θ = 30° on the left (north of a west-to-east curve), φ = 5° on the right, 250 m out.
+    let (north, south) = (z_at_px(client, 0.0, 200.0).await, z_at_px(client, 0.0, 240.0).await);
+    assert!(north < on - 60.0 && south - north > 50.0, "250 m north {north} m, on {on} m, 250 m south {south} m");
+
+    // A click on the curve's middle, the height at 300 m: a third constraint there.
+    js(client, "document.getElementById('height').value = 300").await;
+    choose_tool(client, "constrain").await;
+    drag(client, map, &[(0.0, 220.0)]).await;
+    id = next_result(client, id).await;
+    let constraints = doc(client).await["generator"]["diffusion"]["curves"][0]["constraints"].clone();
+    let middle = &constraints[1];
+    assert_eq!(constraints.as_array().unwrap().len(), 3, "{constraints}");
+    assert!((middle["u"].as_f64().unwrap() - 0.5).abs() < 0.02, "{constraints}");
+    assert_eq!(middle["elevation"]["h"].as_f64(), Some(300.0), "{constraints}");
+    let lowered = z_at_px(client, 0.0, 220.0).await;
+    assert!((lowered - 300.0).abs() < 40.0, "the constrained middle at {lowered} m");
+
+    // The end anchor dragged 40 px (500 m) north takes its handle along.
+    choose_tool(client, "move-control").await;
+    drag(client, map, &[(200.0, 220.0), (200.0, 200.0), (200.0, 180.0)]).await;
+    id = next_result(client, id).await;
+    let moved = doc(client).await["generator"]["diffusion"]["curves"][0]["points"].clone();
+    let n = moved.as_array().unwrap().len();
+    let shift = |k: usize| {
+        let (a, b) = (&points[k], &moved[k]);
+        (b[0].as_f64().unwrap() - a[0].as_f64().unwrap(), b[1].as_f64().unwrap() - a[1].as_f64().unwrap())
+    };
+    assert_eq!((shift(n - 1), shift(n - 2), shift(0)), ((0.0, 500.0), (0.0, 500.0), (0.0, 0.0)), "{moved}");
+    let end = z_at_px(client, 200.0, 180.0).await;
+    assert!((end - 700.0).abs() < 40.0, "the moved end at {end} m");
+    id
+}
+
+/// The current result's elevation at a pixel offset from the map's centre (a square extent).
+async fn z_at_px(client: &Client, dx: f64, dy: f64) -> f64 {
+    let script = format!(
+        "const r = window.studio.result; const i = Math.round((320 + {dx}) / 640 * (r.width - 1)); \
+         const j = Math.round((320 + {dy}) / 640 * (r.height - 1)); return r.z[j * r.width + i]"
+    );
+    js(client, &script).await.as_f64().unwrap()
 }
 
 /// The uploaded DEM vectorized; a landform copied and pasted elsewhere, a crest node dragged.

@@ -2,6 +2,7 @@
 // generates (POST /api/generate); the heightfield comes back as f32 samples for the 2D map and
 // the 3D view. Plain JavaScript, no build step: the server ships this file as it is.
 import { setup3d, show3d } from "/view3d.js";
+import { centreLine, moveControl, nearestOnLine, placeConstraint, pointAt, smoothThrough } from "/bezier.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -346,7 +347,8 @@ function drawInputs(ctx) {
       if (v.points) polyline(ctx, v.points, false);
       if (v.ends) v.ends.forEach((end) => polyline(ctx, [v.peak, end], false));
     }
-    for (const curve of g.curves || []) polyline(ctx, curve.points, false);
+    for (const curve of g.curves || []) polyline(ctx, centreLine(curve.points), false);
+    if (tool() === "move-control" || tool() === "constrain") drawCurveHandles(ctx, g.curves || []);
   }
   if (kind === "orometry" && result.divide_tree) drawTree(ctx, result.divide_tree);
   if (kind === "gaussian" && skeleton && tool() === "move-crest") drawSkeleton(ctx);
@@ -431,7 +433,7 @@ function drawPeaks(ctx) {
 // ---------------------------------------------------------------------------------------------
 // Tools: each gesture becomes one scene edit.
 
-const pending = { points: [], start: null, hill: -1 };
+const pending = { points: [], start: null, hill: -1, control: null };
 
 function tool() {
   return document.querySelector('input[name="tool"]:checked').value;
@@ -442,9 +444,13 @@ function pointerWorld(event) {
   const rect = canvas.getBoundingClientRect();
   const cx = ((event.clientX - rect.left) * canvas.width) / rect.width;
   const cy = ((event.clientY - rect.top) * canvas.height) / rect.height;
-  // Rounded to a tenth of a pixel's size: short JSON, and no precision lost in degrees.
+  return roundWorld(canvasToWorld(cx, cy));
+}
+
+/** `p` rounded to a tenth of a pixel's size: short JSON, and no precision lost in degrees. */
+function roundWorld(p) {
   const step = Math.pow(10, Math.floor(Math.log10(1 / view.sx)) - 1);
-  return canvasToWorld(cx, cy).map((v) => Math.round(v / step) * step).map((v) => Number(v.toPrecision(12)));
+  return p.map((v) => Math.round(v / step) * step).map((v) => Number(v.toPrecision(12)));
 }
 
 // The growth-probability painting (a gray image over the result's extent, brighter grows first):
@@ -513,6 +519,7 @@ function onPointerDown(event) {
     const near = (h) => Math.hypot(h.center[0] - p[0], h.center[1] - p[1]);
     pending.hill = hills.length ? hills.indexOf(hills.reduce((a, b) => (near(a) <= near(b) ? a : b))) : -1;
   }
+  if (t === "move-control") pending.control = nearestControl(p);
 }
 
 function onPointerMove(event) {
@@ -568,6 +575,8 @@ function onPointerUp(event) {
     addEdit(CONTOUR_CLICKS[t](start));
   } else if ((t === "cut" || t === "paste") && points.length >= 2) {
     addEdit({ [t]: { at: start, to: end } });
+  } else if (CURVE_TOOLS[t]) {
+    CURVE_TOOLS[t](start, end, points);
   } else if (PRESETS[t] && points.length >= 3) {
     const preset = PRESETS[t](simplified(points), Math.abs(Number($("height").value)));
     editDoc((d) => (d.generator.diffusion.presets = (d.generator.diffusion.presets || []).concat([preset])));
@@ -606,6 +615,112 @@ const PRESETS = {
   "hill-curve": (points, h) => ({ hill: { points, h, extent: radius() } }),
   crack: (points) => ({ crack: { points, angle: 40, extent: radius() / 2 } }),
 };
+
+// Free feature curves (§3.1): drawn as smooth Béziers, constrained at any point, reshaped by
+// their control points. Constraints take the settings: the height, the slope angles over the
+// radius, the noise.
+const CURVE_TOOLS = {
+  bezier: (start, end, points) => {
+    const anchors = simplified(points);
+    const step = Math.ceil(anchors.length / 8);
+    const kept = anchors.filter((_, k) => k % step === 0 || k === anchors.length - 1);
+    const constraints = [curveConstraint(0), curveConstraint(1)];
+    if (kept.length < 2 || !hasConstraint(constraints[0])) return refuse("draw a longer curve, with at least one constraint group ticked");
+    const curve = { points: smoothThrough(kept, roundWorld), constraints };
+    editDoc((d) => (d.generator.diffusion.curves = (d.generator.diffusion.curves || []).concat([curve])));
+  },
+  constrain: (start) => {
+    const near = nearestCurve(start);
+    const added = near && curveConstraint(near.u);
+    if (!near || !hasConstraint(added)) return refuse("click on a Bézier curve, with at least one constraint group ticked");
+    editDoc((d) => {
+      const curve = d.generator.diffusion.curves[near.curve];
+      curve.constraints = placeConstraint(curve.constraints, added);
+    });
+  },
+  "move-control": (start, end) => {
+    const near = pending.control;
+    pending.control = null;
+    if (!near) return refuse("press on a curve's control point (shown as a square or a dot)");
+    const by = [end[0] - start[0], end[1] - start[1]];
+    editDoc((d) => {
+      const curve = d.generator.diffusion.curves[near.curve];
+      curve.points = moveControl(curve.points, near.k, by, roundWorld);
+    });
+  },
+};
+
+/** A constraint at `u` from the settings: the groups ticked, with their values. */
+function curveConstraint(u) {
+  const c = { u: Math.max(0, Math.min(1, Number(u.toFixed(4)))) };
+  if ($("c-elevation").checked) c.elevation = { h: Number($("height").value), r: 0 };
+  if ($("c-slope").checked) {
+    const angle = (id) => Math.max(-89, Math.min(89, Number($(id).value) || 0));
+    c.slope = { a: radius(), b: radius(), theta: angle("c-theta"), phi: angle("c-phi") };
+  }
+  if ($("c-noise").checked) {
+    const roughness = Math.max(0, Math.min(1, Number($("c-roughness").value) || 0));
+    c.noise = { amplitude: Math.abs(Number($("c-amplitude").value)) || 0, roughness };
+  }
+  return c;
+}
+
+function hasConstraint(c) {
+  return Boolean(c.elevation || c.slope || c.noise);
+}
+
+/** Says why a gesture did nothing, and redraws. */
+function refuse(why) {
+  $("message").textContent = why;
+  drawMap();
+}
+
+/** The scene's curve nearest `p` within 16 pixels: `{ curve, u }`, or null. */
+function nearestCurve(p) {
+  let best = null;
+  (doc.generator.diffusion.curves || []).forEach((curve, k) => {
+    const near = nearestOnLine(centreLine(curve.points), p);
+    if (near.distance * view.scale <= 16 && (!best || near.distance < best.distance)) best = { curve: k, u: near.u, distance: near.distance };
+  });
+  return best;
+}
+
+/** The control point nearest `p` within 12 pixels: `{ curve, k }`, or null. */
+function nearestControl(p) {
+  let best = null;
+  let distance = 12 / view.scale;
+  (doc.generator.diffusion.curves || []).forEach((curve, c) => {
+    curve.points.forEach((q, k) => {
+      const d = Math.hypot(q[0] - p[0], q[1] - p[1]);
+      if (d < distance) [best, distance] = [{ curve: c, k }, d];
+    });
+  });
+  return best;
+}
+
+/** Each curve's control polygon (anchors as squares, handles as dots) and its constraint
+ * points, labelled with their elevation. */
+function drawCurveHandles(ctx, curves) {
+  for (const curve of curves) {
+    ctx.strokeStyle = "rgba(255, 255, 255, 0.35)";
+    polyline(ctx, curve.points, false);
+    ctx.fillStyle = "#fff";
+    curve.points.forEach((q, k) => {
+      const [x, y] = worldToCanvas(q);
+      if (k % 3 === 0 || curve.points.length === 2) ctx.fillRect(x - 3, y - 3, 7, 7);
+      else ctx.fillRect(x - 2, y - 2, 4, 4);
+    });
+    const line = centreLine(curve.points);
+    ctx.fillStyle = "rgba(255, 220, 60, 1)";
+    for (const c of curve.constraints) {
+      const [x, y] = worldToCanvas(pointAt(line, c.u));
+      ctx.beginPath();
+      ctx.arc(x, y, 4, 0, 2 * Math.PI);
+      ctx.fill();
+      if (c.elevation) ctx.fillText(`${c.elevation.h.toFixed(0)} m`, x + 5, y + 12);
+    }
+  }
+}
 
 // Vector terrain tools from a press at `a` released at `b` (`n` points dragged).
 const GAUSSIAN_TOOLS = {
