@@ -354,6 +354,35 @@ fn a_cancelled_run_stops_before_its_next_step_or_unit() {
     assert!(matches!(error, relief::ReliefError::Cancelled), "{error}");
     assert_eq!(progress.units, 1);
     assert!(generate(&island, &root(), &mut ()).is_ok());
+    // Within a DEM's vectorization: its fit stops at the iteration the cancel came after.
+    let vectorize: relief::Scene = serde_json::from_value(serde_json::json!({
+        "version": 1,
+        "generator": { "gaussian": { "source": { "kind": "dem", "path": "fixtures/dem/jacksboro.asc",
+            "primitives": 40, "iterations": 60, "resolution": 32 }, "operations": [] } },
+        "reconstruction": { "resolution": [32, 32] }
+    }))
+    .unwrap();
+    let mut progress = CancelAfter { steps: Steps::default(), after: usize::MAX, units: 0, after_units: 3 };
+    let error = generate(&vectorize, &root(), &mut progress).unwrap_err();
+    assert!(matches!(error, relief::ReliefError::Cancelled), "{error}");
+    assert_eq!(progress.units, 3, "the fit went on after the cancel");
+    let mut fit = FitProgress::default();
+    assert!(generate(&vectorize, &root(), &mut fit).is_ok());
+    assert_eq!(fit.0, (1..=60).map(|k| (k, 60)).collect::<Vec<_>>(), "each of the fit's iterations is reported");
+}
+
+/// The `source` step's progress reports: `(done, total)`, after the first (0 of the total).
+#[derive(Default)]
+struct FitProgress(Vec<(u64, u64)>);
+
+impl Progress for FitProgress {
+    fn start(&mut self, _: &'static str) {}
+    fn finish(&mut self, _: &'static str, _: std::time::Duration) {}
+    fn advance(&mut self, step: &'static str, done: u64, total: u64) {
+        if step == "source" && done > 0 {
+            self.0.push((done, total));
+        }
+    }
 }
 
 #[test]

@@ -96,10 +96,17 @@ impl Config {
 /// # Errors
 /// [`StudioError::Workspace`] when the workspace folder cannot be created or resolved.
 pub fn router(config: &Config) -> Result<axum::Router, StudioError> {
+    Ok(build(config)?.0)
+}
+
+/// The routes and the state they share.
+fn build(config: &Config) -> Result<(axum::Router, Arc<api::App>), StudioError> {
     let workspace = workspace::Workspace::open(&config.workspace)?;
     let state = Arc::new(api::App::new(workspace, config));
-    let routes = api::routes(state, config.max_body_bytes);
-    Ok(if config.loopback_only { routes.layer(axum::middleware::from_fn(api::loopback_only)) } else { routes })
+    let routes = api::routes(Arc::clone(&state), config.max_body_bytes);
+    let routes =
+        if config.loopback_only { routes.layer(axum::middleware::from_fn(api::loopback_only)) } else { routes };
+    Ok((routes, state))
 }
 
 /// Serves the studio on `listener` until Ctrl-C.
@@ -107,13 +114,31 @@ pub fn router(config: &Config) -> Result<axum::Router, StudioError> {
 /// # Errors
 /// As [`router`], and [`StudioError::Serve`] when the server fails.
 pub async fn serve(listener: tokio::net::TcpListener, config: Config) -> Result<(), StudioError> {
-    let app = router(&config)?;
-    axum::serve(listener, app)
-        .with_graceful_shutdown(async {
-            // Without a signal handler the server runs until the process is killed.
-            if tokio::signal::ctrl_c().await.is_err() {
-                std::future::pending::<()>().await;
-            }
+    serve_until(listener, config, async {
+        // Without a signal handler the server runs until the process is killed.
+        if tokio::signal::ctrl_c().await.is_err() {
+            std::future::pending::<()>().await;
+        }
+    })
+    .await
+}
+
+/// Serves the studio on `listener` until `shutdown` completes, then finishes the requests in
+/// flight and returns. Open progress streams (a page left open) end at once rather than holding
+/// the shutdown.
+///
+/// # Errors
+/// As [`router`], and [`StudioError::Serve`] when the server fails.
+pub async fn serve_until(
+    listener: tokio::net::TcpListener,
+    config: Config,
+    shutdown: impl std::future::Future<Output = ()> + Send + 'static,
+) -> Result<(), StudioError> {
+    let (routes, state) = build(&config)?;
+    axum::serve(listener, routes)
+        .with_graceful_shutdown(async move {
+            shutdown.await;
+            state.close();
         })
         .await
         .map_err(StudioError::Serve)

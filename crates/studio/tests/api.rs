@@ -421,6 +421,97 @@ fn an_abandoned_request_frees_its_generation() {
     });
 }
 
+/// The page's event stream: a DEM's vectorization reports each fitting iteration as it runs,
+/// the cancel button stops it mid-fit, and the stream then says nothing runs.
+#[test]
+fn progress_streams_as_server_sent_events_down_to_the_fits_iterations() {
+    let studio = Studio::new();
+    let dem = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/dem/jacksboro.asc")).unwrap();
+    studio.send("PUT", "/api/files/jacksboro.asc", dem);
+    let slow = serde_json::json!({
+        "version": 1,
+        "generator": { "gaussian": { "source": { "kind": "dem", "path": "jacksboro.asc", "primitives": 400,
+                                                  "iterations": 100_000, "resolution": 96 }, "operations": [] } },
+        "reconstruction": { "resolution": [64, 64] }
+    });
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    runtime.block_on(async {
+        let events = Request::get("/api/events?session=ev").body(Body::empty()).unwrap();
+        let response = studio.router.clone().oneshot(events).await.unwrap();
+        assert_eq!(response.headers()["content-type"], "text/event-stream");
+        let mut body = response.into_body();
+        let mut next_event = async || -> Value {
+            let mut text = String::new();
+            loop {
+                if let Some(end) = text.find("\n\n") {
+                    let data = text[..end].lines().find_map(|l| l.strip_prefix("data: ")).map(str::to_owned);
+                    text.drain(..end + 2);
+                    if let Some(data) = data {
+                        return serde_json::from_str(&data).unwrap();
+                    }
+                    continue;
+                }
+                let frame = body.frame().await.expect("the stream ended").unwrap();
+                text.push_str(std::str::from_utf8(&frame.into_data().unwrap()).unwrap());
+            }
+        };
+        assert_eq!(next_event().await, serde_json::json!({ "running": false }));
+        let request =
+            Request::post("/api/generate").header("x-relief-session", "ev").body(Body::from(slow.to_string())).unwrap();
+        let running = tokio::spawn(studio.router.clone().oneshot(request));
+        // The fit's iterations, counted against its budget, rising.
+        let mut seen = Vec::new();
+        while seen.len() < 3 {
+            let event = next_event().await;
+            if event["step"] == "source" && event["done"].as_u64().unwrap() > 0 {
+                assert_eq!(event["total"], 100_000, "{event}");
+                seen.push(event["done"].as_u64().unwrap());
+            }
+        }
+        assert!(seen.is_sorted() && seen[0] < seen[2], "{seen:?}");
+        let cancel = Request::post("/api/cancel").header("x-relief-session", "ev").body(Body::empty()).unwrap();
+        assert!(studio.router.clone().oneshot(cancel).await.unwrap().status().is_success());
+        let response = tokio::time::timeout(std::time::Duration::from_secs(30), running).await;
+        assert_eq!(
+            response.expect("the fit went on after the cancel").unwrap().unwrap().status(),
+            StatusCode::CONFLICT
+        );
+        while next_event().await["running"] != false {}
+    });
+    let (status, _) = studio.send("GET", "/api/events?session=bad/name", Body::empty());
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+}
+
+/// A page left open holds a progress stream; stopping the server (Ctrl-C in `relief serve`)
+/// ends it instead of waiting for the tab to close.
+#[test]
+fn shutting_down_ends_the_open_event_streams() {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let dir = tempfile::tempdir().unwrap();
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    runtime.block_on(async {
+        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let address = listener.local_addr().unwrap();
+        let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+        let config = Config::new(dir.path().join("ws"));
+        let server = tokio::spawn(relief_studio::serve_until(listener, config, async {
+            stopped.await.ok();
+        }));
+        let mut page = tokio::net::TcpStream::connect(address).await.unwrap();
+        page.write_all(b"GET /api/events?session=open HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n").await.unwrap();
+        let mut received = Vec::new();
+        while !String::from_utf8_lossy(&received).contains("event: progress") {
+            let mut buffer = [0; 4096];
+            let n = page.read(&mut buffer).await.unwrap();
+            assert!(n > 0, "the stream closed before its first event");
+            received.extend_from_slice(&buffer[..n]);
+        }
+        stop.send(()).unwrap();
+        let ended = tokio::time::timeout(std::time::Duration::from_secs(10), server).await;
+        ended.expect("the open event stream held the shutdown").unwrap().unwrap();
+    });
+}
+
 /// A gray PNG of `size`² pixels.
 fn image_bytes(size: u32, pixel: impl Fn(u32, u32) -> u8) -> Vec<u8> {
     let mut bytes = Vec::new();

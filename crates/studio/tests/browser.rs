@@ -630,9 +630,18 @@ async fn z_at_px(client: &Client, dx: f64, dy: f64) -> f64 {
 
 /// The uploaded DEM vectorized; a landform copied and pasted elsewhere, a crest node dragged.
 async fn vector_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
+    // The status line, as the server's progress stream updates it during the fit.
+    js(
+        client,
+        "window.statuses = []; new MutationObserver(() => window.statuses.push(document.getElementById('status') \
+         .textContent)).observe(document.getElementById('status'), { childList: true, characterData: true, subtree: true })",
+    )
+    .await;
     client.find(Locator::Id("vectorize")).await.unwrap().click().await.unwrap();
     id = next_result(client, id).await;
     assert_eq!(doc(client).await["generator"]["gaussian"]["source"]["path"], "jacksboro.asc");
+    let fitting = js(client, "return window.statuses.filter(s => /^generating: source \\d+\\/40…$/.test(s))").await;
+    assert!(!fitting.as_array().unwrap().is_empty(), "the fit's iterations never showed: {fitting}");
     // Jacksboro is in degrees: a radius of 0.03° (about 3 km).
     let radius = client.find(Locator::Id("warp-radius")).await.unwrap();
     radius.clear().await.unwrap();

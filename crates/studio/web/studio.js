@@ -90,7 +90,6 @@ async function generate() {
   const signal = inFlight.signal;
   setState("generating", "generating…");
   const start = performance.now();
-  const poll = setInterval(() => showProgress(mine), 250);
   try {
     const response = await fetch("/api/generate", { method: "POST", body: JSON.stringify(doc), headers, signal });
     const body = await response.json();
@@ -112,8 +111,6 @@ async function generate() {
       $("message").textContent = String(error);
       setState("error", "failed");
     }
-  } finally {
-    clearInterval(poll);
   }
 }
 
@@ -136,10 +133,10 @@ function showResult(r) {
   document.body.dataset.resultId = String(result.id);
 }
 
-/** Shows the server's step while generation `mine` runs. */
-async function showProgress(mine) {
-  const state = await (await fetch("/api/progress", { headers })).json();
-  if (mine !== generation || document.body.dataset.state !== "generating" || !state.running) return;
+/** Shows the server's step while a generation runs: `state` is an event of the session's
+ * progress stream (GET /api/events), sent each time it changes. */
+function showProgress(state) {
+  if (document.body.dataset.state !== "generating" || !state.running) return;
   const counted = state.total ? ` ${state.done}/${state.total}` : "";
   $("status").textContent = `generating: ${state.step}${counted}…`;
 }
@@ -997,6 +994,8 @@ async function start() {
     if (e.key === "Enter") closeRegion();
     if (e.key === "Escape") { pending.points = []; drawMap(); }
   });
+  const events = new EventSource(`/api/events?session=${session}`);
+  events.addEventListener("progress", (event) => showProgress(JSON.parse(event.data)));
   setup3d($("view3d"));
   await listScenes();
   await loadTemplate("demo");

@@ -27,7 +27,11 @@ pub(super) fn generate(
     timer: &mut Timer<'_>,
 ) -> Result<Generated, ReliefError> {
     let at = format!("{GENERATOR}.source");
-    let mut terrain = timer.step("source", || load_source(&g.source, env, &at))?;
+    let iterations = match &g.source {
+        GaussianSource::Dem { iterations, .. } => *iterations as u64,
+        _ => 0,
+    };
+    let mut terrain = timer.counted("source", iterations, |tick| load_source(&g.source, env, &at, tick))?;
     env.budget.primitives(terrain.len() as u64, &at)?;
     let grid = raster_grid(scene, scene.domain.unwrap_or_else(|| terrain.extent()))?;
     let mut atlas = Atlas::default();
@@ -43,8 +47,14 @@ pub(super) fn generate(
     Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new(), vector, layers: None })
 }
 
-/// The starting vector terrain: written in the scene, read from a file, or fitted to a DEM.
-fn load_source(source: &GaussianSource, env: &Env<'_>, at: &str) -> Result<VectorTerrain, ReliefError> {
+/// The starting vector terrain: written in the scene, read from a file, or fitted to a DEM (each
+/// fitting iteration a unit of `tick`; a cancelled run stops the fit).
+fn load_source(
+    source: &GaussianSource,
+    env: &Env<'_>,
+    at: &str,
+    tick: &mut Tick<'_>,
+) -> Result<VectorTerrain, ReliefError> {
     match source {
         GaussianSource::Primitives(terrain) => Ok(terrain.clone()),
         GaussianSource::Terrain { path } => env.read_json(path, &format!("{at}.path")),
@@ -58,7 +68,13 @@ fn load_source(source: &GaussianSource, env: &Env<'_>, at: &str) -> Result<Vecto
                 detail_spacing: *details,
                 ..VectorizeOptions::default()
             };
-            let fitted = vectorize(&dem, &options, |_| ControlFlow::Continue(())).map_err(|e| E::at(at, e))?;
+            let fitted = vectorize(&dem, &options, |p| {
+                tick.reach(p.iteration as u64);
+                if tick.cancelled() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+            })
+            .map_err(|e| E::at(at, e))?;
+            // A fit stopped early is not the scene's terrain.
+            tick.check()?;
             fitted.terrain.validate().map_err(|e| E::at(at, e))?;
             Ok(fitted.terrain)
         }

@@ -20,8 +20,8 @@ pub trait Progress {
     /// `step` finished after `elapsed`.
     fn finish(&mut self, step: &'static str, elapsed: Duration);
     /// Within `step`, `done` of `total` units of work are done: the island's operations, the
-    /// Gaussian tools, the contour edits, the post-processing iterations (each erosion pass one
-    /// unit). Called with `done` rising from 0 to `total`; ignored by default.
+    /// Gaussian tools, a DEM's vectorization (its fitting iterations), the contour edits, the
+    /// post-processing iterations (each erosion pass one unit). Called with `done` rising from 0 to `total`; ignored by default.
     fn advance(&mut self, step: &'static str, done: u64, total: u64) {
         let _ = (step, done, total);
     }
@@ -122,9 +122,21 @@ impl Tick<'_> {
         self.progress.advance(self.step, self.done, self.total);
     }
 
+    /// `done` units are done (a step that counts its own units, as a fit counts its
+    /// iterations), never past the total.
+    pub(crate) fn reach(&mut self, done: u64) {
+        self.done = done.min(self.total);
+        self.progress.advance(self.step, self.done, self.total);
+    }
+
+    /// Whether the caller has cancelled the run, for work that stops through its own callback.
+    pub(crate) fn cancelled(&self) -> bool {
+        self.progress.cancelled()
+    }
+
     /// [`ReliefError::Cancelled`] when the caller has cancelled the run: checked by counted
     /// steps between their units.
     pub(crate) fn check(&self) -> Result<(), ReliefError> {
-        if self.progress.cancelled() { Err(ReliefError::Cancelled) } else { Ok(()) }
+        if self.cancelled() { Err(ReliefError::Cancelled) } else { Ok(()) }
     }
 }

@@ -13,10 +13,12 @@
 //! | `GET /api/results/{id}/peaks?min_prominence=M` | its peaks and divide tree (akirmse's conventions) |
 //! | `POST /api/export/{file}` | generate the scene in the body in full and return one of its outputs |
 //! | `GET /api/progress`, `POST /api/cancel` | the session's running generation: its step, or stop it |
+//! | `GET /api/events?session=ID` | the session's progress as server-sent events, one each time it changes |
 //!
 //! A page names its session in the `x-relief-session` header: a session's new generation
 //! cancels the one it still runs (a newer edit supersedes an older one), which then answers 409.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use axum::Json;
@@ -45,6 +47,8 @@ pub(crate) struct App {
     budget: relief::Budget,
     results: Mutex<Results>,
     jobs: Jobs,
+    /// The server is shutting down: event streams end.
+    closing: AtomicBool,
 }
 
 impl App {
@@ -54,7 +58,17 @@ impl App {
             budget: config.budget,
             results: Mutex::new(Results::new(config.kept_results)),
             jobs: Jobs::default(),
+            closing: AtomicBool::new(false),
         }
+    }
+
+    /// The server is shutting down: open event streams end, so that they do not hold it.
+    pub(crate) fn close(&self) {
+        self.closing.store(true, Ordering::Relaxed);
+    }
+
+    fn closing(&self) -> bool {
+        self.closing.load(Ordering::Relaxed)
     }
 
     /// Keeps `hf` as a result: its id, size, range and extent as the page reads them.
@@ -98,6 +112,7 @@ pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
         .route("/api/generate", post(run::generate))
         .route("/api/export/{file}", post(run::export))
         .route("/api/progress", get(run::progress))
+        .route("/api/events", get(run::events))
         .route("/api/cancel", post(run::cancel))
         .route("/api/results/{id}/elevation", get(outputs::elevation))
         .route("/api/results/{id}/download/{format}", get(outputs::download))
@@ -170,12 +185,14 @@ pub(crate) fn parse_scene(body: &[u8]) -> Result<Scene, ApiError> {
 /// The session a request names (`x-relief-session`), if any.
 pub(crate) fn session(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
     let Some(value) = headers.get("x-relief-session") else { return Ok(None) };
-    let text = value
-        .to_str()
-        .ok()
-        .filter(|t| (1..=64).contains(&t.len()) && t.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-'));
+    let text = value.to_str().ok().filter(|t| session_name_ok(t));
     text.map(|t| Some(t.to_owned()))
         .ok_or_else(|| ApiError::bad_request("x-relief-session: 1 to 64 letters, digits or `-`"))
+}
+
+/// Whether `name` can name a session: 1 to 64 ASCII letters, digits or `-`.
+pub(crate) fn session_name_ok(name: &str) -> bool {
+    (1..=64).contains(&name.len()) && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-')
 }
 
 #[cfg(test)]

@@ -1,17 +1,21 @@
 //! Generation: previews for the views, full runs for exports, and the session's job (its
-//! progress, its cancellation).
+//! progress, polled or streamed, and its cancellation).
 
+use std::convert::Infallible;
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use axum::Json;
 use axum::body::Bytes;
-use axum::extract::{Path, State};
+use axum::extract::{Path, Query, State};
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::Response;
+use axum::response::sse::{Event, KeepAlive, Sse};
+use futures_util::Stream;
+use serde::Deserialize;
 use serde_json::{Value, json};
 
-use super::{Shared, parse_scene, session};
+use super::{App, Shared, parse_scene, session};
 use crate::error::ApiError;
 use crate::jobs::Job;
 use relief::Scene;
@@ -124,11 +128,50 @@ pub(super) async fn export(
 /// `GET /api/progress`: where the session's running generation is.
 pub(super) async fn progress(State(app): Shared, headers: HeaderMap) -> Result<Json<Value>, ApiError> {
     let session = session(&headers)?.ok_or_else(|| ApiError::bad_request("progress needs x-relief-session"))?;
-    let state = app.jobs.get(&session).map(|job: Arc<Job>| job.state());
-    Ok(Json(match state {
+    Ok(Json(progress_json(&app, &session)))
+}
+
+/// `{running, step, done, total}` of the session's generation, or `{running: false}`.
+fn progress_json(app: &App, session: &str) -> Value {
+    match app.jobs.get(session).map(|job: Arc<Job>| job.state()) {
         Some(s) => json!({ "running": true, "step": s.step, "done": s.done, "total": s.total }),
         None => json!({ "running": false }),
-    }))
+    }
+}
+
+/// How often the event stream looks at the session's progress.
+const EVENT_PERIOD: Duration = Duration::from_millis(50);
+
+/// The query of `/api/events` (a browser's `EventSource` cannot send headers).
+#[derive(Debug, Deserialize)]
+pub(super) struct EventsQuery {
+    session: String,
+}
+
+/// `GET /api/events?session=ID`: the session's progress as server-sent events (`progress`, the
+/// JSON of `/api/progress`), one each time it changes, for as long as the page listens or until
+/// the server shuts down.
+pub(super) async fn events(
+    State(app): Shared,
+    Query(query): Query<EventsQuery>,
+) -> Result<Sse<impl Stream<Item = Result<Event, Infallible>>>, ApiError> {
+    if !super::session_name_ok(&query.session) {
+        return Err(ApiError::bad_request("session: 1 to 64 letters, digits or `-`"));
+    }
+    let stream = futures_util::stream::unfold((app, query.session, None), |(app, session, last)| async move {
+        loop {
+            if app.closing() {
+                return None;
+            }
+            let now = progress_json(&app, &session);
+            if last.as_ref() != Some(&now) {
+                let event = Event::default().event("progress").data(now.to_string());
+                return Some((Ok(event), (app, session, Some(now))));
+            }
+            tokio::time::sleep(EVENT_PERIOD).await;
+        }
+    });
+    Ok(Sse::new(stream).keep_alive(KeepAlive::default()))
 }
 
 /// `POST /api/cancel`: stops the session's running generation.
