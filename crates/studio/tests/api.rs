@@ -222,6 +222,21 @@ fn scenes_run_under_the_budget_and_bodies_are_capped() {
     assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{error}");
     assert!(error["error"].as_str().unwrap().contains("budget"), "{error}");
     assert_eq!(error["path"], "reconstruction.resolution", "{error}");
+    // A raster upload over the budget is refused as it arrives and not kept; one within it, a
+    // raw file (no header) and a file that does not decode (left to the scene that reads it)
+    // are kept.
+    let (status, error) = studio.json("PUT", "/api/files/big.png", image_bytes(101, |_, _| 7));
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE, "{error}");
+    assert!(error["error"].as_str().unwrap().contains("10201 cells"), "{error}");
+    assert!(!studio.dir.path().join("ws/big.png").exists());
+    for (name, bytes) in [
+        ("fits.png", image_bytes(100, |_, _| 7)),
+        ("raw.r16", vec![0; 202 * 202 * 2]),
+        ("junk.png", b"not a PNG".to_vec()),
+    ] {
+        let (status, _) = studio.send("PUT", &format!("/api/files/{name}"), bytes);
+        assert_eq!(status, StatusCode::NO_CONTENT, "{name}");
+    }
     let mut config = Config::new(tempfile::tempdir().unwrap().path().join("ws"));
     config.max_body_bytes = 1000;
     let small = Studio { router: router(&config).unwrap(), dir: tempfile::tempdir().unwrap() };

@@ -53,8 +53,33 @@ pub(super) async fn open_file(State(app): Shared, Path(name): Path<String>) -> R
     Ok(Json(result))
 }
 
-/// `PUT /api/files/{name}`: saves an uploaded input, atomically.
+/// `PUT /api/files/{name}`: saves an uploaded input, atomically, unless it is a raster whose
+/// header announces more cells than the budget allows (413): the upload is refused then, not
+/// the first scene that reads it.
 pub(super) async fn upload(State(app): Shared, Path(name): Path<String>, body: Bytes) -> Result<StatusCode, ApiError> {
+    crate::workspace::check_name(&name)?;
+    let (max_cells, checked_name, checked) = (app.budget.max_cells, name.clone(), body.clone());
+    let fits = tokio::task::spawn_blocking(move || raster_fits(&checked_name, &checked, max_cells)).await;
+    fits.map_err(ApiError::internal)??;
     app.workspace.write_input(&name, &body)?;
     Ok(StatusCode::NO_CONTENT)
+}
+
+/// Refuses a raster upload (by its extension; raw files have no header) that announces more
+/// than `max_cells` cells. Other decoding problems are left to the scene that reads the file: a
+/// colour label image, say, is not a DEM but is a fine upload.
+fn raster_fits(name: &str, bytes: &[u8], max_cells: u64) -> Result<(), ApiError> {
+    use relief::io::{Format, IoErrorKind};
+    let Some(format) = Format::from_extension(std::path::Path::new(name)) else { return Ok(()) };
+    if matches!(format, Format::R16 | Format::R32) {
+        return Ok(());
+    }
+    let limits = relief::io::Limits::default().with_max_cells(max_cells);
+    let options = relief::io::ReadOptions::default().with_limits(limits);
+    match relief::io::read_bytes(bytes, format, name, &options) {
+        Err(e) if matches!(e.kind(), IoErrorKind::TooLarge { .. } | IoErrorKind::FileTooLarge { .. }) => {
+            Err(ApiError::new(StatusCode::PAYLOAD_TOO_LARGE, format!("{e} (the studio's budget)")))
+        }
+        _ => Ok(()),
+    }
 }

@@ -8,7 +8,7 @@
 //! | `GET /api/results/{id}/elevation` | its samples, f32 little-endian, north row first |
 //! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16` |
 //! | `GET /api/scenes`, `GET`/`PUT /api/scenes/{name}` | saved scenes |
-//! | `PUT /api/files/{name}` | upload an input (DEM, image, vector terrain) |
+//! | `PUT /api/files/{name}` | upload an input (DEM, image, vector terrain); a raster over the budget gets 413 |
 //! | `POST /api/files/{name}/open` | an uploaded DEM as a result (to view, analyse, download) |
 //! | `GET /api/results/{id}/peaks?min_prominence=M` | its peaks and divide tree (akirmse's conventions) |
 //! | `POST /api/export/{file}` | generate the scene in the body in full and return one of its outputs |
