@@ -851,3 +851,25 @@ fn a_craters_depth_sets_how_far_its_floor_lies_below_its_rim() {
     let err = generate(&scene, &root(), &mut ()).unwrap_err();
     assert!(err.to_string().starts_with("generator.contours.regions[1].depth"), "{err}");
 }
+
+/// A DEM in degrees vectorizes into primitives in degrees: the raster keeps the DEM's units and
+/// CRS, so its cells are as many metres wide as the DEM's, not taken for metres themselves.
+#[test]
+fn a_vectorized_geographic_dem_keeps_its_units_and_crs() {
+    let dem = relief::io::read(root().join("fixtures/dem/jacksboro.asc")).unwrap();
+    assert_eq!(dem.grid().units(), relief::heightfield::Units::Degrees);
+    assert!(dem.crs().is_some(), "jacksboro.prj names its CRS");
+    let scene: relief::Scene = serde_json::from_value(serde_json::json!({
+        "version": 1,
+        "generator": { "gaussian": { "source": { "kind": "dem", "path": "fixtures/dem/jacksboro.asc",
+            "primitives": 40, "iterations": 5, "resolution": 32 }, "operations": [] } },
+        "reconstruction": { "resolution": [32, 32] }
+    }))
+    .unwrap();
+    let terrain = generate(&scene, &root(), &mut ()).unwrap();
+    let hf = &terrain.heightfield;
+    assert_eq!(hf.grid().units(), relief::heightfield::Units::Degrees);
+    assert_eq!(hf.crs(), dem.crs());
+    let (ours, theirs) = (hf.grid().metres_per_unit(16), dem.grid().metres_per_unit(dem.ny() / 2));
+    assert!((ours.x / theirs.x - 1.0).abs() < 0.01, "{ours} m per degree, the DEM's {theirs}");
+}
