@@ -642,6 +642,9 @@ async fn vector_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     assert_eq!(doc(client).await["generator"]["gaussian"]["source"]["path"], "jacksboro.asc");
     let fitting = js(client, "return window.statuses.filter(s => /^generating: source \\d+\\/40…$/.test(s))").await;
     assert!(!fitting.as_array().unwrap().is_empty(), "the fit's iterations never showed: {fitting}");
+    // Vectorized in degrees, shown in metres: not a needle in an empty 3D view.
+    let colours = colours_3d(client).await;
+    assert!(colours.as_u64().unwrap() > 100, "the vectorized DEM's 3D view is blank: {colours} colours");
     // Jacksboro is in degrees: a radius of 0.03° (about 3 km).
     let radius = client.find(Locator::Id("warp-radius")).await.unwrap();
     radius.clear().await.unwrap();
@@ -682,6 +685,8 @@ async fn vector_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     let moved = &doc(client).await["generator"]["gaussian"]["operations"][2];
     assert_eq!((moved["op"].as_str(), moved["node"].as_u64()), (Some("move_crest"), node[0].as_u64()), "{moved}");
     assert!(moved["by"][0].as_f64().unwrap() > 0.0, "{moved}");
+    wait_for(client, "Number(document.body.dataset.skeleton || 0) > 0").await;
+    screenshot(client, "studio-vector").await;
     id
 }
 
