@@ -149,7 +149,8 @@ impl Coast {
 
     /// The stroke split at its contacts with the coast, each piece running from contact to
     /// contact. Contacts are crossings, plus an end of the stroke lying within `snap` of the coast
-    /// (projected onto it) when no crossing is that close along the stroke.
+    /// (projected onto it) when no crossing is that close along the stroke and the stroke leaves
+    /// the `snap` band around the coast before its first (or after its last) crossing.
     pub(crate) fn pieces(&self, stroke: &[DVec2], snap: f64) -> Result<Vec<Vec<DVec2>>, IslandError> {
         if stroke.len() < 2 {
             return Err(IslandError::ShortStroke);
@@ -181,12 +182,20 @@ impl Coast {
             cum[k] + (s - k as f64) * (cum[k + 1] - cum[k])
         };
         let last = (stroke.len() - 1) as f64;
+        // Whether the stroke's points strictly between parameters s0 and s1 go farther than
+        // `snap` from the coast: a stub that never does is a hesitation at the stroke's end
+        // before it crosses, not a piece of its own.
+        let leaves = |s0: f64, s1: f64| {
+            (0..stroke.len())
+                .filter(|&k| (k as f64) > s0 && (k as f64) < s1)
+                .any(|k| nearest_on_boundary(p, stroke[k]).0 > snap)
+        };
         let (d0, _, q0) = nearest_on_boundary(p, stroke[0]);
-        if d0 <= snap && contacts.first().is_none_or(|c| along(c.0) > snap) {
+        if d0 <= snap && contacts.first().is_none_or(|c| along(c.0) > snap && leaves(0.0, c.0)) {
             contacts.insert(0, (0.0, q0));
         }
         let (d1, _, q1) = nearest_on_boundary(p, stroke[stroke.len() - 1]);
-        if d1 <= snap && contacts.last().is_none_or(|c| along(last) - along(c.0) > snap) {
+        if d1 <= snap && contacts.last().is_none_or(|c| along(last) - along(c.0) > snap && leaves(c.0, last)) {
             contacts.push((last, q1));
         }
         if contacts.len() < 2 {
@@ -216,22 +225,24 @@ impl Coast {
 
     /// Applies one piece (its ends on the coast, the rest strictly inside or outside the land):
     /// its ends become coast vertices, the piece and the coast between them form two loops, and
-    /// the one the edit keeps becomes the coast.
-    pub(crate) fn apply(&mut self, piece: &[DVec2]) -> Result<EditKind, IslandError> {
+    /// the one the edit keeps becomes the coast. What the edit was; `None` (the coast unchanged
+    /// but for two vertices on it) when the piece's ends land on one coast vertex.
+    pub(crate) fn apply(&mut self, piece: &[DVec2]) -> Result<Option<EditKind>, IslandError> {
         let inside = ring_contains(&self.points, arc_midpoint(piece));
-        let (ia, ib) = self.attach(piece[0], piece[piece.len() - 1])?;
+        let Some((ia, ib)) = self.attach(piece[0], piece[piece.len() - 1]) else { return Ok(None) };
         let inner = &piece[1..piece.len() - 1];
         let forward = self.loop_through(ia, ib, inner, true);
         let backward = self.loop_through(ia, ib, inner, false);
         let (kind, (points, fresh)) = choose_loop(inside, forward, backward);
         (self.points, self.fresh) = counter_clockwise(points, fresh)?;
-        Ok(kind)
+        Ok(Some(kind))
     }
 
     /// Inserts the piece's ends `a` and `b`, projected onto the coast, as vertices; returns their
-    /// vertex indices. A piece whose ends land on one vertex is a loop from one coast point back
-    /// to itself: a closed sketch, not an edit.
-    fn attach(&mut self, a: DVec2, b: DVec2) -> Result<(usize, usize), IslandError> {
+    /// vertex indices, or `None` when both land on one vertex: the piece runs from one coast
+    /// point back to it (a closed sketch, or a stub between a stroke's end snapped to the coast
+    /// and a crossing beside it) and is not an edit.
+    fn attach(&mut self, a: DVec2, b: DVec2) -> Option<(usize, usize)> {
         let (_, ea, qa) = nearest_on_boundary(&self.points, a);
         self.insert(ea, qa);
         let (_, eb, qb) = nearest_on_boundary(&self.points, b);
@@ -240,10 +251,7 @@ impl Coast {
             (0..self.points.len()).min_by(|&i, &j| self.points[i].distance(q).total_cmp(&self.points[j].distance(q)))
         };
         let (ia, ib) = (vertex(qa).unwrap_or(0), vertex(qb).unwrap_or(0));
-        if ia == ib {
-            return Err(IslandError::StrokeMissesCoast { snap: 0.0 });
-        }
-        Ok((ia, ib))
+        (ia != ib).then_some((ia, ib))
     }
 
     /// The loop through vertex `ia`, the piece's `inner` points, vertex `ib`, then the coast from
@@ -353,7 +361,7 @@ mod tests {
         let stroke = [DVec2::new(4.0, -1.0), DVec2::new(4.0, 11.0)];
         let pieces = c.pieces(&stroke, 0.5).unwrap();
         assert_eq!(pieces.len(), 1);
-        assert_eq!(c.apply(&pieces[0]).unwrap(), EditKind::Cut);
+        assert_eq!(c.apply(&pieces[0]).unwrap(), Some(EditKind::Cut));
         assert!((signed_area(&c.points) - 60.0).abs() < 1e-9);
         assert!(contains(&c.points, DVec2::new(7.0, 5.0)) && !contains(&c.points, DVec2::new(2.0, 5.0)));
     }

@@ -351,7 +351,10 @@ impl Island {
         let pieces = coast.pieces(points, self.snap())?;
         let mut kinds = Vec::with_capacity(pieces.len());
         for piece in &pieces {
-            kinds.push(coast.apply(piece)?);
+            kinds.extend(coast.apply(piece)?);
+        }
+        if kinds.is_empty() {
+            return Err(IslandError::StrokeMissesCoast { snap: self.snap() });
         }
         self.commit(coast)?;
         Ok(kinds)
@@ -1095,6 +1098,33 @@ mod tests {
     use relief_heightfield::{Extent, GridSpec};
 
     use super::*;
+
+    /// A stroke that starts just inside the coast (within the snap distance) and crosses out a
+    /// little further on: the stub from its start to the crossing never leaves the coast's snap
+    /// band, so it is no piece; the bump is. Drawn clockwise it adds the bump; counter-clockwise
+    /// the island becomes the bump (§3.1). The stub used to be a piece of its own: the stroke
+    /// failed as missing the coast, or cut the land away.
+    #[test]
+    fn a_stroke_starting_just_inside_the_coast_adds_its_bump() {
+        let grid = GridSpec::from_extent(96, 96, Extent::new(DVec2::ZERO, DVec2::splat(4000.0))).unwrap();
+        let fresh = || Island::new(grid, IslandSettings::default(), 1).unwrap();
+        // The start circle: radius 1600 about (2000, 2000); the snap 80. (3300, 1200) lies 74
+        // inside it, the crossing 95 further along the stroke.
+        let (inside, out, back) = (DVec2::new(3300.0, 1200.0), DVec2::new(3900.0, 2000.0), DVec2::new(3300.0, 2800.0));
+        let mut island = fresh();
+        let area = island.area();
+        let kinds = island.stroke(&[back, out, inside]).unwrap();
+        assert!(kinds.contains(&EditKind::Add), "{kinds:?}");
+        assert!(island.area() > 1.01 * area, "{} → {}", area, island.area());
+        let mut island = fresh();
+        let kinds = island.stroke(&[inside, out, back]).unwrap();
+        assert!(kinds.contains(&EditKind::Replace), "{kinds:?}");
+        assert!(island.area() < 0.2 * area, "the island is the bump: {} → {}", area, island.area());
+        // A stroke from there out to sea crosses once: no piece, where its stub once cut a sliver.
+        let mut island = fresh();
+        assert!(matches!(island.stroke(&[inside, out]), Err(IslandError::StrokeMissesCoast { .. })));
+        assert_eq!(island.area(), area);
+    }
 
     /// An island cut by a vertical stroke at x = 350, and what the blend of §3.2 saw.
     struct Cut {
