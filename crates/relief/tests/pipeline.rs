@@ -873,3 +873,66 @@ fn a_vectorized_geographic_dem_keeps_its_units_and_crs() {
     let (ours, theirs) = (hf.grid().metres_per_unit(16), dem.grid().metres_per_unit(dem.ny() / 2));
     assert!((ours.x / theirs.x - 1.0).abs() < 0.01, "{ours} m per degree, the DEM's {theirs}");
 }
+
+fn operations_len(scene: &relief::Scene) -> u64 {
+    let relief::scene::Generator::Island(island) = &scene.generator else { panic!("an island scene") };
+    island.operations.len() as u64
+}
+
+/// The `island` step's progress reports: the operations done.
+#[derive(Default)]
+struct IslandStart(Vec<u64>);
+
+impl Progress for IslandStart {
+    fn start(&mut self, _: &'static str) {}
+    fn finish(&mut self, _: &'static str, _: std::time::Duration) {}
+    fn advance(&mut self, step: &'static str, done: u64, _: u64) {
+        if step == "island" {
+            self.0.push(done);
+        }
+    }
+}
+
+/// An editing session applies only the operations appended since a kept island, keeps the one
+/// before for an undo, replays when the history changed, and always gives a fresh replay's bytes
+/// (filters included: their random state is part of the island).
+#[test]
+fn an_edit_session_resumes_its_island_and_matches_a_replay() {
+    let mut scene = load_scene(root().join("fixtures/scenes/volcano-island-sketch.json")).unwrap();
+    scene.reconstruction.resolution = [96, 96];
+    let relief::scene::Generator::Island(island) = &scene.generator else { panic!("an island scene") };
+    let all = island.operations.clone();
+    let stroke: relief::island::Operation = serde_json::from_value(
+        serde_json::json!({ "stroke": { "points": [[3300, 1200], [3900, 2000], [3300, 2800]] } }),
+    )
+    .unwrap();
+    // (the operations, where the session should start applying them)
+    let history = [
+        (all[..2].to_vec(), 0),
+        (all[..4].to_vec(), 2),
+        (all.clone(), 4),
+        (all[..4].to_vec(), 4),                            // undo: the state kept before
+        ([all.clone(), vec![stroke.clone()]].concat(), 5), // redo, then a stroke
+        ([&all[..3], &[stroke.clone()][..]].concat(), 0),  // another history: a replay
+        ([&all[..3], &[stroke, all[4].clone()][..]].concat(), 4),
+    ];
+    let mut session = relief::pipeline::EditSession::new();
+    for (k, (operations, start)) in history.into_iter().enumerate() {
+        let relief::scene::Generator::Island(island) = &mut scene.generator else { unreachable!() };
+        island.operations = operations;
+        let mut progress = IslandStart::default();
+        let resumed =
+            relief::pipeline::preview_in(&mut session, &scene, &root(), &relief::Budget::default(), &mut progress)
+                .unwrap();
+        let replayed = relief::pipeline::preview_with(&scene, &root(), &relief::Budget::default(), &mut ()).unwrap();
+        assert_eq!(session.resumed(), start, "step {k}");
+        // The step's count starts where the session resumed.
+        let n = operations_len(&scene);
+        let counted: Vec<u64> = if start > 0 { vec![0, start as u64] } else { vec![0] };
+        let expected: Vec<u64> = counted.into_iter().chain(start as u64 + 1..=n).collect();
+        assert_eq!(progress.0, expected, "step {k}");
+        assert_eq!(resumed.heightfield, replayed.heightfield, "step {k}");
+        assert_eq!(resumed.warnings, replayed.warnings, "step {k}");
+        assert!(session.kept() <= 2);
+    }
+}

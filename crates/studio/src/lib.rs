@@ -42,6 +42,7 @@
 
 mod api;
 mod assets;
+mod edits;
 mod error;
 mod jobs;
 mod results;

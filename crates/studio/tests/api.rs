@@ -149,6 +149,33 @@ fn generating_a_scene_returns_its_heightfield_north_up() {
     assert!((row_of_top as f64 - 0.25 * h as f64).abs() < 0.06 * h as f64, "top at row {row_of_top}");
 }
 
+/// A session's island edits apply to the island its last preview left: the result says how many
+/// operations it took from there, and the samples are a fresh replay's.
+#[test]
+fn a_sessions_next_island_edit_resumes_from_its_last_preview() {
+    let studio = Studio::new();
+    let mut scene = island_scene(&studio);
+    let elevation =
+        |result: &Value| studio.send("GET", &format!("/api/results/{}/elevation", result["id"]), Body::empty()).1;
+    let generate = |session: Option<&str>, scene: &Value| {
+        let (status, bytes) = studio.send_as(session, "POST", "/api/generate", scene.to_string());
+        assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+        serde_json::from_slice::<Value>(&bytes).unwrap()
+    };
+    assert_eq!(generate(Some("e"), &scene)["resumed"], 0);
+    let hill = serde_json::json!({ "add_hill": { "center": [2600, 1600], "radii": [300, 300], "height": 200 } });
+    scene["generator"]["island"]["operations"].as_array_mut().unwrap().push(hill);
+    let resumed = generate(Some("e"), &scene);
+    assert_eq!(resumed["resumed"], 1, "{resumed}");
+    // Another session, and a request without one, replay the history.
+    assert_eq!(generate(Some("other"), &scene)["resumed"], 0);
+    let replayed = generate(None, &scene);
+    assert_eq!(replayed["resumed"], 0);
+    assert_eq!(elevation(&resumed), elevation(&replayed));
+    // A scene of another kind resumes nothing.
+    assert_eq!(generate(Some("e"), &studio.template("curves"))["resumed"], 0);
+}
+
 #[test]
 fn downloads_read_back_as_the_generated_heightfield() {
     let studio = Studio::new();

@@ -193,6 +193,29 @@ async fn latency(client: &Client, map: &Element, mut id: u64) {
         median(server),
         median(total)
     );
+    // A long session: 20 coast strokes and 80 hill edits before the hill is moved again. Each
+    // edit applies to the island the last one left (the page's editing session on the server).
+    let history = "window.studio.editDoc(d => { const ops = d.generator.island.operations; \
+        for (let k = 0; k < 20; k++) { const a = 2 * Math.PI * k / 20; \
+          ops.push({ stroke: { points: [[1640, a + 0.16], [1800, a + 0.12], [1800, a + 0.04], [1640, a]] \
+            .map(([r, t]) => [2000 + r * Math.cos(t), 2000 + r * Math.sin(t)]) } }); } \
+        for (let k = 0; k < 80; k++) ops.push({ add_hill: { center: [1200 + 20 * k, 1200 + 15 * (k % 40)], \
+          radii: [200, 160], height: 80 } }); })";
+    js(client, history).await;
+    id = next_result(client, id).await;
+    let from = js(client, "return window.studio.timings.length").await.as_u64().unwrap() as usize;
+    for k in 0..20 {
+        let x = f64::from(k % 5) * 10.0;
+        drag(client, map, &[(x, 0.0), (x + 10.0, 5.0)]).await;
+        id = next_result(client, id).await;
+    }
+    let (server, total) = timings(client, from).await;
+    eprintln!(
+        "island 512² after 100 edits (20 coast strokes, 80 hills), move a hill: server {:.1} ms, end to end {:.1} ms \
+         (medians of 20)",
+        median(server),
+        median(total)
+    );
     id = new_scene(client, "contours", id).await;
     let from = js(client, "return window.studio.timings.length").await.as_u64().unwrap() as usize;
     for k in 0..5 {

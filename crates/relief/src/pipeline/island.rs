@@ -4,6 +4,7 @@ use glam::DVec2;
 
 use super::inputs::{Env, raster_grid};
 use super::progress::Timer;
+use super::session::{EditSession, IslandKey};
 use super::summary::IslandSummary;
 use super::{Generated, Report};
 use crate::contours::extract_dem;
@@ -16,12 +17,14 @@ use crate::{ReliefError, ReliefError as E};
 const GENERATOR: &str = "generator.island";
 
 /// The island generator's run. Sea is exactly 0 and land at least `land_floor`, so half the floor
-/// is the sea level.
+/// is the sea level. With a `session`, the operations after those of an island it kept are
+/// applied to that island, and the new island is kept.
 pub(super) fn generate(
     scene: &Scene,
     g: &IslandGenerator,
     env: &Env<'_>,
     timer: &mut Timer<'_>,
+    session: Option<&mut EditSession>,
 ) -> Result<Generated, ReliefError> {
     let extent = scene.domain.unwrap_or_else(|| Extent::new(DVec2::ZERO, DVec2::splat(1000.0)));
     let traced = g.coastline_image.as_ref().map(|image| traced_coastline(image, extent, env)).transpose()?;
@@ -31,13 +34,23 @@ pub(super) fn generate(
         IslandError::Grid { .. } => E::at("reconstruction.resolution", e),
         e => E::located(GENERATOR, e),
     };
+    // A session's kept island resumes (not with a traced coastline: its image may have changed).
+    let key = IslandKey { grid, settings: g.settings, seed: scene.seed };
+    let session = session.filter(|_| traced.is_none());
+    let resumed = session.as_deref().and_then(|s| s.resume_island(&key, &g.operations));
+    let resumed_from = resumed.as_ref().map_or(0, |r| r.0);
     let (island, mut warnings) = timer.counted("island", g.operations.len() as u64, |tick| {
-        let mut island = Island::new(grid, g.settings, scene.seed).map_err(fail)?;
-        if let Some(points) = &traced {
+        let (start, mut island, mut warnings) = match resumed {
+            Some(resumed) => resumed,
+            None => (0, Island::new(grid, g.settings, scene.seed).map_err(fail)?, Vec::new()),
+        };
+        if let (0, Some(points)) = (start, &traced) {
             island.set_coastline(points).map_err(|e| E::at(format!("{GENERATOR}.coastline_image"), e))?;
         }
-        let mut warnings = Vec::new();
-        for (index, op) in g.operations.iter().enumerate() {
+        if start > 0 {
+            tick.reach(start as u64);
+        }
+        for (index, op) in g.operations.iter().enumerate().skip(start) {
             let before = island.area();
             let kinds = match op {
                 Operation::Stroke { points } => {
@@ -53,6 +66,7 @@ pub(super) fn generate(
         }
         Ok::<_, ReliefError>((island, warnings))
     })?;
+    let stroke_warnings = warnings.clone();
     warnings.extend(island.hills().iter().enumerate().filter_map(|(k, hill)| hill_warning(&island, k, hill)));
     let report = Report::Island(IslandSummary {
         coast_vertices: island.coastline().len(),
@@ -61,15 +75,11 @@ pub(super) fn generate(
         perturbations: island.filters().len(),
     });
     let sea_level = Some(0.5 * g.settings.land_floor);
-    Ok(Generated {
-        heightfield: island.heightfield(),
-        sea_level,
-        contours: None,
-        report,
-        warnings,
-        vector: None,
-        layers: Some(island.layers()),
-    })
+    let (heightfield, layers) = (island.heightfield(), island.layers());
+    if let Some(session) = session {
+        session.keep_island(key, &g.operations, island, stroke_warnings, resumed_from);
+    }
+    Ok(Generated { heightfield, sea_level, contours: None, report, warnings, vector: None, layers: Some(layers) })
 }
 
 /// The outline of the largest piece of land in `spec`'s image, counter-clockwise and closed (its

@@ -25,6 +25,7 @@ mod orometry;
 mod outputs;
 mod post;
 mod progress;
+mod session;
 mod summary;
 
 use std::path::{Path, PathBuf};
@@ -34,6 +35,7 @@ pub use inputs::MAX_RESOLUTION;
 pub(crate) use outputs::layer_files;
 pub use outputs::{check_outputs, write_outputs};
 pub use progress::{Progress, Timing};
+pub use session::EditSession;
 pub use summary::{
     ContourSummary, DrainageSummary, GaussianSummary, GraphSummary, HistogramMatch, IslandSummary, OrometrySummary,
     RasterSummary, Summary, TerrainOrometry,
@@ -151,7 +153,7 @@ pub fn generate_with(
     progress: &mut dyn Progress,
 ) -> Result<Terrain, ReliefError> {
     let mut timer = Timer::new(progress);
-    let generated = generate_raw(scene, base_dir, budget, &mut timer)?;
+    let generated = generate_raw(scene, base_dir, budget, &mut timer, None)?;
     finish(scene, generated, &mut timer)
 }
 
@@ -183,9 +185,57 @@ pub fn preview_with(
     budget: &Budget,
     progress: &mut dyn Progress,
 ) -> Result<Preview, ReliefError> {
+    preview_raw(scene, base_dir, budget, progress, None)
+}
+
+/// [`preview_with`] within an editing session: what the session kept from its last previews is
+/// reused where the scene only appends to it (an island's new operations are applied to the
+/// island as it stood), and the session keeps this preview's state. The heightfield is the same
+/// as [`preview_with`]'s.
+///
+/// # Errors
+/// As [`generate_with`].
+///
+/// # Example
+/// ```
+/// use relief::pipeline::{EditSession, preview_in};
+///
+/// let mut scene = relief::Scene::from_json(include_str!("../../../../fixtures/scenes/volcano-island-sketch.json"))?;
+/// scene.reconstruction.resolution = [64, 64];
+/// let dir = std::path::Path::new(".");
+/// let budget = relief::Budget::default();
+/// let mut session = EditSession::new();
+/// let first = preview_in(&mut session, &scene, dir, &budget, &mut ())?;
+/// // The next edit: one more hill. Only it is applied.
+/// let relief::scene::Generator::Island(island) = &mut scene.generator else { unreachable!() };
+/// let hill = relief::island::Hill::round(glam::DVec2::new(2000.0, 2000.0), 400.0, 150.0);
+/// island.operations.push(relief::island::Operation::AddHill(hill));
+/// let second = preview_in(&mut session, &scene, dir, &budget, &mut ())?;
+/// assert_eq!(second.heightfield, relief::pipeline::preview_with(&scene, dir, &budget, &mut ())?.heightfield);
+/// assert_ne!(first.heightfield, second.heightfield);
+/// # Ok::<(), relief::ReliefError>(())
+/// ```
+pub fn preview_in(
+    session: &mut EditSession,
+    scene: &Scene,
+    base_dir: &Path,
+    budget: &Budget,
+    progress: &mut dyn Progress,
+) -> Result<Preview, ReliefError> {
+    session.begin();
+    preview_raw(scene, base_dir, budget, progress, Some(session))
+}
+
+fn preview_raw(
+    scene: &Scene,
+    base_dir: &Path,
+    budget: &Budget,
+    progress: &mut dyn Progress,
+    session: Option<&mut EditSession>,
+) -> Result<Preview, ReliefError> {
     let mut timer = Timer::new(progress);
     let Generated { heightfield, sea_level, mut vector, warnings, report, .. } =
-        generate_raw(scene, base_dir, budget, &mut timer)?;
+        generate_raw(scene, base_dir, budget, &mut timer, session)?;
     let heightfield = post(scene, heightfield, sea_level, &mut vector, &mut timer)?;
     let divide_tree = match report {
         Report::Orometry(orometry) => Some(orometry.tree),
@@ -200,13 +250,14 @@ fn generate_raw(
     base_dir: &Path,
     budget: &Budget,
     timer: &mut Timer<'_>,
+    session: Option<&mut EditSession>,
 ) -> Result<Generated, ReliefError> {
     budget.check(scene)?;
     let env = &Env { dir: base_dir, budget: *budget, inputs: &scene.inputs };
     match &scene.generator {
         Generator::Contours(g) => contours::generate(scene, g, env, timer),
         Generator::Diffusion(g) => diffusion::generate(scene, g, timer),
-        Generator::Island(g) => island::generate(scene, g, env, timer),
+        Generator::Island(g) => island::generate(scene, g, env, timer, session),
         Generator::Gaussian(g) => gaussian::generate(scene, g, env, timer),
         Generator::Orometry(g) => orometry::generate(scene, g, env, timer),
     }

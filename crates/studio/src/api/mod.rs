@@ -35,6 +35,7 @@ mod files;
 mod outputs;
 mod run;
 
+use crate::edits::EditSessions;
 use crate::error::ApiError;
 use crate::jobs::Jobs;
 use crate::results::Results;
@@ -47,6 +48,8 @@ pub(crate) struct App {
     budget: relief::Budget,
     results: Mutex<Results>,
     jobs: Jobs,
+    /// Each session's editing state between its previews.
+    pub(crate) edits: EditSessions,
     /// The server is shutting down: event streams end.
     closing: AtomicBool,
 }
@@ -58,6 +61,7 @@ impl App {
             budget: config.budget,
             results: Mutex::new(Results::new(config.kept_results)),
             jobs: Jobs::default(),
+            edits: EditSessions::default(),
             closing: AtomicBool::new(false),
         }
     }

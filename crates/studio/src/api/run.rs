@@ -27,13 +27,25 @@ pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes
     let session = session(&headers)?;
     let guard = app.jobs.run(session.as_deref())?;
     let (worker, running) = (Arc::clone(&app), Arc::clone(&guard.job));
+    // The session's editing state: its next edit applies to what its last preview left.
+    let mut edit = session.as_deref().map(|name| app.edits.take(name));
     let generated = tokio::task::spawn_blocking(move || {
         let mut progress = crate::jobs::JobProgress(running);
-        relief::pipeline::preview_with(&scene, worker.workspace.root(), &worker.budget, &mut progress)
+        let (root, budget) = (worker.workspace.root(), &worker.budget);
+        let preview = match &mut edit {
+            Some(edit) => relief::pipeline::preview_in(edit, &scene, root, budget, &mut progress),
+            None => relief::pipeline::preview_with(&scene, root, budget, &mut progress),
+        };
+        (preview, edit)
     })
     .await;
     drop(guard);
-    let preview = match generated.map_err(ApiError::internal)? {
+    let (preview, edit) = generated.map_err(ApiError::internal)?;
+    let resumed = edit.as_ref().map_or(0, relief::pipeline::EditSession::resumed);
+    if let (Some(name), Some(edit)) = (session, edit) {
+        app.edits.put(name, edit);
+    }
+    let preview = match preview {
         Err(relief::ReliefError::Cancelled) => {
             return Err(ApiError::new(StatusCode::CONFLICT, "cancelled: a newer generation superseded it"));
         }
@@ -45,6 +57,7 @@ pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes
     result["ms"] = ms.into();
     result["timings"] = timings;
     result["warnings"] = json!(preview.warnings);
+    result["resumed"] = resumed.into();
     if let Some(tree) = &preview.divide_tree {
         result["divide_tree"] = tree_json(tree);
     }
