@@ -580,6 +580,7 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     );
     let raised = result_field(client, "max").await.as_f64().unwrap();
     assert!(raised > 1400.0, "the tree's peak 0 at 1500 m: the terrain's top at {raised} m");
+    id = tree_gestures(client, map, at, id).await;
     screenshot(client, "studio-orometry").await;
     vector_gestures(client, map, id).await
 }
@@ -649,6 +650,50 @@ async fn z_at_px(client: &Client, dx: f64, dy: f64) -> f64 {
          const j = Math.round((320 + {dy}) / 640 * (r.height - 1)); return r.z[j * r.width + i]"
     );
     js(client, &script).await.as_f64().unwrap()
+}
+
+/// On a synthesized terrain whose tree peak 0 is at `at` (pixels from the map's centre): a new
+/// peak dragged out from it, then the new saddle dragged south.
+async fn tree_gestures(client: &Client, map: &Element, at: (f64, f64), mut id: u64) -> u64 {
+    let count = |what: &'static str| async move {
+        js(client, &format!("return window.studio.result.divide_tree.{what}.length")).await.as_u64().unwrap()
+    };
+    let (peaks, saddles) = (count("peaks").await, count("saddles").await);
+    js(client, "document.getElementById('height').value = 1200").await;
+    choose_tool(client, "insert-peak").await;
+    let dx = if at.0 > 0.0 { -60.0 } else { 60.0 };
+    drag(client, map, &[at, (at.0 + dx / 2.0, at.1), (at.0 + dx, at.1)]).await;
+    id = next_result(client, id).await;
+    let inserted = doc(client).await["generator"]["orometry"]["edits"][1].clone();
+    assert_eq!(
+        (inserted["op"].as_str(), inserted["connect_to"].as_u64()),
+        (Some("insert_peak"), Some(0)),
+        "{inserted}"
+    );
+    assert_eq!(inserted["elevation"].as_f64(), Some(1200.0), "{inserted}");
+    assert!(inserted["saddle_elevation"].as_f64().unwrap() < 1200.0, "{inserted}");
+    assert_eq!((count("peaks").await, count("saddles").await), (peaks + 1, saddles + 1));
+
+    // The new saddle, found in the generated tree at the position the edit gave it, dragged 30 px
+    // south: the tree's saddle follows.
+    let script = format!(
+        "const r = window.studio.result, e = r.extent, s = 640 / Math.max(e.max[0] - e.min[0], e.max[1] - e.min[1]);          const k = r.divide_tree.saddles.findIndex(q => Math.hypot(q.position[0] - {x}, q.position[1] - {y}) < 1e-6 * s);          const p = r.divide_tree.saddles[k].position; return [k, (p[0] - e.min[0]) * s - 320, (e.max[1] - p[1]) * s - 320, s]",
+        x = inserted["saddle"][0],
+        y = inserted["saddle"][1],
+    );
+    let found = js(client, &script).await;
+    let k = found[0].as_i64().unwrap();
+    assert!(k >= 0, "the inserted saddle is not in the tree: {found}");
+    let (sx, sy, scale) = (found[1].as_f64().unwrap(), found[2].as_f64().unwrap(), found[3].as_f64().unwrap());
+    choose_tool(client, "move-saddle").await;
+    drag(client, map, &[(sx, sy), (sx, sy + 15.0), (sx, sy + 30.0)]).await;
+    id = next_result(client, id).await;
+    let moved = doc(client).await["generator"]["orometry"]["edits"][2].clone();
+    assert_eq!((moved["op"].as_str(), moved["saddle"].as_i64()), (Some("move_saddle"), Some(k)), "{moved}");
+    let now = js(client, &format!("return window.studio.result.divide_tree.saddles[{k}].position")).await;
+    let south = (inserted["saddle"][1].as_f64().unwrap() - now[1].as_f64().unwrap()) * scale;
+    assert!((south - 30.0).abs() < 1.5, "the saddle moved {south} px south: {now}");
+    id
 }
 
 /// The uploaded DEM vectorized; a landform copied and pasted elsewhere, a crest node dragged.

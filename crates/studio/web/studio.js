@@ -389,6 +389,16 @@ function drawTree(ctx, tree) {
   for (const saddle of tree.saddles) {
     polyline(ctx, [tree.peaks[saddle.peaks[0]].position, saddle.position, tree.peaks[saddle.peaks[1]].position], false);
   }
+  ctx.fillStyle = "rgba(255, 240, 180, 1)";
+  for (const saddle of tree.saddles) {
+    const [x, y] = worldToCanvas(saddle.position);
+    ctx.beginPath();
+    ctx.moveTo(x, y - 4);
+    ctx.lineTo(x + 4, y);
+    ctx.lineTo(x, y + 4);
+    ctx.lineTo(x - 4, y);
+    ctx.fill();
+  }
   ctx.fillStyle = "rgba(255, 200, 60, 1)";
   tree.peaks.forEach((p, k) => {
     const [x, y] = worldToCanvas(p.position);
@@ -404,6 +414,38 @@ function nearestTreePeak(p) {
   const d = (q) => Math.hypot(q.position[0] - p[0], q.position[1] - p[1]);
   return tree.peaks.reduce((best, q, k) => (d(q) < d(tree.peaks[best]) ? k : best), 0);
 }
+
+/** The index of the divide-tree saddle nearest `p`, or -1 without a tree or saddles. */
+function nearestTreeSaddle(p) {
+  const tree = result && result.divide_tree;
+  if (!tree || !tree.saddles.length) return -1;
+  const d = (q) => Math.hypot(q.position[0] - p[0], q.position[1] - p[1]);
+  return tree.saddles.reduce((best, q, k) => (d(q) < d(tree.saddles[best]) ? k : best), 0);
+}
+
+// Divide-tree tools beyond the peak ones: a press at `start` released at `end`.
+const TREE_TOOLS = {
+  // A new peak at the height setting where the drag ends, joined to the peak it starts from by a
+  // saddle halfway, below both.
+  "insert-peak": (start, end, height) => {
+    const from = nearestTreePeak(start);
+    if (from < 0) return refuse("drag from a peak of the generated divide tree");
+    const peak = result.divide_tree.peaks[from];
+    const low = Math.min(peak.elevation, height);
+    const saddle = roundWorld([(peak.position[0] + end[0]) / 2, (peak.position[1] + end[1]) / 2]);
+    addTreeEdit({ op: "insert_peak", position: end, elevation: height, connect_to: from, saddle, saddle_elevation: low - 0.3 * Math.abs(low) });
+  },
+  "move-saddle": (start, end) => {
+    const saddle = nearestTreeSaddle(start);
+    if (saddle < 0) return refuse("drag a saddle of the generated divide tree (the diamonds)");
+    addTreeEdit({ op: "move_saddle", saddle, position: end });
+  },
+  "delete-ridge": (start) => {
+    const saddle = nearestTreeSaddle(start);
+    if (saddle < 0) return refuse("click a saddle of the generated divide tree (the diamonds)");
+    addTreeEdit({ op: "delete_ridge", saddle });
+  },
+};
 
 /** Appends an edit to an orometry scene's tree. */
 function addTreeEdit(edit) {
@@ -551,6 +593,8 @@ function onPointerUp(event) {
     editDoc((d) => d.generator.island.operations.push({ move_hill: { hill, center: end } }));
   } else if (t === "paint") {
     finishPainting();
+  } else if (TREE_TOOLS[t]) {
+    TREE_TOOLS[t](start, end, height);
   } else if (t === "move-peak" || t === "peak-height" || t === "delete-peak") {
     const peak = nearestTreePeak(start);
     if (peak < 0) return;
