@@ -428,6 +428,21 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     assert_eq!(doc(client).await["edits"][1]["delete"]["height"].as_f64(), Some(900.0));
     let after = js(client, inside).await;
     assert!(after[0].as_f64().unwrap() < before[0].as_f64().unwrap() - 100.0, "{before} → {after}");
+
+    // A slope curve dragged along the range's south side steepens the ground there.
+    let sample = "return Array.from(window.studio.result.z.filter((_, k) => k % 389 === 0))";
+    let unsloped = js(client, sample).await;
+    let radius = client.find(Locator::Id("warp-radius")).await.unwrap();
+    radius.clear().await.unwrap();
+    radius.send_keys("400").await.unwrap();
+    choose_tool(client, "slope").await;
+    drag(client, map, &[(-100.0, 80.0), (-50.0, 85.0), (0.0, 80.0), (50.0, 70.0)]).await;
+    id = next_result(client, id).await;
+    let slope = doc(client).await["edits"][2]["slope"].clone();
+    assert!(slope["curve"].as_array().unwrap().len() >= 2 && slope["radius"] == 400.0, "{slope}");
+    assert_ne!(js(client, sample).await, unsloped, "the slope curve changed nothing");
+    radius.clear().await.unwrap();
+    radius.send_keys("800").await.unwrap();
     id
 }
 

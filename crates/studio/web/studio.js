@@ -612,6 +612,8 @@ function onPointerUp(event) {
     editDoc((d) => d.generator.island.operations.push({ remove_hill: { hill } }));
   } else if (t === "warp" && points.length >= 2) {
     addEdit({ warp: { stroke: points, radius: radius() } });
+  } else if (t === "slope" && points.length >= 3) {
+    addEdit({ slope: { curve: simplified(points), radius: radius(), strength: 1.0 } });
   } else if (CONTOUR_CLICKS[t]) {
     addEdit(CONTOUR_CLICKS[t](start));
   } else if ((t === "cut" || t === "paste") && points.length >= 2) {
