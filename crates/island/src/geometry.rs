@@ -182,13 +182,11 @@ impl Coast {
             cum[k] + (s - k as f64) * (cum[k + 1] - cum[k])
         };
         let last = (stroke.len() - 1) as f64;
-        // Whether the stroke's points strictly between parameters s0 and s1 go farther than
-        // `snap` from the coast: a stub that never does is a hesitation at the stroke's end
-        // before it crosses, not a piece of its own.
+        // Whether the stroke between parameters s0 and s1 goes farther than `snap` from the
+        // coast: a stub that never does is a hesitation at the stroke's end before it crosses,
+        // not a piece of its own.
         let leaves = |s0: f64, s1: f64| {
-            (0..stroke.len())
-                .filter(|&k| (k as f64) > s0 && (k as f64) < s1)
-                .any(|k| nearest_on_boundary(p, stroke[k]).0 > snap)
+            s0 < s1 && stroke_between(stroke, s0, s1, 0.5 * snap).any(|q| nearest_on_boundary(p, q).0 > snap)
         };
         let (d0, _, q0) = nearest_on_boundary(p, stroke[0]);
         if d0 <= snap && contacts.first().is_none_or(|c| along(c.0) > snap && leaves(0.0, c.0)) {
@@ -280,6 +278,23 @@ impl Coast {
         }
         (pts, fresh)
     }
+}
+
+/// Points of `stroke` from parameter `s0` to `s1` (segment index plus fraction), at most `step`
+/// apart along each segment (and at most 1024 a segment), both ends included.
+fn stroke_between(stroke: &[DVec2], s0: f64, s1: f64, step: f64) -> impl Iterator<Item = DVec2> + '_ {
+    let at = move |s: f64| {
+        let k = (s.floor() as usize).min(stroke.len() - 2);
+        stroke[k].lerp(stroke[k + 1], s - k as f64)
+    };
+    let mut knots = vec![s0];
+    knots.extend((s0.floor() as usize + 1..stroke.len()).map(|k| k as f64).filter(|&k| k < s1));
+    knots.push(s1);
+    let spans: Vec<(f64, f64)> = knots.windows(2).map(|w| (w[0], w[1])).collect();
+    spans.into_iter().flat_map(move |(a, b)| {
+        let n = ((at(a).distance(at(b)) / step.max(f64::MIN_POSITIVE)).ceil() as usize).clamp(1, 1024);
+        (0..=n).map(move |i| at(a + (b - a) * i as f64 / n as f64))
+    })
 }
 
 /// The point halfway along `piece` by arc length: where a piece that runs strictly inside or

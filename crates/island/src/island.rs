@@ -1124,6 +1124,12 @@ mod tests {
         let mut island = fresh();
         assert!(matches!(island.stroke(&[inside, out]), Err(IslandError::StrokeMissesCoast { .. })));
         assert_eq!(island.area(), area);
+        // A two-point stroke from just inside the west coast straight across the land cuts the
+        // island in two (its one segment leaves the snap band): the northern half goes.
+        let mut island = fresh();
+        let kinds = island.stroke(&[DVec2::new(450.0, 2000.0), DVec2::new(3900.0, 2000.0)]).unwrap();
+        assert_eq!(kinds, [EditKind::Cut]);
+        assert!((island.area() / area - 0.5).abs() < 0.05, "{} → {}", area, island.area());
     }
 
     /// An island cut by a vertical stroke at x = 350, and what the blend of §3.2 saw.

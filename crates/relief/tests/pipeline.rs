@@ -933,6 +933,24 @@ fn an_edit_session_resumes_its_island_and_matches_a_replay() {
         assert_eq!(progress.0, expected, "step {k}");
         assert_eq!(resumed.heightfield, replayed.heightfield, "step {k}");
         assert_eq!(resumed.warnings, replayed.warnings, "step {k}");
+        // The stroke keeps only the bump it encloses: its warning is carried by the kept island.
+        let stroked = island_ops(&scene).iter().any(|op| matches!(op, relief::island::Operation::Stroke { .. }));
+        assert_eq!(resumed.warnings.iter().any(|w| w.contains("removed")), stroked, "step {k}: {:?}", resumed.warnings);
         assert!(session.kept() <= 2);
     }
+    // The same operations under another seed, or at another resolution: a replay.
+    for change in [|s: &mut relief::Scene| s.seed += 1, |s: &mut relief::Scene| s.reconstruction.resolution = [80, 80]]
+    {
+        change(&mut scene);
+        let resumed =
+            relief::pipeline::preview_in(&mut session, &scene, &root(), &relief::Budget::default(), &mut ()).unwrap();
+        assert_eq!(session.resumed(), 0);
+        let replayed = relief::pipeline::preview_with(&scene, &root(), &relief::Budget::default(), &mut ()).unwrap();
+        assert_eq!(resumed.heightfield, replayed.heightfield);
+    }
+}
+
+fn island_ops(scene: &relief::Scene) -> &[relief::island::Operation] {
+    let relief::scene::Generator::Island(island) = &scene.generator else { panic!("an island scene") };
+    &island.operations
 }

@@ -520,8 +520,11 @@ fn progress_streams_as_server_sent_events_down_to_the_fits_iterations() {
         );
         while next_event().await["running"] != false {}
     });
-    let (status, _) = studio.send("GET", "/api/events?session=bad/name", Body::empty());
-    assert_eq!(status, StatusCode::BAD_REQUEST);
+    for query in ["?session=bad/name", ""] {
+        let (status, error) = studio.json("GET", &format!("/api/events{query}"), Body::empty());
+        assert_eq!(status, StatusCode::BAD_REQUEST);
+        assert!(error["error"].as_str().unwrap().starts_with("session"), "{error}");
+    }
 }
 
 /// A page left open holds a progress stream; stopping the server (Ctrl-C in `relief serve`)

@@ -90,6 +90,7 @@ async function generate() {
   const signal = inFlight.signal;
   setState("generating", "generating…");
   const start = performance.now();
+  listen();
   try {
     const response = await fetch("/api/generate", { method: "POST", body: JSON.stringify(doc), headers, signal });
     const body = await response.json();
@@ -111,7 +112,23 @@ async function generate() {
       $("message").textContent = String(error);
       setState("error", "failed");
     }
+  } finally {
+    if (mine === generation) stopListening();
   }
+}
+
+// The session's progress stream (GET /api/events), open while a generation runs.
+let events = null;
+
+function listen() {
+  if (events) return;
+  events = new EventSource(`/api/events?session=${session}`);
+  events.addEventListener("progress", (event) => showProgress(JSON.parse(event.data)));
+}
+
+function stopListening() {
+  if (events) events.close();
+  events = null;
 }
 
 /** Makes `r` (a result with its samples `z`) the current one and draws it. */
@@ -145,6 +162,7 @@ function showProgress(state) {
 async function cancel() {
   generation++;
   if (inFlight) inFlight.abort();
+  stopListening();
   await fetch("/api/cancel", { method: "POST", headers });
   setState("idle", "cancelled");
 }
@@ -415,12 +433,18 @@ function nearestTreePeak(p) {
   return tree.peaks.reduce((best, q, k) => (d(q) < d(tree.peaks[best]) ? k : best), 0);
 }
 
-/** The index of the divide-tree saddle nearest `p`, or -1 without a tree or saddles. */
+/** The index of the divide-tree saddle nearest `p` within 16 pixels, or -1. */
 function nearestTreeSaddle(p) {
   const tree = result && result.divide_tree;
   if (!tree || !tree.saddles.length) return -1;
   const d = (q) => Math.hypot(q.position[0] - p[0], q.position[1] - p[1]);
-  return tree.saddles.reduce((best, q, k) => (d(q) < d(tree.saddles[best]) ? k : best), 0);
+  const k = tree.saddles.reduce((best, q, k) => (d(q) < d(tree.saddles[best]) ? k : best), 0);
+  return d(tree.saddles[k]) * view.scale <= 16 ? k : -1;
+}
+
+/** Whether the shown tree is the scene's: not while a newer generation runs. */
+function treeIsCurrent() {
+  return document.body.dataset.state !== "generating";
 }
 
 // Divide-tree tools beyond the peak ones: a press at `start` released at `end`.
@@ -429,20 +453,21 @@ const TREE_TOOLS = {
   // saddle halfway, below both.
   "insert-peak": (start, end, height) => {
     const from = nearestTreePeak(start);
-    if (from < 0) return refuse("drag from a peak of the generated divide tree");
-    const peak = result.divide_tree.peaks[from];
+    const peak = from >= 0 && result.divide_tree.peaks[from];
+    const near = peak && Math.hypot(peak.position[0] - start[0], peak.position[1] - start[1]) * view.scale <= 16;
+    if (!near || !treeIsCurrent()) return refuse("drag from a peak of the generated divide tree (once it is shown)");
     const low = Math.min(peak.elevation, height);
     const saddle = roundWorld([(peak.position[0] + end[0]) / 2, (peak.position[1] + end[1]) / 2]);
     addTreeEdit({ op: "insert_peak", position: end, elevation: height, connect_to: from, saddle, saddle_elevation: low - 0.3 * Math.abs(low) });
   },
   "move-saddle": (start, end) => {
     const saddle = nearestTreeSaddle(start);
-    if (saddle < 0) return refuse("drag a saddle of the generated divide tree (the diamonds)");
+    if (saddle < 0 || !treeIsCurrent()) return refuse("drag a saddle of the generated divide tree (the diamonds)");
     addTreeEdit({ op: "move_saddle", saddle, position: end });
   },
   "delete-ridge": (start) => {
     const saddle = nearestTreeSaddle(start);
-    if (saddle < 0) return refuse("click a saddle of the generated divide tree (the diamonds)");
+    if (saddle < 0 || !treeIsCurrent()) return refuse("click a saddle of the generated divide tree (the diamonds)");
     addTreeEdit({ op: "delete_ridge", saddle });
   },
 };
@@ -665,7 +690,7 @@ const PRESETS = {
 const CURVE_TOOLS = {
   bezier: (start, end, points) => {
     const anchors = simplified(points);
-    const step = Math.ceil(anchors.length / 8);
+    const step = Math.ceil((anchors.length - 1) / 7);
     const kept = anchors.filter((_, k) => k % step === 0 || k === anchors.length - 1);
     const constraints = [curveConstraint(0), curveConstraint(1)];
     if (kept.length < 2 || !hasConstraint(constraints[0])) return refuse("draw a longer curve, with at least one constraint group ticked");
@@ -755,7 +780,7 @@ function drawCurveHandles(ctx, curves) {
     });
     const line = centreLine(curve.points);
     ctx.fillStyle = "rgba(255, 220, 60, 1)";
-    for (const c of curve.constraints) {
+    for (const c of curve.constraints || []) {
       const [x, y] = worldToCanvas(pointAt(line, c.u));
       ctx.beginPath();
       ctx.arc(x, y, 4, 0, 2 * Math.PI);
@@ -1040,8 +1065,6 @@ async function start() {
     if (e.key === "Enter") closeRegion();
     if (e.key === "Escape") { pending.points = []; drawMap(); }
   });
-  const events = new EventSource(`/api/events?session=${session}`);
-  events.addEventListener("progress", (event) => showProgress(JSON.parse(event.data)));
   setup3d($("view3d"));
   await listScenes();
   await loadTemplate("demo");

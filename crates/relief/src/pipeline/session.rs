@@ -9,8 +9,9 @@ use crate::island::{Island, IslandSettings, Operation};
 /// after an edit is as quick as the edit).
 const KEPT: usize = 2;
 
-/// Islands above this many cells are not kept (each state holds about 25 bytes a cell).
-const MAX_KEPT_CELLS: usize = 1 << 21;
+/// Islands above this many cells are not kept (each state holds about 25 bytes a cell: 25 MiB
+/// at 1024²).
+const MAX_KEPT_CELLS: usize = 1 << 20;
 
 /// The state one editing session keeps between previews ([`super::preview_in`]).
 ///
@@ -19,7 +20,7 @@ const MAX_KEPT_CELLS: usize = 1 << 21;
 /// kept operations as the start of its own, only the operations after them are applied. The
 /// result is the same, to the byte, as a replay of the whole history (islands are
 /// deterministic and their state is whole), so a session only saves time. A session holds up to
-/// two island states; islands over 2²¹ cells are not kept.
+/// two island states; islands over 2²⁰ cells (1024²) are not kept.
 #[derive(Debug, Default)]
 pub struct EditSession {
     islands: Vec<IslandState>,

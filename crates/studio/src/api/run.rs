@@ -27,24 +27,24 @@ pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes
     let session = session(&headers)?;
     let guard = app.jobs.run(session.as_deref())?;
     let (worker, running) = (Arc::clone(&app), Arc::clone(&guard.job));
-    // The session's editing state: its next edit applies to what its last preview left.
-    let mut edit = session.as_deref().map(|name| app.edits.take(name));
+    // The session's editing state: its next edit applies to what its last preview left. It is
+    // locked on the blocking thread, so an abandoned request's generation keeps it until it stops.
+    let edit = session.as_deref().map(|name| app.edits.get(name));
     let generated = tokio::task::spawn_blocking(move || {
         let mut progress = crate::jobs::JobProgress(running);
         let (root, budget) = (worker.workspace.root(), &worker.budget);
-        let preview = match &mut edit {
-            Some(edit) => relief::pipeline::preview_in(edit, &scene, root, budget, &mut progress),
-            None => relief::pipeline::preview_with(&scene, root, budget, &mut progress),
-        };
-        (preview, edit)
+        match edit {
+            Some(edit) => {
+                let mut edit = edit.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+                let preview = relief::pipeline::preview_in(&mut edit, &scene, root, budget, &mut progress);
+                (preview, edit.resumed())
+            }
+            None => (relief::pipeline::preview_with(&scene, root, budget, &mut progress), 0),
+        }
     })
     .await;
     drop(guard);
-    let (preview, edit) = generated.map_err(ApiError::internal)?;
-    let resumed = edit.as_ref().map_or(0, relief::pipeline::EditSession::resumed);
-    if let (Some(name), Some(edit)) = (session, edit) {
-        app.edits.put(name, edit);
-    }
+    let (preview, resumed) = generated.map_err(ApiError::internal)?;
     let preview = match preview {
         Err(relief::ReliefError::Cancelled) => {
             return Err(ApiError::new(StatusCode::CONFLICT, "cancelled: a newer generation superseded it"));
@@ -158,7 +158,7 @@ const EVENT_PERIOD: Duration = Duration::from_millis(50);
 /// The query of `/api/events` (a browser's `EventSource` cannot send headers).
 #[derive(Debug, Deserialize)]
 pub(super) struct EventsQuery {
-    session: String,
+    session: Option<String>,
 }
 
 /// `GET /api/events?session=ID`: the session's progress as server-sent events (`progress`, the
@@ -168,10 +168,11 @@ pub(super) async fn events(
     State(app): Shared,
     Query(query): Query<EventsQuery>,
 ) -> Result<Sse<impl Stream<Item = Result<Event, Infallible>>>, ApiError> {
-    if !super::session_name_ok(&query.session) {
-        return Err(ApiError::bad_request("session: 1 to 64 letters, digits or `-`"));
-    }
-    let stream = futures_util::stream::unfold((app, query.session, None), |(app, session, last)| async move {
+    let session = query
+        .session
+        .filter(|s| super::session_name_ok(s))
+        .ok_or_else(|| ApiError::bad_request("session: 1 to 64 letters, digits or `-`"))?;
+    let stream = futures_util::stream::unfold((app, session, None), |(app, session, last)| async move {
         loop {
             if app.closing() {
                 return None;
