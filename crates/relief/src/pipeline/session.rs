@@ -102,3 +102,50 @@ impl EditSession {
         self.islands.len()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec2;
+
+    use super::*;
+    use crate::heightfield::Extent;
+
+    fn state(nx: usize, ny: usize, seed: u64) -> (IslandKey, Island) {
+        let grid = GridSpec::from_extent(nx, ny, Extent::new(DVec2::ZERO, DVec2::splat(1000.0))).unwrap();
+        let settings = IslandSettings::default();
+        (IslandKey { grid, settings, seed }, Island::new(grid, settings, seed).unwrap())
+    }
+
+    /// Islands up to 2²⁰ cells are kept, larger ones are not (and clear what was kept).
+    #[test]
+    fn islands_are_kept_up_to_the_cell_cap() {
+        let mut session = EditSession::new();
+        let (key, island) = state(1024, 1024, 1);
+        session.keep_island(key, &[], island, Vec::new(), 0);
+        assert_eq!(session.kept(), 1);
+        let (key, island) = state(1025, 1024, 1);
+        session.keep_island(key, &[], island, Vec::new(), 0);
+        assert_eq!(session.kept(), 0);
+    }
+
+    /// A state of another start (seed, grid, settings) is dropped when a new one is kept; two of
+    /// the same start stay; a third pushes out the oldest.
+    #[test]
+    fn only_states_of_the_latest_start_are_kept() {
+        let mut session = EditSession::new();
+        let filters = |coverage: f64| vec![Operation::AddFilters { coverage }; 1];
+        let (key, island) = state(8, 8, 1);
+        session.keep_island(key.clone(), &filters(1.0), island.clone(), Vec::new(), 0);
+        session.keep_island(key.clone(), &filters(2.0), island.clone(), Vec::new(), 0);
+        assert_eq!(session.kept(), 2);
+        session.keep_island(key.clone(), &filters(3.0), island.clone(), Vec::new(), 0);
+        assert_eq!(session.kept(), 2);
+        assert!(session.resume_island(&key, &filters(1.0)).is_none(), "the oldest went");
+        assert_eq!(session.resume_island(&key, &filters(3.0)).map(|r| r.0), Some(1));
+        let (other, island) = state(8, 8, 2);
+        session.keep_island(other.clone(), &filters(4.0), island, Vec::new(), 0);
+        assert_eq!(session.kept(), 1);
+        assert!(session.resume_island(&key, &filters(3.0)).is_none());
+        assert!(session.resume_island(&other, &filters(4.0)).is_some());
+    }
+}
