@@ -365,6 +365,24 @@ mod tests {
 
     use super::*;
 
+    /// The stroke between two parameters, sampled at most `step` apart along each segment, from
+    /// the first parameter's point to the second's, through the vertices between.
+    #[test]
+    fn stroke_between_samples_the_stroke_from_one_parameter_to_another() {
+        let stroke =
+            [DVec2::ZERO, DVec2::new(9.0, 0.0), DVec2::new(9.0, 9.0), DVec2::new(0.0, 9.0), DVec2::new(0.0, 18.0)];
+        let points: Vec<[f64; 2]> = stroke_between(&stroke, 1.0 / 3.0, 4.0 / 3.0, 2.0).map(|p| p.to_array()).collect();
+        let expected = [[3.0, 0.0], [5.0, 0.0], [7.0, 0.0], [9.0, 0.0], [9.0, 0.0], [9.0, 1.5], [9.0, 3.0]];
+        assert_eq!(points.len(), expected.len(), "{points:?}");
+        for (p, q) in points.iter().zip(expected) {
+            assert!((p[0] - q[0]).abs() < 1e-9 && (p[1] - q[1]).abs() < 1e-9, "{points:?}");
+        }
+        // Within one segment; and the last segment up to the stroke's end.
+        assert_eq!(stroke_between(&stroke, 0.0, 0.5, 10.0).count(), 2);
+        let tail: Vec<[f64; 2]> = stroke_between(&stroke, 3.5, 4.0, 4.5).map(|p| p.to_array()).collect();
+        assert_eq!(tail, [[0.0, 13.5], [0.0, 18.0]]);
+    }
+
     fn square() -> Coast {
         Coast::new(vec![DVec2::new(0.0, 0.0), DVec2::new(10.0, 0.0), DVec2::new(10.0, 10.0), DVec2::new(0.0, 10.0)])
     }

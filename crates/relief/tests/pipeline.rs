@@ -355,13 +355,7 @@ fn a_cancelled_run_stops_before_its_next_step_or_unit() {
     assert_eq!(progress.units, 1);
     assert!(generate(&island, &root(), &mut ()).is_ok());
     // Within a DEM's vectorization: its fit stops at the iteration the cancel came after.
-    let vectorize: relief::Scene = serde_json::from_value(serde_json::json!({
-        "version": 1,
-        "generator": { "gaussian": { "source": { "kind": "dem", "path": "fixtures/dem/jacksboro.asc",
-            "primitives": 40, "iterations": 60, "resolution": 32 }, "operations": [] } },
-        "reconstruction": { "resolution": [32, 32] }
-    }))
-    .unwrap();
+    let vectorize = jacksboro_vectorized(60);
     let mut progress = CancelAfter { steps: Steps::default(), after: usize::MAX, units: 0, after_units: 3 };
     let error = generate(&vectorize, &root(), &mut progress).unwrap_err();
     assert!(matches!(error, relief::ReliefError::Cancelled), "{error}");
@@ -859,13 +853,7 @@ fn a_vectorized_geographic_dem_keeps_its_units_and_crs() {
     let dem = relief::io::read(root().join("fixtures/dem/jacksboro.asc")).unwrap();
     assert_eq!(dem.grid().units(), relief::heightfield::Units::Degrees);
     assert!(dem.crs().is_some(), "jacksboro.prj names its CRS");
-    let scene: relief::Scene = serde_json::from_value(serde_json::json!({
-        "version": 1,
-        "generator": { "gaussian": { "source": { "kind": "dem", "path": "fixtures/dem/jacksboro.asc",
-            "primitives": 40, "iterations": 5, "resolution": 32 }, "operations": [] } },
-        "reconstruction": { "resolution": [32, 32] }
-    }))
-    .unwrap();
+    let scene = jacksboro_vectorized(5);
     let terrain = generate(&scene, &root(), &mut ()).unwrap();
     let hf = &terrain.heightfield;
     assert_eq!(hf.grid().units(), relief::heightfield::Units::Degrees);
@@ -959,4 +947,15 @@ fn an_edit_session_resumes_its_island_and_matches_a_replay() {
 fn island_ops(scene: &relief::Scene) -> &[relief::island::Operation] {
     let relief::scene::Generator::Island(island) = &scene.generator else { panic!("an island scene") };
     &island.operations
+}
+
+/// The Jacksboro DEM vectorized into 40 primitives over `iterations` steps, at 32².
+fn jacksboro_vectorized(iterations: usize) -> relief::Scene {
+    serde_json::from_value(serde_json::json!({
+        "version": 1,
+        "generator": { "gaussian": { "source": { "kind": "dem", "path": "fixtures/dem/jacksboro.asc",
+            "primitives": 40, "iterations": iterations, "resolution": 32 }, "operations": [] } },
+        "reconstruction": { "resolution": [32, 32] }
+    }))
+    .unwrap()
 }

@@ -182,11 +182,7 @@ async fn latency(client: &Client, map: &Element, mut id: u64) {
     id = next_result(client, id).await;
     choose_tool(client, "move-hill").await;
     let from = js(client, "return window.studio.timings.length").await.as_u64().unwrap() as usize;
-    for k in 0..20 {
-        let x = f64::from(k % 5) * 10.0;
-        drag(client, map, &[(x, 0.0), (x + 10.0, 5.0)]).await;
-        id = next_result(client, id).await;
-    }
+    id = move_hill_20_times(client, map, id).await;
     let (server, total) = timings(client, from).await;
     eprintln!(
         "island 512², move a hill: server {:.1} ms, end to end {:.1} ms (medians of 20)",
@@ -204,11 +200,7 @@ async fn latency(client: &Client, map: &Element, mut id: u64) {
     js(client, history).await;
     id = next_result(client, id).await;
     let from = js(client, "return window.studio.timings.length").await.as_u64().unwrap() as usize;
-    for k in 0..20 {
-        let x = f64::from(k % 5) * 10.0;
-        drag(client, map, &[(x, 0.0), (x + 10.0, 5.0)]).await;
-        id = next_result(client, id).await;
-    }
+    id = move_hill_20_times(client, map, id).await;
     let (server, total) = timings(client, from).await;
     eprintln!(
         "island 512² after 100 edits (20 coast strokes, 80 hills), move a hill: server {:.1} ms, end to end {:.1} ms \
@@ -233,6 +225,16 @@ async fn latency(client: &Client, map: &Element, mut id: u64) {
         median(server),
         median(total)
     );
+}
+
+/// Drags the hill at the map's centre 20 times (the move-hill tool chosen); the last result's id.
+async fn move_hill_20_times(client: &Client, map: &Element, mut id: u64) -> u64 {
+    for k in 0..20 {
+        let x = f64::from(k % 5) * 10.0;
+        drag(client, map, &[(x, 0.0), (x + 10.0, 5.0)]).await;
+        id = next_result(client, id).await;
+    }
+    id
 }
 
 /// The demo generates on load and shows in 3D; its result's id.
