@@ -27,9 +27,11 @@ pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes
     let session = session(&headers)?;
     let guard = app.jobs.run(session.as_deref())?;
     let (worker, running) = (Arc::clone(&app), Arc::clone(&guard.job));
-    // The session's editing state: its next edit applies to what its last preview left. It is
-    // locked on the blocking thread, so an abandoned request's generation keeps it until it stops.
-    let edit = session.as_deref().map(|name| app.edits.get(name));
+    // The session's editing state: its next island edit applies to what its last preview left.
+    // It is locked on the blocking thread, so an abandoned request's generation keeps it until it
+    // stops (between two island operations); other generators do not use it, nor wait for it.
+    let island = matches!(scene.generator, relief::scene::Generator::Island(_));
+    let edit = session.as_deref().filter(|_| island).map(|name| app.edits.get(name));
     let generated = tokio::task::spawn_blocking(move || {
         let mut progress = crate::jobs::JobProgress(running);
         let (root, budget) = (worker.workspace.root(), &worker.budget);
