@@ -44,7 +44,8 @@ pub(super) fn generate(
             Some(resumed) => resumed,
             None => (0, Island::new(grid, g.settings, scene.seed).map_err(fail)?, Vec::new()),
         };
-        if let (0, Some(points)) = (start, &traced) {
+        // (A traced coastline never resumes: `start` is 0 here.)
+        if let Some(points) = &traced {
             island.set_coastline(points).map_err(|e| E::at(format!("{GENERATOR}.coastline_image"), e))?;
         }
         if start > 0 {

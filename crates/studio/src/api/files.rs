@@ -41,8 +41,7 @@ pub(super) async fn open_file(State(app): Shared, Path(name): Path<String>) -> R
     if !path.is_file() {
         return Err(ApiError::not_found(format!("no file {name}: upload it first")));
     }
-    let limits = relief::io::Limits::default().with_max_cells(app.budget.max_cells);
-    let options = relief::io::ReadOptions::default().with_limits(limits);
+    let options = read_options(app.budget.max_cells);
     let start = Instant::now();
     let read = tokio::task::spawn_blocking(move || relief::io::read_with(&path, &options)).await;
     let hf = read.map_err(ApiError::internal)?.map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))?;
@@ -74,12 +73,15 @@ fn raster_fits(name: &str, bytes: &[u8], max_cells: u64) -> Result<(), ApiError>
     if matches!(format, Format::R16 | Format::R32) {
         return Ok(());
     }
-    let limits = relief::io::Limits::default().with_max_cells(max_cells);
-    let options = relief::io::ReadOptions::default().with_limits(limits);
-    match relief::io::read_bytes(bytes, format, name, &options) {
+    match relief::io::read_bytes(bytes, format, name, &read_options(max_cells)) {
         Err(e) if matches!(e.kind(), IoErrorKind::TooLarge { .. } | IoErrorKind::FileTooLarge { .. }) => {
             Err(ApiError::new(StatusCode::PAYLOAD_TOO_LARGE, format!("{e} (the studio's budget)")))
         }
         _ => Ok(()),
     }
+}
+
+/// How the studio reads an uploaded raster: under the budget's cell cap.
+fn read_options(max_cells: u64) -> relief::io::ReadOptions {
+    relief::io::ReadOptions::default().with_limits(relief::io::Limits::default().with_max_cells(max_cells))
 }
