@@ -17,6 +17,9 @@
 //!   multigrid (full multigrid start, V-cycles, red-black Gauss–Seidel in parallel), both to a
 //!   relative-residual tolerance with a [`SolveReport`]. Its vertex-centred coarse hierarchy has
 //!   an invariant checker, [`DiffusionProblem::check_invariants`], that the tests call.
+//!   The row kernel of the sweeps is dispatched at run time to the widest vector instructions
+//!   the CPU has through `pulp` (a maintained safe SIMD crate, so this crate keeps
+//!   `forbid(unsafe_code)`); it has no fused operation, so the bits are the same everywhere.
 //! - [`generate`] (§4.3): the smooth elevation plus multi-fractal detail driven by the diffused
 //!   amplitude and roughness; deterministic for a seed, identical for any thread count.
 //!

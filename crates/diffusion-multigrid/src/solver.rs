@@ -523,10 +523,38 @@ fn quantize(w: f32) -> i16 {
     (w / QUANTUM).round().clamp(-32767.0, 32767.0) as i16
 }
 
+/// One row of a sweep, residual or Jacobi step as a `pulp` operation (see [`Level::stencil_row`]).
+struct StencilRow<'a> {
+    level: &'a Level,
+    c: usize,
+    j: usize,
+    other: &'a [f32],
+    rhs: &'a [f32],
+    out: &'a mut [f32],
+}
+
+impl pulp::WithSimd for StencilRow<'_> {
+    type Output = ();
+
+    #[allow(
+        clippy::inline_always,
+        reason = "the loop vectorizes for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        let Self { level, c, j, other, rhs, out } = self;
+        level.stencil_row_kernel(c, j, other, rhs, out);
+    }
+}
+
 /// The update value of one sample: its equation applied to the neighbours plus `rhs`. A fixed
 /// sample gets `rhs` (its value on the finest level, 0 in a correction). Written without
 /// branches so the row loop vectorizes.
-#[inline]
+#[allow(
+    clippy::inline_always,
+    reason = "the loop vectorizes for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
 fn stencil(g: [i16; 2], west: f32, east: f32, south: f32, north: f32, rhs: f32) -> f32 {
     let free = if g[0] == FIXED { 0.0 } else { 1.0 };
     let gx = free * f32::from(g[0]) * QUANTUM;
@@ -581,10 +609,19 @@ impl Level {
     /// the gradient steps of the right-hand side (one coarse step spans two fine ones).
     fn coarsen(&self) -> Self {
         let (cx, cy) = (self.nx.div_ceil(2), self.ny.div_ceil(2));
+        let flat = self.flat();
         let mut g = vec![[0i16; 2]; cx * cy];
         let row = |(jc, g): (usize, &mut [[i16; 2]])| {
+            let interior = flat.interior(jc);
             for (ic, g) in g.iter_mut().enumerate() {
                 let (fi, fj) = (2 * ic, 2 * jc);
+                if interior.contains(&ic) {
+                    let k = fj * self.nx + fi;
+                    let fixed = flat.fixed_neighbourhood(k).0 > 0.0;
+                    let (m, _, dx, dy) = flat.free_weighting(k);
+                    *g = if fixed { [FIXED, 0] } else { [quantize(dx / m), quantize(dy / m)] };
+                    continue;
+                }
                 if self.fixed_neighbourhood(fi, fj).0 > 0.0 {
                     *g = [FIXED, 0];
                     continue;
@@ -606,7 +643,7 @@ impl Level {
         } else {
             g.chunks_mut(cx).enumerate().for_each(row);
         }
-        Self::new(cx, cy, &g, &self.coarse_rhs())
+        Self::new(cx, cy, &g, &self.coarse_rhs_on(&flat))
     }
 
     /// The right-hand side of the coarse version (row-major; see [`Self::coarsen`]): on a fixed
@@ -614,11 +651,24 @@ impl Level {
     /// four neighbours (1 each); elsewhere the full-weighted mean of the free fine samples'
     /// right-hand sides, doubled.
     fn coarse_rhs(&self) -> Vec<f32> {
+        self.coarse_rhs_on(&self.flat())
+    }
+
+    /// [`Self::coarse_rhs`] with this level's row-major copy `flat` at hand.
+    fn coarse_rhs_on(&self, flat: &Flat) -> Vec<f32> {
         let (cx, cy) = (self.nx.div_ceil(2), self.ny.div_ceil(2));
         let mut b = vec![0.0f32; cx * cy];
         let row = |(jc, b): (usize, &mut [f32])| {
+            let interior = flat.interior(jc);
             for (ic, b) in b.iter_mut().enumerate() {
                 let (fi, fj) = (2 * ic, 2 * jc);
+                if interior.contains(&ic) {
+                    let k = fj * self.nx + fi;
+                    let (fixed_w, h) = flat.fixed_neighbourhood(k);
+                    let (m, rhs, _, _) = flat.free_weighting(k);
+                    *b = if fixed_w > 0.0 { h / fixed_w } else { rhs / m };
+                    continue;
+                }
                 let (fixed_w, h) = self.fixed_neighbourhood(fi, fj);
                 if fixed_w > 0.0 {
                     *b = h / fixed_w;
@@ -640,6 +690,12 @@ impl Level {
             b.chunks_mut(cx).enumerate().for_each(row);
         }
         b
+    }
+
+    /// Row-major copies of the weights and right-hand side, for the coarsening's reads around a
+    /// sample (the colour-split layout puts a 3 × 3 neighbourhood in six places).
+    fn flat(&self) -> Flat {
+        Flat { nx: self.nx, ny: self.ny, g: merge_colours(self.nx, self.ny, &self.g), b: self.b.to_full() }
     }
 
     /// The total weight (4 for `(fi, fj)`, 1 for each of its four neighbours) and the weighted
@@ -691,7 +747,21 @@ impl Level {
     /// `out[h] = stencil(...)` for every sample of colour `c` in row `j`, reading the neighbours
     /// from `other` (the whole other colour) and `rhs` (this row of colour `c`). The grid border
     /// reflects: a missing neighbour is replaced by the one opposite.
+    ///
+    /// Dispatched by `pulp` to the widest vector instructions the CPU has (AVX2 where present;
+    /// the baseline x86-64 build has SSE2 only). The stencil has no fused operation, so every
+    /// instruction set gives the same bits.
     fn stencil_row(&self, c: usize, j: usize, other: &[f32], rhs: &[f32], out: &mut [f32]) {
+        pulp::Arch::new().dispatch(StencilRow { level: self, c, j, other, rhs, out });
+    }
+
+    /// The body of [`Self::stencil_row`], inlined into each instruction set's version.
+    #[allow(
+        clippy::inline_always,
+        reason = "the loop vectorizes for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn stencil_row_kernel(&self, c: usize, j: usize, other: &[f32], rhs: &[f32], out: &mut [f32]) {
         let (w, nx) = (self.w, self.nx);
         let p = (j + c) & 1;
         let count = self.count(c, j);
@@ -787,42 +857,75 @@ impl Level {
         self.residual_colour(0, x, rhs)
     }
 
+    /// For every coarse sample `ic` of coarse row `jc`, the full-weighting sum of the fine
+    /// residual's colour 0 `r0` around fine sample `(2ic, 2jc)` (the centre, ¼, and the diagonals
+    /// on the grid, 1/16 each; colour 1 is zero), added centre first, then the south row's west
+    /// and east, then the north row's. The interior runs on contiguous slices so that it
+    /// vectorizes; each sum is the same expression as at the border.
+    fn weighted_sums(fine: &Level, r0: &[f32], jc: usize) -> Vec<f32> {
+        let (fw, fj, cnx) = (fine.w, 2 * jc, fine.nx.div_ceil(2));
+        // Colour 0 of even row fj holds i = 2·ic at ic; of odd rows fj ± 1, i = 2h + 1 at h, so
+        // the west diagonal of ic is h = ic − 1 and the east one h = ic (while 2ic + 1 < nx).
+        let centre = &r0[fj * fw..fj * fw + cnx];
+        let south = (fj > 0).then(|| &r0[(fj - 1) * fw..fj * fw]);
+        let north = (fj + 1 < fine.ny).then(|| &r0[(fj + 1) * fw..(fj + 2) * fw]);
+        let east_end = fine.nx / 2;
+        let sum = |ic: usize| {
+            let mut s = 0.25 * centre[ic];
+            for row in [south, north].into_iter().flatten() {
+                if ic > 0 {
+                    s += 0.0625 * row[ic - 1];
+                }
+                if ic < east_end {
+                    s += 0.0625 * row[ic];
+                }
+            }
+            s
+        };
+        let mut out = vec![0.0f32; cnx];
+        let interior = 1..east_end.max(1);
+        if let (Some(s), Some(n)) = (south, north) {
+            let m = interior.len();
+            let (c, sw, se, nw, ne) = (&centre[1..=m], &s[..m], &s[1..=m], &n[..m], &n[1..=m]);
+            for (k, o) in out[interior.clone()].iter_mut().enumerate() {
+                *o = 0.25 * c[k] + 0.0625 * sw[k] + 0.0625 * se[k] + 0.0625 * nw[k] + 0.0625 * ne[k];
+            }
+        } else {
+            for ic in interior.clone() {
+                out[ic] = sum(ic);
+            }
+        }
+        for ic in (0..cnx).filter(|ic| !interior.contains(ic)) {
+            out[ic] = sum(ic);
+        }
+        out
+    }
+
     /// The fine residual's colour 0 `r0` (colour 1 is zero, see [`Self::residual_after_sweep`]) restricted onto
     /// this coarse level by full weighting, times the growth of this row's residual per coarsening
     /// (4× for Laplace rows, 2× for first-order gradient rows: `16·wl + 2·(|wx| + |wy|)`).
     fn restrict(&self, fine: &Level, r0: &[f32]) -> Field {
         let mut out = Field::zeros(self.nx, self.ny);
-        let (cw, fw) = (self.w, fine.w);
+        let cw = self.w;
         let [o0, o1] = &mut out.c;
         let row = |(jc, (row0, row1)): (usize, (&mut [f32], &mut [f32]))| {
             let fj = 2 * jc;
             let (south, north) = (fj > 0, fj + 1 < fine.ny);
             let wj = 0.5 + 0.25 * (f32::from(u8::from(south)) + f32::from(u8::from(north)));
-            for ic in 0..self.nx {
-                let [gx, gy] = self.weights(ic, jc);
-                if gx == FIXED {
-                    continue;
+            let sums = Self::weighted_sums(fine, r0, jc);
+            for (cc, out) in [row0, row1].into_iter().enumerate() {
+                let pc = (jc + cc) & 1;
+                let count = self.count(cc, jc);
+                let g = &self.g[cc][jc * cw..jc * cw + count];
+                for (hc, (o, &[gx, gy])) in out[..count].iter_mut().zip(g).enumerate() {
+                    let ic = 2 * hc + pc;
+                    let (west, east) = (ic > 0, 2 * ic + 1 < fine.nx);
+                    let wi = 0.5 + 0.25 * (f32::from(u8::from(west)) + f32::from(u8::from(east)));
+                    let a = (f32::from(gx).abs() + f32::from(gy).abs()) * QUANTUM;
+                    let growth = 4.0 - 2.0 * a;
+                    let v = growth * sums[ic] / (wi * wj);
+                    *o = if gx == FIXED { 0.0 } else { v };
                 }
-                let fi = 2 * ic;
-                let (west, east) = (fi > 0, fi + 1 < fine.nx);
-                let wi = 0.5 + 0.25 * (f32::from(u8::from(west)) + f32::from(u8::from(east)));
-                // Colour 0 of the 3 × 3: the centre (fi, fj) and the diagonals, at half-index
-                // ic (centre, east diagonals) or ic − 1 (west diagonals).
-                let mut s = 0.25 * r0[fj * fw + ic];
-                for (ok, jr) in [(south, fj.wrapping_sub(1)), (north, fj + 1)] {
-                    if ok {
-                        if west {
-                            s += 0.0625 * r0[jr * fw + ic - 1];
-                        }
-                        if east {
-                            s += 0.0625 * r0[jr * fw + ic];
-                        }
-                    }
-                }
-                let a = (f32::from(gx).abs() + f32::from(gy).abs()) * QUANTUM;
-                let growth = 4.0 - 2.0 * a;
-                let v = growth * s / (wi * wj);
-                if (ic + jc) & 1 == 0 { row0[ic >> 1] = v } else { row1[ic >> 1] = v }
             }
         };
         if fine.parallel() {
@@ -1009,8 +1112,13 @@ fn split_colours<T: Copy + Send + Sync>(nx: usize, ny: usize, v: &[T], pad: T) -
     let row = |(j, (r0, r1)): (usize, (&mut [T], &mut [T]))| {
         // Row j's colour-0 samples sit at i ≡ j (mod 2), its colour-1 ones at the other parity.
         let (even, odd) = if j & 1 == 0 { (r0, r1) } else { (r1, r0) };
-        for (i, &x) in v[j * nx..(j + 1) * nx].iter().enumerate() {
-            if i & 1 == 0 { even[i >> 1] = x } else { odd[i >> 1] = x }
+        let mut pairs = v[j * nx..(j + 1) * nx].chunks_exact(2);
+        for ((pair, e), o) in (&mut pairs).zip(even.iter_mut()).zip(odd.iter_mut()) {
+            *e = pair[0];
+            *o = pair[1];
+        }
+        if let [last] = pairs.remainder() {
+            even[w - 1] = *last;
         }
     };
     if nx * ny >= PARALLEL_MIN {
@@ -1019,6 +1127,87 @@ fn split_colours<T: Copy + Send + Sync>(nx: usize, ny: usize, v: &[T], pad: T) -
         c0.chunks_mut(w).zip(c1.chunks_mut(w)).enumerate().for_each(row);
     }
     split
+}
+
+/// The row-major `nx × ny` values of colour-split storage `c` (the inverse of [`split_colours`]).
+fn merge_colours<T: Copy + Send + Sync + Default>(nx: usize, ny: usize, c: &[Vec<T>; 2]) -> Vec<T> {
+    let w = nx.div_ceil(2);
+    let mut out = vec![T::default(); nx * ny];
+    let row = |(j, row): (usize, &mut [T])| {
+        // Row j's even samples are colour j % 2, its odd ones the other colour.
+        let (a, b) = (&c[j & 1][j * w..(j + 1) * w], &c[1 - (j & 1)][j * w..(j + 1) * w]);
+        let mut pairs = row.chunks_exact_mut(2);
+        for ((pair, &even), &odd) in (&mut pairs).zip(a).zip(b) {
+            pair[0] = even;
+            pair[1] = odd;
+        }
+        if let [last] = pairs.into_remainder() {
+            *last = a[w - 1];
+        }
+    };
+    if nx * ny >= PARALLEL_MIN {
+        out.par_chunks_mut(nx).enumerate().for_each(row);
+    } else {
+        out.chunks_mut(nx).enumerate().for_each(row);
+    }
+    out
+}
+
+/// A level's weights and right-hand side in row-major order ([`Level::flat`]). Around a fine
+/// sample with all eight neighbours on the grid, its methods give the same sums, added in the
+/// same order, as [`Level::fixed_neighbourhood`] and [`Level::full_weighting`], without their
+/// bounds tests or the colour-split index arithmetic; a skipped term there is a `+0.0` here,
+/// which leaves the sum's bits unchanged (a sum started at `+0.0` is never `−0.0`).
+struct Flat {
+    nx: usize,
+    ny: usize,
+    g: Vec<[i16; 2]>,
+    b: Vec<f32>,
+}
+
+impl Flat {
+    /// The coarse columns of coarse row `jc` whose fine sample has all eight neighbours on the
+    /// grid (empty on the first and last coarse rows).
+    fn interior(&self, jc: usize) -> std::ops::Range<usize> {
+        let fj = 2 * jc;
+        if fj == 0 || fj + 1 >= self.ny {
+            return 0..0;
+        }
+        // Fine column 2ic needs 2ic − 1 ≥ 0 and 2ic + 1 < nx.
+        1..self.nx / 2
+    }
+
+    /// [`Level::fixed_neighbourhood`] of row-major sample `k`.
+    #[inline]
+    fn fixed_neighbourhood(&self, k: usize) -> (f32, f32) {
+        let (mut fixed_w, mut h) = (0.0f32, 0.0f32);
+        for (d, w) in [(k, 4.0f32), (k - 1, 1.0), (k + 1, 1.0), (k - self.nx, 1.0), (k + self.nx, 1.0)] {
+            let fixed = self.g[d][0] == FIXED;
+            fixed_w += if fixed { w } else { 0.0 };
+            h += if fixed { w * self.b[d] } else { 0.0 };
+        }
+        (fixed_w, h)
+    }
+
+    /// Over the free samples of the 3 × 3 full-weighting neighbourhood of row-major sample `k`:
+    /// the total weight, the weighted sum of doubled right-hand sides, and the weighted sums of
+    /// the two upwind weights (what [`Level::coarse_rhs`] and [`Level::coarsen`] add up).
+    #[inline]
+    fn free_weighting(&self, k: usize) -> (f32, f32, f32, f32) {
+        let (mut m, mut rhs, mut dx, mut dy) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+        for (row, wj) in [(k - self.nx, 0.25f32), (k, 0.5), (k + self.nx, 0.25)] {
+            for (d, wi) in [(row - 1, 0.25f32), (row, 0.5), (row + 1, 0.25)] {
+                let w = wi * wj;
+                let [gx, gy] = self.g[d];
+                let free = gx != FIXED;
+                m += if free { w } else { 0.0 };
+                rhs += if free { w * 2.0 * self.b[d] } else { 0.0 };
+                dx += if free { w * f32::from(gx) * QUANTUM } else { 0.0 };
+                dy += if free { w * f32::from(gy) * QUANTUM } else { 0.0 };
+            }
+        }
+        (m, rhs, dx, dy)
+    }
 }
 
 /// A grid function stored by colour: `c[(i + j) % 2][j·w + i/2]`, so a sweep of one colour
@@ -1064,51 +1253,20 @@ impl Field {
     }
 
     fn to_full(&self) -> Vec<f32> {
-        let mut out = vec![0.0; self.nx * self.ny];
-        let row = |(j, row): (usize, &mut [f32])| {
-            for (i, v) in row.iter_mut().enumerate() {
-                *v = self.get(i, j);
-            }
-        };
-        if self.nx * self.ny >= PARALLEL_MIN {
-            out.par_chunks_mut(self.nx).enumerate().for_each(row);
-        } else {
-            out.chunks_mut(self.nx).enumerate().for_each(row);
-        }
-        out
+        merge_colours(self.nx, self.ny, &self.c)
     }
 
     /// On every non-fixed sample of `level`: adds `factor ×` the bilinear interpolation of the
     /// coarse field `e` (half the resolution, coarse sample I on fine sample 2I), or with `None`
     /// writes the interpolation.
     fn interpolate(&mut self, e: &Field, level: &Level, factor: Option<f32>) {
-        let (nx, w) = (self.nx, self.w);
+        let w = self.w;
         let coarse = e.to_full();
-        let (cnx, cny) = (e.nx, e.ny);
         for (colour, c) in self.c.iter_mut().enumerate() {
             let g = &level.g[colour];
             let row = |(j, (row, g)): (usize, (&mut [f32], &[[i16; 2]]))| {
-                // Vertex-centred: even fine indices sit on coarse samples, odd ones halfway.
-                let j0 = (j / 2).min(cny - 1);
-                let j1 = if j % 2 == 1 { (j0 + 1).min(cny - 1) } else { j0 };
-                let (r0, r1) = (&coarse[j0 * cnx..(j0 + 1) * cnx], &coarse[j1 * cnx..(j1 + 1) * cnx]);
-                for i in ((j + colour) & 1..nx).step_by(2) {
-                    let h = i >> 1;
-                    if g[h][0] == FIXED {
-                        continue;
-                    }
-                    let i0 = (i / 2).min(cnx - 1);
-                    let v = if i % 2 == 1 {
-                        let i1 = (i0 + 1).min(cnx - 1);
-                        0.25 * (r0[i0] + r0[i1] + r1[i0] + r1[i1])
-                    } else {
-                        0.5 * (r0[i0] + r1[i0])
-                    };
-                    match factor {
-                        Some(f) => row[h] += f * v,
-                        None => row[h] = v,
-                    }
-                }
+                let count = level.count(colour, j);
+                interpolate_row(&coarse, e.nx, e.ny, j, (j + colour) & 1, &g[..count], &mut row[..count], factor);
             };
             if level.parallel() {
                 c.par_chunks_mut(w).zip(g.par_chunks(w)).enumerate().for_each(row);
@@ -1116,6 +1274,58 @@ impl Field {
                 c.chunks_mut(w).zip(g.chunks(w)).enumerate().for_each(row);
             }
         }
+    }
+}
+
+/// [`Field::interpolate`] on the samples `i = 2h + p` of fine row `j` (`row[h]`, weights `g[h]`)
+/// from the row-major `cnx × cny` coarse field. Vertex-centred: even fine indices sit on coarse
+/// samples, odd ones halfway (clamped at the last coarse sample). The interior runs branch-free
+/// so that it vectorizes; each value is the same expression as at the border.
+#[allow(clippy::too_many_arguments, reason = "one row's slices and its place in the grid")]
+fn interpolate_row(
+    coarse: &[f32],
+    cnx: usize,
+    cny: usize,
+    j: usize,
+    p: usize,
+    g: &[[i16; 2]],
+    row: &mut [f32],
+    factor: Option<f32>,
+) {
+    let j0 = (j / 2).min(cny - 1);
+    let j1 = if j % 2 == 1 { (j0 + 1).min(cny - 1) } else { j0 };
+    let (r0, r1) = (&coarse[j0 * cnx..(j0 + 1) * cnx], &coarse[j1 * cnx..(j1 + 1) * cnx]);
+    let value = |h: usize| {
+        let i0 = h.min(cnx - 1);
+        if p == 1 {
+            let i1 = (i0 + 1).min(cnx - 1);
+            0.25 * (r0[i0] + r0[i1] + r1[i0] + r1[i1])
+        } else {
+            0.5 * (r0[i0] + r1[i0])
+        }
+    };
+    let set = |x: &mut f32, g: [i16; 2], v: f32| {
+        let new = match factor {
+            Some(f) => *x + f * v,
+            None => v,
+        };
+        *x = if g[0] == FIXED { *x } else { new };
+    };
+    // Interior: sample h reads coarse h and h + 1 (odd i) or h alone (even i), all in range.
+    let n = row.len().min(cnx - p);
+    if p == 1 {
+        let (a0, a1, b0, b1) = (&r0[..n], &r0[1..=n], &r1[..n], &r1[1..=n]);
+        for (h, (x, &g)) in row[..n].iter_mut().zip(g).enumerate() {
+            set(x, g, 0.25 * (a0[h] + a1[h] + b0[h] + b1[h]));
+        }
+    } else {
+        let (a0, b0) = (&r0[..n], &r1[..n]);
+        for (h, (x, &g)) in row[..n].iter_mut().zip(g).enumerate() {
+            set(x, g, 0.5 * (a0[h] + b0[h]));
+        }
+    }
+    for h in n..row.len() {
+        set(&mut row[h], g[h], value(h));
     }
 }
 
@@ -1277,6 +1487,111 @@ mod tests {
             let full = l.residual(&x, &l.b);
             assert!(full.c[1].iter().all(|&r| r == 0.0), "{nx}×{ny}");
             assert_eq!(full.c[0], l.residual_after_sweep(&x, &l.b));
+        }
+    }
+
+    /// Sizes with every parity and the thinnest grids each pass handles.
+    const SIZES: [(usize, usize); 7] = [(2, 2), (3, 6), (7, 5), (8, 6), (9, 9), (37, 23), (64, 65)];
+
+    /// A field of mixed signs and magnitudes (no two neighbours alike).
+    fn field(nx: usize, ny: usize, seed: usize) -> Vec<f32> {
+        (0..nx * ny).map(|k| ((k * 37 + seed * 11) % 23) as f32 * 0.37 - 4.0).collect()
+    }
+
+    /// The vectorized coarsening (weights and right-hand side) gives the bits of its definition
+    /// sample by sample through `fixed_neighbourhood` and `full_weighting`, with their bounds
+    /// tests (the path the border samples still take).
+    #[test]
+    fn coarsening_fast_path_matches_the_per_sample_definition() {
+        for (nx, ny) in SIZES {
+            let fine = level(nx, ny);
+            let coarse = fine.coarsen();
+            let b = coarse.b.to_full();
+            for jc in 0..coarse.ny {
+                for ic in 0..coarse.nx {
+                    let (fi, fj) = (2 * ic, 2 * jc);
+                    let (fixed_w, h) = fine.fixed_neighbourhood(fi, fj);
+                    let (mut m, mut rhs, mut dx, mut dy) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+                    fine.full_weighting(fi, fj, |i, j, w| {
+                        let [gx, gy] = fine.weights(i, j);
+                        if gx != FIXED {
+                            m += w;
+                            rhs += w * 2.0 * fine.b.get(i, j);
+                            dx += w * f32::from(gx) * QUANTUM;
+                            dy += w * f32::from(gy) * QUANTUM;
+                        }
+                    });
+                    let (g, v) = if fixed_w > 0.0 {
+                        ([FIXED, 0], h / fixed_w)
+                    } else {
+                        ([quantize(dx / m), quantize(dy / m)], rhs / m)
+                    };
+                    assert_eq!(coarse.weights(ic, jc), g, "{nx}×{ny} at ({ic}, {jc})");
+                    assert_eq!(b[jc * coarse.nx + ic].to_bits(), v.to_bits(), "{nx}×{ny} at ({ic}, {jc})");
+                }
+            }
+        }
+    }
+
+    /// Restriction and interpolation give the bits of their per-sample definitions (full
+    /// weighting of colour 0 with the border's missing terms dropped; bilinear from the coarse
+    /// samples, clamped at the last one), and the colour split round-trips.
+    #[test]
+    fn transfers_match_their_per_sample_definitions() {
+        for (nx, ny) in SIZES {
+            let fine = level(nx, ny);
+            if nx.min(ny) < MIN_COARSENED_SIDE {
+                let x = field(nx, ny, 1);
+                assert_eq!(Field::from_full(nx, ny, &x).to_full(), x, "{nx}×{ny}");
+                continue;
+            }
+            let coarse = fine.coarsen();
+            let r = Field::from_full(nx, ny, &field(nx, ny, 2));
+            let restricted = coarse.restrict(&fine, &r.c[0]).to_full();
+            for jc in 0..coarse.ny {
+                for ic in 0..coarse.nx {
+                    let (fi, fj) = (2 * ic, 2 * jc);
+                    let [gx, gy] = coarse.weights(ic, jc);
+                    let at = |i: usize, j: usize| if (i + j) & 1 == 0 { r.get(i, j) } else { 0.0 };
+                    let mut s = 0.25 * at(fi, fj);
+                    for jr in [fj.wrapping_sub(1), fj + 1].into_iter().filter(|&j| j < ny) {
+                        for ir in [fi.wrapping_sub(1), fi + 1].into_iter().filter(|&i| i < nx) {
+                            s += 0.0625 * at(ir, jr);
+                        }
+                    }
+                    let edge =
+                        |k: usize, n: usize| 0.5 + 0.25 * (f32::from(u8::from(k > 0)) + f32::from(u8::from(k + 1 < n)));
+                    let growth = 4.0 - 2.0 * (f32::from(gx).abs() + f32::from(gy).abs()) * QUANTUM;
+                    let v = if gx == FIXED { 0.0 } else { growth * s / (edge(fi, nx) * edge(fj, ny)) };
+                    assert_eq!(restricted[jc * coarse.nx + ic].to_bits(), v.to_bits(), "{nx}×{ny} at ({ic}, {jc})");
+                }
+            }
+            let e = Field::from_full(coarse.nx, coarse.ny, &field(coarse.nx, coarse.ny, 3));
+            let before = field(nx, ny, 4);
+            for factor in [None, Some(0.7f32)] {
+                let mut x = Field::from_full(nx, ny, &before);
+                x.interpolate(&e, &fine, factor);
+                let x = x.to_full();
+                for j in 0..ny {
+                    for i in 0..nx {
+                        let c = |i: usize, j: usize| e.get(i.min(coarse.nx - 1), j.min(coarse.ny - 1));
+                        let (i0, j0) = (i / 2, j / 2);
+                        let (i1, j1) = (if i % 2 == 1 { i0 + 1 } else { i0 }, if j % 2 == 1 { j0 + 1 } else { j0 });
+                        let v = if i % 2 == 1 {
+                            0.25 * (c(i0, j0) + c(i1, j0) + c(i0, j1) + c(i1, j1))
+                        } else {
+                            0.5 * (c(i0, j0) + c(i0, j1))
+                        };
+                        let old = before[j * nx + i];
+                        let want = match (fine.fixed(i, j), factor) {
+                            (true, _) => old,
+                            (false, Some(f)) => old + f * v,
+                            (false, None) => v,
+                        };
+                        assert_eq!(x[j * nx + i].to_bits(), want.to_bits(), "{nx}×{ny} at ({i}, {j}), {factor:?}");
+                    }
+                }
+            }
         }
     }
 
