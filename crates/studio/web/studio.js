@@ -425,21 +425,30 @@ function drawTree(ctx, tree) {
   });
 }
 
-/** The index of the divide-tree peak nearest `p`, or -1 without a tree. */
-function nearestTreePeak(p) {
-  const tree = result && result.divide_tree;
-  if (!tree || !tree.peaks.length) return -1;
-  const d = (q) => Math.hypot(q.position[0] - p[0], q.position[1] - p[1]);
-  return tree.peaks.reduce((best, q, k) => (d(q) < d(tree.peaks[best]) ? k : best), 0);
+/** The item of `items` whose world position `at(item)` is nearest `p`, within `pixels` on the
+ * map: `{ item, index, distance }` (the first of equals), or null. Every picking tool goes
+ * through it, so they share one rule. */
+function nearest(items, p, pixels, at) {
+  let best = null;
+  items.forEach((item, index) => {
+    const q = at(item);
+    const distance = Math.hypot(q[0] - p[0], q[1] - p[1]);
+    if (distance * view.scale <= pixels && (!best || distance < best.distance)) best = { item, index, distance };
+  });
+  return best;
 }
 
-/** The index of the divide-tree saddle nearest `p` within 16 pixels, or -1. */
-function nearestTreeSaddle(p) {
+/** Pixels within which a press picks a divide-tree peak or saddle. */
+const TREE_PICK = 16;
+
+/** The index of the shown divide tree's peak (`"peaks"`) or saddle (`"saddles"`) within
+ * [`TREE_PICK`] pixels of `p`, or -1 (also while a newer generation runs: the shown tree is then
+ * not the scene's). */
+function nearestTreeItem(kind, p) {
   const tree = result && result.divide_tree;
-  if (!tree || !tree.saddles.length) return -1;
-  const d = (q) => Math.hypot(q.position[0] - p[0], q.position[1] - p[1]);
-  const k = tree.saddles.reduce((best, q, k) => (d(q) < d(tree.saddles[best]) ? k : best), 0);
-  return d(tree.saddles[k]) * view.scale <= 16 ? k : -1;
+  if (!tree || !treeIsCurrent()) return -1;
+  const found = nearest(tree[kind], p, TREE_PICK, (q) => q.position);
+  return found ? found.index : -1;
 }
 
 /** Whether the shown tree is the scene's: not while a newer generation runs. */
@@ -452,22 +461,21 @@ const TREE_TOOLS = {
   // A new peak at the height setting where the drag ends, joined to the peak it starts from by a
   // saddle halfway, below both.
   "insert-peak": (start, end, height) => {
-    const from = nearestTreePeak(start);
-    const peak = from >= 0 && result.divide_tree.peaks[from];
-    const near = peak && Math.hypot(peak.position[0] - start[0], peak.position[1] - start[1]) * view.scale <= 16;
-    if (!near || !treeIsCurrent()) return refuse("drag from a peak of the generated divide tree (once it is shown)");
+    const from = nearestTreeItem("peaks", start);
+    if (from < 0) return refuse("drag from a peak of the generated divide tree (once it is shown)");
+    const peak = result.divide_tree.peaks[from];
     const low = Math.min(peak.elevation, height);
     const saddle = roundWorld([(peak.position[0] + end[0]) / 2, (peak.position[1] + end[1]) / 2]);
     addTreeEdit({ op: "insert_peak", position: end, elevation: height, connect_to: from, saddle, saddle_elevation: low - 0.3 * Math.abs(low) });
   },
   "move-saddle": (start, end) => {
-    const saddle = nearestTreeSaddle(start);
-    if (saddle < 0 || !treeIsCurrent()) return refuse("drag a saddle of the generated divide tree (the diamonds)");
+    const saddle = nearestTreeItem("saddles", start);
+    if (saddle < 0) return refuse("drag a saddle of the generated divide tree (the diamonds)");
     addTreeEdit({ op: "move_saddle", saddle, position: end });
   },
   "delete-ridge": (start) => {
-    const saddle = nearestTreeSaddle(start);
-    if (saddle < 0 || !treeIsCurrent()) return refuse("click a saddle of the generated divide tree (the diamonds)");
+    const saddle = nearestTreeItem("saddles", start);
+    if (saddle < 0) return refuse("click a saddle of the generated divide tree (the diamonds)");
     addTreeEdit({ op: "delete_ridge", saddle });
   },
 };
@@ -621,8 +629,8 @@ function onPointerUp(event) {
   } else if (TREE_TOOLS[t]) {
     TREE_TOOLS[t](start, end, height);
   } else if (t === "move-peak" || t === "peak-height" || t === "delete-peak") {
-    const peak = nearestTreePeak(start);
-    if (peak < 0) return;
+    const peak = nearestTreeItem("peaks", start);
+    if (peak < 0) return refuse("press on a peak of the generated divide tree (once it is shown)");
     const position = result.divide_tree.peaks[peak].position;
     if (t === "move-peak") addTreeEdit({ op: "move_peak", peak, position: end });
     else if (t === "peak-height") addTreeEdit({ op: "move_peak", peak, position, elevation: height });
@@ -755,15 +763,9 @@ function nearestCurve(p) {
 
 /** The control point nearest `p` within 12 pixels: `{ curve, k }`, or null. */
 function nearestControl(p) {
-  let best = null;
-  let distance = 12 / view.scale;
-  (doc.generator.diffusion.curves || []).forEach((curve, c) => {
-    curve.points.forEach((q, k) => {
-      const d = Math.hypot(q[0] - p[0], q[1] - p[1]);
-      if (d < distance) [best, distance] = [{ curve: c, k }, d];
-    });
-  });
-  return best;
+  const points = (doc.generator.diffusion.curves || []).flatMap((curve, c) => curve.points.map((q, k) => ({ curve: c, k, q })));
+  const found = nearest(points, p, 12, (point) => point.q);
+  return found && { curve: found.item.curve, k: found.item.k };
 }
 
 /** Each curve's control polygon (anchors as squares, handles as dots) and its constraint
@@ -841,14 +843,8 @@ async function loadSkeleton() {
 
 /** The id of the skeleton node nearest `p` within 12 pixels, or null. */
 function nearestNode(p) {
-  if (!skeleton) return null;
-  let best = null;
-  let distance = 12 / view.sx;
-  for (const node of skeleton) {
-    const d = Math.hypot(node.position[0] - p[0], node.position[1] - p[1]);
-    if (d < distance) [best, distance] = [node.id, d];
-  }
-  return best;
+  const found = skeleton && nearest(skeleton, p, 12, (node) => node.position);
+  return found ? found.item.id : null;
 }
 
 function drawSkeleton(ctx) {
