@@ -77,6 +77,9 @@ pub enum DiffusionError {
         /// What is broken.
         reason: String,
     },
+    /// The caller's progress callback stopped the generation or solve.
+    #[error("cancelled")]
+    Cancelled,
     /// The raster is too small to diffuse on.
     #[error("grid {nx} x {ny} is too small: diffusion needs at least 2 x 2 samples")]
     GridTooSmall {
@@ -139,6 +142,7 @@ mod tests {
             (DiffusionError::NoElevation, "curves"),
             (DiffusionError::InvalidOption { name: "tolerance", value: 2.0, reason: "" }, "tolerance"),
             (DiffusionError::GridTooSmall { nx: 1, ny: 1 }, ""),
+            (DiffusionError::Cancelled, ""),
         ];
         for (e, path) in cases {
             assert_eq!(e.location(), path, "{e:?}");

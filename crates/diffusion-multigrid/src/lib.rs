@@ -22,6 +22,9 @@
 //!   `forbid(unsafe_code)`); it has no fused operation, so the bits are the same everywhere.
 //! - [`generate`] (§4.3): the smooth elevation plus multi-fractal detail driven by the diffused
 //!   amplitude and roughness; deterministic for a seed, identical for any thread count.
+//!   [`generate_observed`] reports each [`Stage`] (hole windows filled, each solve's iterations)
+//!   and stops within an iteration when its callback breaks, for progress bars and cancel buttons
+//!   on generations of seconds.
 //!
 //! ```
 //! use glam::DVec2;
@@ -54,7 +57,7 @@ pub use maps::{CellKind, ConstraintMaps};
 pub use raster::MAX_STATIONS;
 pub use relief_heightfield as heightfield;
 pub use solver::{DiffusionProblem, SolveOptions, SolveReport, Solver};
-pub use terrain::{FeatureTerrain, TerrainOptions, generate};
+pub use terrain::{FeatureTerrain, Stage, TerrainOptions, generate, generate_observed};
 
 /// The crate README's example, compiled and run as a doc test.
 #[cfg(doctest)]

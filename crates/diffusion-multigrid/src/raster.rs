@@ -3,6 +3,8 @@
 //! Crossing slope bands are filled afterwards by Laplace solves (`DiffusionProblem::laplace`) on crops
 //! around them.
 
+use std::ops::ControlFlow;
+
 use glam::DVec2;
 use rayon::prelude::*;
 use relief_heightfield::GridSpec;
@@ -45,6 +47,20 @@ impl ConstraintMaps {
     /// [`DiffusionError::CurveTooLong`] before sampling a curve of more than [`MAX_STATIONS`]
     /// half-cell steps.
     pub fn rasterize(curves: &[FeatureCurve], grid: &GridSpec) -> Result<Self, DiffusionError> {
+        Self::rasterize_observed(curves, grid, &mut |_, _| ControlFlow::Continue(()))
+    }
+
+    /// [`Self::rasterize`], calling `observe(done, total)` after each batch of hole windows is
+    /// filled (`total` windows in all; once with `(0, 0)` when there is no hole);
+    /// [`ControlFlow::Break`] stops there.
+    ///
+    /// # Errors
+    /// Those of [`Self::rasterize`]; [`DiffusionError::Cancelled`] when `observe` breaks.
+    pub fn rasterize_observed(
+        curves: &[FeatureCurve],
+        grid: &GridSpec,
+        observe: &mut dyn FnMut(usize, usize) -> ControlFlow<()>,
+    ) -> Result<Self, DiffusionError> {
         if grid.nx() < 2 || grid.ny() < 2 {
             return Err(DiffusionError::GridTooSmall { nx: grid.nx(), ny: grid.ny() });
         }
@@ -76,7 +92,7 @@ impl ConstraintMaps {
             let j0 = b * rows;
             Canvas::paint(grid, j0, (j0 + rows).min(grid.ny()), &stations, &pieces).finish(&mut band);
         });
-        fill_holes(&mut maps);
+        fill_holes(&mut maps, observe)?;
         Ok(maps)
     }
 
@@ -358,7 +374,10 @@ enum Paint {
 /// The solves read only slope samples, which no fill changes, so they run in parallel (a few
 /// windows at a time, to bound the memory their solutions take); the fills are then written in
 /// the order of the groups, the same for any thread count.
-fn fill_holes(maps: &mut ConstraintMaps) {
+fn fill_holes(
+    maps: &mut ConstraintMaps,
+    observe: &mut dyn FnMut(usize, usize) -> ControlFlow<()>,
+) -> Result<(), DiffusionError> {
     let (nx, ny) = (maps.grid.nx(), maps.grid.ny());
     let mut seen = vec![false; nx * ny];
     let mut stack = Vec::new();
@@ -370,12 +389,19 @@ fn fill_holes(maps: &mut ConstraintMaps) {
         let group = hole_group_bounds(maps, start, &mut seen, &mut stack);
         windows.extend(Window::around(group, nx, ny));
     }
-    for batch in windows.chunks(WINDOWS_AT_ONCE) {
+    if windows.is_empty() && observe(0, 0).is_break() {
+        return Err(DiffusionError::Cancelled);
+    }
+    for (b, batch) in windows.chunks(WINDOWS_AT_ONCE).enumerate() {
         let fills: Vec<Fill> = batch.par_iter().map(|window| Fill::solve(maps, window)).collect();
         for (window, fill) in batch.iter().zip(&fills) {
             fill.write(maps, window);
         }
+        if observe(b * WINDOWS_AT_ONCE + batch.len(), windows.len()).is_break() {
+            return Err(DiffusionError::Cancelled);
+        }
     }
+    Ok(())
 }
 
 /// Hole windows solved at once by [`fill_holes`].

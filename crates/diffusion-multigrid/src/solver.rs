@@ -9,6 +9,8 @@
 //! border reflects (Neumann). All updates of one colour read only the other colour, so the
 //! parallel smoother gives bit-identical results to a serial one.
 
+use std::ops::ControlFlow;
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -296,11 +298,28 @@ impl DiffusionProblem {
     /// # Errors
     /// [`DiffusionError::InvalidOption`] for a tolerance outside (0, 1).
     pub fn solve(&self, options: &SolveOptions) -> Result<(Vec<f32>, SolveReport), DiffusionError> {
+        self.solve_observed(options, &mut |_| ControlFlow::Continue(()))
+    }
+
+    /// [`Self::solve`], calling `observe` with the iteration count after the start (full
+    /// multigrid or the pyramid: 0) and after each V-cycle, each batch of 50 Jacobi sweeps and
+    /// each `BiCGStab` iteration that does not end the solve; [`ControlFlow::Break`] stops the
+    /// solve there.
+    ///
+    /// # Errors
+    /// [`DiffusionError::InvalidOption`] for a tolerance outside (0, 1);
+    /// [`DiffusionError::Cancelled`] when `observe` breaks.
+    pub fn solve_observed(
+        &self,
+        options: &SolveOptions,
+        observe: &mut dyn FnMut(usize) -> ControlFlow<()>,
+    ) -> Result<(Vec<f32>, SolveReport), DiffusionError> {
         options.check()?;
         let (x, report) = match options.solver {
-            Solver::Multigrid => self.multigrid(options),
-            Solver::JacobiPyramid => self.jacobi_pyramid(options),
-        };
+            Solver::Multigrid => self.multigrid(options, observe),
+            Solver::JacobiPyramid => self.jacobi_pyramid(options, observe),
+        }
+        .ok_or(DiffusionError::Cancelled)?;
         Ok((x.to_full(), report))
     }
 
@@ -312,7 +331,12 @@ impl DiffusionProblem {
         if norm > 0.0 { norm } else { 1.0 }
     }
 
-    fn multigrid(&self, options: &SolveOptions) -> (Field, SolveReport) {
+    /// The multigrid solve; `None` when `observe` breaks.
+    fn multigrid(
+        &self,
+        options: &SolveOptions,
+        observe: &mut dyn FnMut(usize) -> ControlFlow<()>,
+    ) -> Option<(Field, SolveReport)> {
         let r0 = self.reference_norm();
         let top = self.levels.len() - 1;
         // Full multigrid: solve the coarsest version, then interpolate and cycle once per level.
@@ -335,6 +359,9 @@ impl DiffusionProblem {
         // sets can make the cycles stall), restarting from the last good iterate. Every cycle ends
         // with a sweep, so the residual lives on colour 0 only.
         let mut history = vec![norm_after_sweep(&finest.residual_after_sweep(&x, &finest.b)) / r0];
+        if observe(0).is_break() {
+            return None;
+        }
         let mut cycles = 0;
         while history[history.len() - 1] >= options.tolerance && cycles < max {
             let before = x.clone();
@@ -347,10 +374,14 @@ impl DiffusionProblem {
                 break;
             }
             history.push(rel);
+            if observe(cycles).is_break() {
+                return None;
+            }
         }
         let mut iterations = cycles;
         if history[history.len() - 1] >= options.tolerance && cycles < max {
-            let (krylov, more, its) = self.bicgstab(x, r0, options.tolerance, max - cycles);
+            let (krylov, more, its) =
+                self.bicgstab(x, r0, options.tolerance, max - cycles, &mut |k| observe(cycles + k))?;
             x = krylov;
             history.extend_from_slice(&more[1..]);
             iterations += its;
@@ -363,7 +394,7 @@ impl DiffusionProblem {
             converged: rel < options.tolerance,
             history,
         };
-        (x, report)
+        Some((x, report))
     }
 
     /// The V-cycle as a preconditioner: z ≈ A⁻¹·r (zero on fixed samples).
@@ -379,7 +410,14 @@ impl DiffusionProblem {
     /// gradient-dominated constraint sets; wrapped in `BiCGStab` it converges robustly. Krylov
     /// vectors vanish on fixed samples, which therefore keep their values. Returns the solution,
     /// the relative residual after the start and after each iteration, and the iteration count.
-    fn bicgstab(&self, mut x: Field, r0: f64, tol: f64, max: usize) -> (Field, Vec<f64>, usize) {
+    fn bicgstab(
+        &self,
+        mut x: Field,
+        r0: f64,
+        tol: f64,
+        max: usize,
+        observe: &mut dyn FnMut(usize) -> ControlFlow<()>,
+    ) -> Option<(Field, Vec<f64>, usize)> {
         let l = &self.levels[0];
         let zero = Field::zeros(l.nx, l.ny);
         // A·v = v − S·v on free samples and v on fixed ones: minus the residual of v for rhs 0.
@@ -391,7 +429,7 @@ impl DiffusionProblem {
         let mut r = l.residual(&x, &l.b);
         let mut history = vec![norm(&r) / r0];
         if history[0] < tol {
-            return (x, history, 0);
+            return Some((x, history, 0));
         }
         let hat = r.clone();
         let (mut rho, mut alpha, mut omega) = (1.0f64, 1.0f64, 1.0f64);
@@ -439,8 +477,11 @@ impl DiffusionProblem {
             if history[history.len() - 1] < tol {
                 break;
             }
+            if observe(iterations).is_break() {
+                return None;
+            }
         }
-        (x, history, iterations)
+        Some((x, history, iterations))
     }
 
     /// One V-cycle on level `l` for `rhs`: 2 red-black sweeps, coarse-grid correction, 2 sweeps.
@@ -465,7 +506,12 @@ impl DiffusionProblem {
         }
     }
 
-    fn jacobi_pyramid(&self, options: &SolveOptions) -> (Field, SolveReport) {
+    /// The paper's pyramid; `None` when `observe` breaks.
+    fn jacobi_pyramid(
+        &self,
+        options: &SolveOptions,
+        observe: &mut dyn FnMut(usize) -> ControlFlow<()>,
+    ) -> Option<(Field, SolveReport)> {
         let r0 = self.reference_norm();
         let l = self.levels.len();
         let mut x: Option<Field> = None;
@@ -489,6 +535,9 @@ impl DiffusionProblem {
         let mut spare = cur.clone();
         let rel = |v: &Field| norm(&finest.residual(v, &finest.b)) / r0;
         let mut history = vec![rel(&cur)];
+        if observe(0).is_break() {
+            return None;
+        }
         let max = options.max_iterations.unwrap_or(20_000);
         let mut sweeps = 0;
         while history[history.len() - 1] >= options.tolerance && sweeps < max {
@@ -499,6 +548,9 @@ impl DiffusionProblem {
             }
             sweeps += batch;
             history.push(rel(&cur));
+            if observe(sweeps).is_break() {
+                return None;
+            }
         }
         let rel = history[history.len() - 1];
         let report = SolveReport {
@@ -508,7 +560,7 @@ impl DiffusionProblem {
             converged: rel < options.tolerance,
             history,
         };
-        (cur, report)
+        Some((cur, report))
     }
 }
 

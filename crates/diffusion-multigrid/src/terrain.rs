@@ -1,6 +1,8 @@
 //! From feature curves to a terrain (§4): rasterize, diffuse the elevation (guided by the slope
 //! constraints) and the noise parameters, synthesise the multi-fractal detail, add.
 
+use std::ops::ControlFlow;
+
 use glam::DVec2;
 use rayon::prelude::*;
 use relief_heightfield::noise::{NoiseLattice, gradient_noise};
@@ -45,6 +47,33 @@ pub struct FeatureTerrain {
     pub maps: ConstraintMaps,
 }
 
+/// Where a generation is, as [`generate_observed`] reports it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Stage {
+    /// The constraints are painted; `done` of `total` windows of crossing slope bands are filled.
+    Holes {
+        /// Windows filled.
+        done: usize,
+        /// Windows in all (0 when no slope bands cross).
+        total: usize,
+    },
+    /// The elevation solve after its start (`iteration` 0) and after `iteration` V-cycles
+    /// (`BiCGStab` iterations, or Jacobi sweeps in batches of 50, as
+    /// [`crate::SolveReport::iterations`] counts them).
+    Elevation {
+        /// Iterations so far.
+        iteration: usize,
+    },
+    /// The noise amplitude (`field` 0) or roughness (`field` 1) solve, counted as the elevation's.
+    Noise {
+        /// 0: amplitude, 1: roughness.
+        field: usize,
+        /// Iterations so far.
+        iteration: usize,
+    },
+}
+
 /// Generates the terrain of `curves` on `grid`.
 ///
 /// # Errors
@@ -54,6 +83,41 @@ pub fn generate(
     curves: &[FeatureCurve],
     grid: &GridSpec,
     options: &TerrainOptions,
+) -> Result<FeatureTerrain, DiffusionError> {
+    generate_observed(curves, grid, options, |_| ControlFlow::Continue(()))
+}
+
+/// [`generate`], calling `observe` as it goes: after each batch of hole windows and each
+/// iteration of the three solves (see [`Stage`]). [`ControlFlow::Break`] stops the generation
+/// there, within one iteration: what a progress bar or a cancel button needs on a generation of
+/// seconds. The result does not depend on the callback.
+///
+/// ```
+/// use std::ops::ControlFlow;
+/// use glam::DVec2;
+/// use relief_diffusion_multigrid::{DiffusionError, Stage, TerrainOptions, generate_observed, presets};
+/// use relief_heightfield::GridSpec;
+///
+/// let grid = GridSpec::new(65, 65, DVec2::ZERO, DVec2::splat(20.0))?;
+/// let ridge = presets::ridge(&[DVec2::new(200.0, 640.0), DVec2::new(1080.0, 640.0)], 200.0, 600.0, 200.0, 25.0, 300.0);
+/// // A cancel button pressed while the elevation is being solved.
+/// let mut seen = Vec::new();
+/// let stop = generate_observed(&[ridge], &grid, &TerrainOptions::default(), |stage| {
+///     seen.push(stage);
+///     if matches!(stage, Stage::Elevation { .. }) { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+/// });
+/// assert_eq!(stop.err(), Some(DiffusionError::Cancelled));
+/// assert_eq!(seen.last(), Some(&Stage::Elevation { iteration: 0 }));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// Those of [`generate`]; [`DiffusionError::Cancelled`] when `observe` breaks.
+pub fn generate_observed(
+    curves: &[FeatureCurve],
+    grid: &GridSpec,
+    options: &TerrainOptions,
+    mut observe: impl FnMut(Stage) -> ControlFlow<()>,
 ) -> Result<FeatureTerrain, DiffusionError> {
     if !(options.noise_wavelength.is_finite() && options.noise_wavelength >= 0.0) {
         return Err(DiffusionError::InvalidOption {
@@ -77,8 +141,10 @@ pub fn generate(
             reason: "is below a millionth of the domain: the noise would alias to nothing",
         });
     }
-    let maps = ConstraintMaps::rasterize(curves, grid)?;
-    let (values, report) = DiffusionProblem::elevation(&maps)?.solve(&options.solve)?;
+    let maps =
+        ConstraintMaps::rasterize_observed(curves, grid, &mut |done, total| observe(Stage::Holes { done, total }))?;
+    let (values, report) = DiffusionProblem::elevation(&maps)?
+        .solve_observed(&options.solve, &mut |iteration| observe(Stage::Elevation { iteration }))?;
     let smooth = Heightfield::from_samples(*grid, values).map_err(|_| DiffusionError::InvalidOption {
         name: "constraints",
         value: f64::NAN,
@@ -92,9 +158,13 @@ pub fn generate(
         let roughness_problem = amplitude_problem
             .laplace_like(&maps.roughness)
             .or_else(|| DiffusionProblem::laplace(nx, ny, &maps.roughness));
-        let amplitude = amplitude_problem.solve(&options.solve)?.0;
+        let amplitude = amplitude_problem
+            .solve_observed(&options.solve, &mut |iteration| observe(Stage::Noise { field: 0, iteration }))?
+            .0;
         let roughness = match roughness_problem {
-            Some(p) => p.solve(&options.solve)?.0,
+            Some(p) => {
+                p.solve_observed(&options.solve, &mut |iteration| observe(Stage::Noise { field: 1, iteration }))?.0
+            }
             None => vec![0.5; grid.len()],
         };
         let size = grid.extent().size();

@@ -5,9 +5,11 @@
 
 use glam::DVec2;
 use proptest::prelude::*;
+use std::ops::ControlFlow;
+
 use relief_diffusion_multigrid::{
     CellKind, Constraint, ConstraintMaps, DiffusionError, DiffusionProblem, Elevation, FeatureCurve, MAX_STATIONS,
-    SolveOptions, Solver, TerrainOptions, generate, presets,
+    SolveOptions, Solver, Stage, TerrainOptions, generate, generate_observed, presets,
 };
 use relief_heightfield::GridSpec;
 
@@ -331,5 +333,98 @@ fn crossing_slope_bands_leave_no_pit_below_the_ridge_feet() {
                 assert!(x[j * 512 + i] > 650.0, "({i}, {j}) = {}", x[j * 512 + i]);
             }
         }
+    }
+}
+
+/// The ridge-and-crack scene of `same_seed_same_bytes_for_any_thread_count` at 129²: holes to
+/// fill, an elevation solve and the two noise solves.
+fn observed_scene() -> (Vec<FeatureCurve>, GridSpec) {
+    let curves = vec![
+        presets::with_noise(
+            presets::ridge(&[DVec2::new(100.0, 500.0), DVec2::new(900.0, 500.0)], 200.0, 600.0, 200.0, 30.0, 200.0),
+            40.0,
+            0.7,
+        ),
+        presets::crack(&[DVec2::new(500.0, 100.0), DVec2::new(500.0, 900.0)], 20.0, 60.0),
+        presets::hill(&[DVec2::new(0.0, 0.0), DVec2::new(1000.0, 0.0)], 0.0, 0.0),
+    ];
+    (curves, grid(129, 1000.0))
+}
+
+#[test]
+fn an_observed_generation_reports_each_stage_in_order_and_gives_the_same_bytes() {
+    let (curves, g) = observed_scene();
+    let mut stages = Vec::new();
+    let observed = generate_observed(&curves, &g, &plain(), |stage| {
+        stages.push(stage);
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    let plain_run = generate(&curves, &g, &plain()).unwrap();
+    assert_eq!(observed.heightfield, plain_run.heightfield, "the callback changes nothing");
+    // Holes first, counting up to their total; then the elevation's iterations; then amplitude
+    // (field 0) and roughness (field 1), each counting up.
+    let rank = |s: &Stage| match s {
+        Stage::Holes { .. } => 0,
+        Stage::Elevation { .. } => 1,
+        Stage::Noise { field, .. } => 2 + field,
+        _ => unreachable!(),
+    };
+    assert!(stages.windows(2).all(|w| rank(&w[0]) <= rank(&w[1])), "{stages:?}");
+    let holes: Vec<(usize, usize)> = stages
+        .iter()
+        .filter_map(|s| if let Stage::Holes { done, total } = *s { Some((done, total)) } else { None })
+        .collect();
+    let total = holes[0].1;
+    assert!(total > 0 && holes.last() == Some(&(total, total)), "{holes:?}");
+    assert!(holes.windows(2).all(|w| w[0].0 < w[1].0), "{holes:?}");
+    for kind in 1..4 {
+        let its: Vec<usize> = stages
+            .iter()
+            .filter(|s| rank(s) == kind)
+            .map(|s| match *s {
+                Stage::Elevation { iteration } | Stage::Noise { iteration, .. } => iteration,
+                _ => unreachable!(),
+            })
+            .collect();
+        assert_eq!(its.first(), Some(&0), "stage {kind} reports its start: {its:?}");
+        assert!(its.windows(2).all(|w| w[0] < w[1]), "stage {kind}: {its:?}");
+    }
+    let elevation = stages.iter().filter(|s| rank(s) == 1).count();
+    assert!(elevation <= observed.report.iterations + 1, "{elevation} reports for {:?}", observed.report);
+}
+
+#[test]
+fn a_break_stops_the_generation_at_that_stage() {
+    let (curves, g) = observed_scene();
+    for stop_at in 0..4 {
+        let mut after = Vec::new();
+        let result = generate_observed(&curves, &g, &plain(), |stage| {
+            let rank = match stage {
+                Stage::Holes { .. } => 0,
+                Stage::Elevation { .. } => 1,
+                Stage::Noise { field, .. } => 2 + field,
+                _ => unreachable!(),
+            };
+            after.push(rank);
+            if rank == stop_at { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        });
+        assert_eq!(result.err(), Some(DiffusionError::Cancelled), "stop at {stop_at}");
+        assert_eq!(after.last(), Some(&stop_at), "nothing is reported after the break: {after:?}");
+        assert_eq!(after.iter().filter(|&&r| r == stop_at).count(), 1, "{after:?}");
+    }
+    // The same for a bare solve, under both solvers.
+    let maps = ConstraintMaps::rasterize(&curves, &g).unwrap();
+    let problem = DiffusionProblem::elevation(&maps).unwrap();
+    for solver in [Solver::Multigrid, Solver::JacobiPyramid] {
+        let options = SolveOptions { solver, tolerance: 1e-6, ..SolveOptions::default() };
+        let mut seen = Vec::new();
+        let result = problem.solve_observed(&options, &mut |iteration| {
+            seen.push(iteration);
+            if seen.len() == 2 { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        });
+        assert_eq!(result.err(), Some(DiffusionError::Cancelled), "{solver:?}");
+        let step = if solver == Solver::Multigrid { 1 } else { 50 };
+        assert_eq!(seen, [0, step], "{solver:?}");
     }
 }

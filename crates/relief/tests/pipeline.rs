@@ -363,6 +363,31 @@ fn a_cancelled_run_stops_before_its_next_step_or_unit() {
     let mut fit = FitProgress::default();
     assert!(generate(&vectorize, &root(), &mut fit).is_ok());
     assert_eq!(fit.0, (1..=60).map(|k| (k, 60)).collect::<Vec<_>>(), "each of the fit's iterations is reported");
+    // Within a diffusion: it stops once its holes are filled, inside the one `diffusion` step.
+    let mut ridges = load_scene(root().join("fixtures/scenes/mountain-ridges.json")).unwrap();
+    ridges.reconstruction.resolution = [96, 96];
+    let mut progress = CancelAfter { steps: Steps::default(), after: usize::MAX, units: 0, after_units: 1 };
+    let error = generate(&ridges, &root(), &mut progress).unwrap_err();
+    assert!(matches!(error, relief::ReliefError::Cancelled), "{error}");
+    assert_eq!(progress.units, 1, "the solves went on after the cancel");
+    let started: Vec<&str> = progress.steps.0.iter().filter(|(_, f)| !f).map(|(s, _)| *s).collect();
+    assert_eq!(started, ["inputs", "diffusion"], "no step starts after the cancel");
+    let mut units = StepUnits::default();
+    assert!(generate(&ridges, &root(), &mut units).is_ok());
+    let diffusion: Vec<_> = units.0.iter().filter(|u| u.0 == "diffusion").map(|u| (u.1, u.2)).collect();
+    assert_eq!((diffusion.first(), diffusion.last()), (Some(&(0, 3)), Some(&(3, 3))), "{diffusion:?}");
+}
+
+/// Every progress report: `(step, done, total)`.
+#[derive(Default)]
+struct StepUnits(Vec<(&'static str, u64, u64)>);
+
+impl Progress for StepUnits {
+    fn start(&mut self, _: &'static str) {}
+    fn finish(&mut self, _: &'static str, _: std::time::Duration) {}
+    fn advance(&mut self, step: &'static str, done: u64, total: u64) {
+        self.0.push((step, done, total));
+    }
 }
 
 /// The `source` step's progress reports: `(done, total)`, after the first (0 of the total).

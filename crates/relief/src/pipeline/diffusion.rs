@@ -3,9 +3,11 @@
 use super::inputs::{bounds, default_domain, raster_grid};
 use super::progress::Timer;
 use super::{Generated, Report};
+use std::ops::ControlFlow;
+
 use glam::DVec2;
 
-use crate::diffusion::{self, Constraint, Elevation, FeatureCurve, Noise, SolveOptions, TerrainOptions};
+use crate::diffusion::{self, Constraint, Elevation, FeatureCurve, Noise, SolveOptions, Stage, TerrainOptions};
 use crate::error::SceneError;
 use crate::heightfield::{GridSpec, Heightfield};
 use crate::scene::{Border, DiffusionGenerator, Scene};
@@ -42,8 +44,24 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
         Ok((raster_grid(scene, extent)?, options))
     })?;
     let curves = with_border(g, g.all_curves(), &grid)?;
-    let terrain = timer
-        .step("diffusion", || diffusion::generate(&curves, &grid, &options).map_err(|e| E::located(GENERATOR, e)))?;
+    // Three units: the painted constraints with their holes filled, the elevation solve, the
+    // noise solves (each iteration of them a chance to cancel).
+    let terrain = timer.counted("diffusion", 3, |tick| {
+        diffusion::generate_observed(&curves, &grid, &options, |stage| {
+            match stage {
+                Stage::Holes { done, total } if done == total => tick.reach(1),
+                Stage::Elevation { .. } => tick.reach(1),
+                Stage::Noise { .. } => tick.reach(2),
+                _ => {}
+            }
+            if tick.cancelled() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        })
+        .inspect(|_| tick.reach(3))
+        .map_err(|e| match e {
+            diffusion::DiffusionError::Cancelled => E::Cancelled,
+            e => E::located(GENERATOR, e),
+        })
+    })?;
     let warnings = noise_warning(&g.all_curves(), &terrain.smooth).into_iter().collect();
     Ok(Generated {
         heightfield: terrain.heightfield,
