@@ -432,3 +432,63 @@ fn a_break_stops_the_generation_at_that_stage() {
         assert_eq!(seen, [0, step], "{solver:?}");
     }
 }
+
+#[test]
+fn noise_options_are_checked_at_their_bounds() {
+    let (curves, g) = observed_scene();
+    let with = |noise_wavelength: f64, noise_octaves: u32| {
+        generate(&curves, &g, &TerrainOptions { noise_wavelength, noise_octaves, ..plain() })
+    };
+    let name = |r: Result<_, DiffusionError>| match r {
+        Err(DiffusionError::InvalidOption { name, .. }) => Some(name),
+        _ => None,
+    };
+    for bad in [-1.0, f64::NAN, f64::INFINITY, 0.5e-6 * 1000.0] {
+        assert_eq!(name(with(bad, 4)), Some("noise_wavelength"), "{bad}");
+    }
+    assert_eq!(name(with(0.0, 17)), Some("noise_octaves"));
+    assert!(with(0.0, 16).is_ok());
+    assert!(with(1e-6 * 1000.0, 4).is_ok(), "a millionth of the domain is allowed");
+}
+
+#[test]
+fn detail_is_the_diffused_amplitude_times_the_noise() {
+    let g = grid(129, 1000.0);
+    let ridge = |amplitude| {
+        presets::with_noise(
+            presets::ridge(&[DVec2::new(100.0, 500.0), DVec2::new(900.0, 500.0)], 200.0, 600.0, 200.0, 30.0, 200.0),
+            amplitude,
+            0.7,
+        )
+    };
+    // A calm crack: its noise amplitude is held at 0 along it.
+    let calm =
+        presets::with_noise(presets::crack(&[DVec2::new(500.0, 50.0), DVec2::new(500.0, 950.0)], 20.0, 60.0), 0.0, 0.5);
+    let base = presets::hill(&[DVec2::new(0.0, 0.0), DVec2::new(1000.0, 0.0)], 0.0, 0.0);
+    let detail = |amplitude| {
+        let t = generate(&[ridge(amplitude), calm.clone(), base.clone()], &g, &plain()).unwrap();
+        t.heightfield.samples().iter().zip(t.smooth.samples()).map(|(h, s)| h - s).collect::<Vec<f32>>()
+    };
+    let (one, two) = (detail(40.0), detail(80.0));
+    for j in 16..112 {
+        assert_eq!(one[j * 129 + 64], 0.0, "row {j}: detail on the calm crack");
+    }
+    // Along the crest (amplitude held at A, away from the crack), doubling A doubles the detail.
+    let mut seen = 0.0f32;
+    for i in (20..50).chain(78..108) {
+        let k = 64 * 129 + i;
+        assert!((two[k] - 2.0 * one[k]).abs() < 2e-3, "({i}, 64): {} then {}", one[k], two[k]);
+        seen = seen.max(one[k].abs());
+    }
+    assert!(seen > 5.0, "the crest carries detail: {seen}");
+}
+
+#[test]
+fn the_default_wavelength_is_a_sixteenth_of_the_larger_side() {
+    let (curves, g) = observed_scene();
+    let run =
+        |noise_wavelength| generate(&curves, &g, &TerrainOptions { noise_wavelength, ..plain() }).unwrap().heightfield;
+    let automatic = run(0.0);
+    assert_eq!(automatic, run(1000.0 / 16.0));
+    assert_ne!(automatic, run(1000.0 / 12.0));
+}
