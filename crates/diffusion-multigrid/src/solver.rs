@@ -302,9 +302,10 @@ impl DiffusionProblem {
     }
 
     /// [`Self::solve`], calling `observe` with the iteration count after the start (full
-    /// multigrid or the pyramid: 0) and after each V-cycle, each batch of 50 Jacobi sweeps and
-    /// each `BiCGStab` iteration that does not end the solve; [`ControlFlow::Break`] stops the
-    /// solve there.
+    /// multigrid or the pyramid: 0), after each V-cycle kept (one that stalls hands over to
+    /// `BiCGStab` unreported), each batch of 50 Jacobi sweeps and each `BiCGStab` iteration but
+    /// one that reaches the tolerance. [`ControlFlow::Break`] stops the solve there, even one
+    /// that has just converged: a cancel wins.
     ///
     /// # Errors
     /// [`DiffusionError::InvalidOption`] for a tolerance outside (0, 1);

@@ -426,8 +426,8 @@ function drawTree(ctx, tree) {
 }
 
 /** The item of `items` whose world position `at(item)` is nearest `p`, within `pixels` on the
- * map: `{ item, index, distance }` (the first of equals), or null. Every picking tool goes
- * through it, so they share one rule. */
+ * map: `{ item, index, distance }` (the first of equals), or null. The tools that pick a point
+ * (tree peaks and saddles, control points, crest nodes) share this rule. */
 function nearest(items, p, pixels, at) {
   let best = null;
   items.forEach((item, index) => {
@@ -462,7 +462,7 @@ const TREE_TOOLS = {
   // saddle halfway, below both.
   "insert-peak": (start, end, height) => {
     const from = nearestTreeItem("peaks", start);
-    if (from < 0) return refuse("drag from a peak of the generated divide tree (once it is shown)");
+    if (from < 0) return refuse("drag from a peak of the generated divide tree (once it is shown, and not while a newer one is generated)");
     const peak = result.divide_tree.peaks[from];
     const low = Math.min(peak.elevation, height);
     const saddle = roundWorld([(peak.position[0] + end[0]) / 2, (peak.position[1] + end[1]) / 2]);
@@ -630,7 +630,7 @@ function onPointerUp(event) {
     TREE_TOOLS[t](start, end, height);
   } else if (t === "move-peak" || t === "peak-height" || t === "delete-peak") {
     const peak = nearestTreeItem("peaks", start);
-    if (peak < 0) return refuse("press on a peak of the generated divide tree (once it is shown)");
+    if (peak < 0) return refuse("press on a peak of the generated divide tree (once it is shown, and not while a newer one is generated)");
     const position = result.divide_tree.peaks[peak].position;
     if (t === "move-peak") addTreeEdit({ op: "move_peak", peak, position: end });
     else if (t === "peak-height") addTreeEdit({ op: "move_peak", peak, position, elevation: height });

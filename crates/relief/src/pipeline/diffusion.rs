@@ -1,10 +1,10 @@
 //! Feature curves diffused into a terrain (Hnaidi et al. 2010).
 
+use std::ops::ControlFlow;
+
 use super::inputs::{bounds, default_domain, raster_grid};
 use super::progress::Timer;
 use super::{Generated, Report};
-use std::ops::ControlFlow;
-
 use glam::DVec2;
 
 use crate::diffusion::{self, Constraint, Elevation, FeatureCurve, Noise, SolveOptions, Stage, TerrainOptions};
@@ -46,13 +46,18 @@ pub(super) fn generate(scene: &Scene, g: &DiffusionGenerator, timer: &mut Timer<
     let curves = with_border(g, g.all_curves(), &grid)?;
     // Three units: the painted constraints with their holes filled, the elevation solve, the
     // noise solves (each iteration of them a chance to cancel).
+    // The units are reported as they rise, not at every iteration.
     let terrain = timer.counted("diffusion", 3, |tick| {
+        let mut reached = 0;
         diffusion::generate_observed(&curves, &grid, &options, |stage| {
-            match stage {
-                Stage::Holes { done, total } if done == total => tick.reach(1),
-                Stage::Elevation { .. } => tick.reach(1),
-                Stage::Noise { .. } => tick.reach(2),
-                _ => {}
+            let unit = match stage {
+                Stage::Holes { done, total } if done < total => 0,
+                Stage::Holes { .. } | Stage::Elevation { .. } => 1,
+                _ => 2,
+            };
+            if unit > reached {
+                reached = unit;
+                tick.reach(unit);
             }
             if tick.cancelled() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
         })

@@ -20,14 +20,17 @@ pub trait Progress {
     /// `step` finished after `elapsed`.
     fn finish(&mut self, step: &'static str, elapsed: Duration);
     /// Within `step`, `done` of `total` units of work are done: the island's operations, the
-    /// Gaussian tools, a DEM's vectorization (its fitting iterations), the contour edits, the
-    /// post-processing iterations (each erosion pass one unit). Called with `done` rising from 0 to `total`; ignored by default.
+    /// Gaussian tools, a DEM's vectorization (its fitting iterations), a diffusion (three units:
+    /// holes filled, elevation solved, noise solved), the contour edits, the post-processing
+    /// iterations (each erosion pass one unit). Called with `done` rising from 0 to `total`; ignored by default.
     fn advance(&mut self, step: &'static str, done: u64, total: u64) {
         let _ = (step, done, total);
     }
 
     /// Whether the caller wants the run to stop: checked before each step (and, in counted
-    /// steps, before each unit of work), the run then ends with [`ReliefError::Cancelled`].
+    /// steps, before each unit of work; within a DEM's fit after each iteration, within a
+    /// diffusion after each batch of hole fills and each solver iteration), the run then ends
+    /// with [`ReliefError::Cancelled`].
     /// Never, by default.
     fn cancelled(&self) -> bool {
         false
