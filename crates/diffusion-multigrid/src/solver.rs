@@ -665,30 +665,11 @@ impl Level {
         let flat = self.flat();
         let mut g = vec![[0i16; 2]; cx * cy];
         let row = |(jc, g): (usize, &mut [[i16; 2]])| {
-            let interior = flat.interior(jc);
             for (ic, g) in g.iter_mut().enumerate() {
                 let (fi, fj) = (2 * ic, 2 * jc);
-                if interior.contains(&ic) {
-                    let k = fj * self.nx + fi;
-                    let fixed = flat.fixed_neighbourhood(k).0 > 0.0;
-                    let (m, _, dx, dy) = flat.free_weighting(k);
-                    *g = if fixed { [FIXED, 0] } else { [quantize(dx / m), quantize(dy / m)] };
-                    continue;
-                }
-                if self.fixed_neighbourhood(fi, fj).0 > 0.0 {
-                    *g = [FIXED, 0];
-                    continue;
-                }
-                let (mut m, mut dx, mut dy) = (0.0f32, 0.0f32, 0.0f32);
-                self.full_weighting(fi, fj, |i, j, w| {
-                    let [gx, gy] = self.weights(i, j);
-                    if gx != FIXED {
-                        m += w;
-                        dx += w * f32::from(gx) * QUANTUM;
-                        dy += w * f32::from(gy) * QUANTUM;
-                    }
-                });
-                *g = [quantize(dx / m), quantize(dy / m)];
+                let fixed = flat.fixed_neighbourhood(fi, fj).0 > 0.0;
+                let (m, _, dx, dy) = flat.free_weighting(fi, fj);
+                *g = if fixed { [FIXED, 0] } else { [quantize(dx / m), quantize(dy / m)] };
             }
         };
         if self.parallel() {
@@ -712,29 +693,11 @@ impl Level {
         let (cx, cy) = (self.nx.div_ceil(2), self.ny.div_ceil(2));
         let mut b = vec![0.0f32; cx * cy];
         let row = |(jc, b): (usize, &mut [f32])| {
-            let interior = flat.interior(jc);
             for (ic, b) in b.iter_mut().enumerate() {
                 let (fi, fj) = (2 * ic, 2 * jc);
-                if interior.contains(&ic) {
-                    let k = fj * self.nx + fi;
-                    let (fixed_w, h) = flat.fixed_neighbourhood(k);
-                    let (m, rhs, _, _) = flat.free_weighting(k);
-                    *b = if fixed_w > 0.0 { h / fixed_w } else { rhs / m };
-                    continue;
-                }
-                let (fixed_w, h) = self.fixed_neighbourhood(fi, fj);
-                if fixed_w > 0.0 {
-                    *b = h / fixed_w;
-                    continue;
-                }
-                let (mut m, mut rhs) = (0.0f32, 0.0f32);
-                self.full_weighting(fi, fj, |i, j, w| {
-                    if !self.fixed(i, j) {
-                        m += w;
-                        rhs += w * 2.0 * self.b.get(i, j);
-                    }
-                });
-                *b = rhs / m;
+                let (fixed_w, h) = flat.fixed_neighbourhood(fi, fj);
+                let (m, rhs, _, _) = flat.free_weighting(fi, fj);
+                *b = if fixed_w > 0.0 { h / fixed_w } else { rhs / m };
             }
         };
         if self.parallel() {
@@ -748,47 +711,7 @@ impl Level {
     /// Row-major copies of the weights and right-hand side, for the coarsening's reads around a
     /// sample (the colour-split layout puts a 3 × 3 neighbourhood in six places).
     fn flat(&self) -> Flat {
-        Flat { nx: self.nx, ny: self.ny, g: merge_colours(self.nx, self.ny, &self.g), b: self.b.to_full() }
-    }
-
-    /// The total weight (4 for `(fi, fj)`, 1 for each of its four neighbours) and the weighted
-    /// sum of the fixed values among those five samples.
-    #[inline]
-    fn fixed_neighbourhood(&self, fi: usize, fj: usize) -> (f32, f32) {
-        let (mut fixed_w, mut h) = (0.0f32, 0.0f32);
-        for (di, dj) in [(0i64, 0i64), (-1, 0), (1, 0), (0, -1), (0, 1)] {
-            let (i, j) = (fi as i64 + di, fj as i64 + dj);
-            if i >= 0 && j >= 0 && (i as usize) < self.nx && (j as usize) < self.ny {
-                let (i, j) = (i as usize, j as usize);
-                if self.fixed(i, j) {
-                    let w = if di == 0 && dj == 0 { 4.0 } else { 1.0 };
-                    fixed_w += w;
-                    h += w * self.b.get(i, j);
-                }
-            }
-        }
-        (fixed_w, h)
-    }
-
-    /// Calls `f(i, j, weight)` over the 3 × 3 full-weighting neighbourhood of fine sample
-    /// `(fi, fj)` (weights ¼, ½, ¼ per axis; samples off the grid skipped).
-    #[inline]
-    fn full_weighting(&self, fi: usize, fj: usize, mut f: impl FnMut(usize, usize, f32)) {
-        for dj in -1i64..=1 {
-            let j = fj as i64 + dj;
-            if j < 0 || j as usize >= self.ny {
-                continue;
-            }
-            let wj = if dj == 0 { 0.5 } else { 0.25 };
-            for di in -1i64..=1 {
-                let i = fi as i64 + di;
-                if i < 0 || i as usize >= self.nx {
-                    continue;
-                }
-                let wi = if di == 0 { 0.5 } else { 0.25 };
-                f(i as usize, j as usize, wi * wj);
-            }
-        }
+        Flat::new(self.nx, self.ny, &merge_colours(self.nx, self.ny, &self.g), &self.b.to_full())
     }
 
     /// Number of samples of colour `c` in row `j`.
@@ -1206,49 +1129,58 @@ fn merge_colours<T: Copy + Send + Sync + Default>(nx: usize, ny: usize, c: &[Vec
     out
 }
 
-/// A level's weights and right-hand side in row-major order ([`Level::flat`]). Around a fine
-/// sample with all eight neighbours on the grid, its methods give the same sums, added in the
-/// same order, as [`Level::fixed_neighbourhood`] and [`Level::full_weighting`], without their
-/// bounds tests or the colour-split index arithmetic; a skipped term there is a `+0.0` here,
-/// which leaves the sum's bits unchanged (a sum started at `+0.0` is never `−0.0`).
+/// A level's weights and right-hand side in row-major order ([`Level::flat`]), read around a
+/// fine sample by the coarsening, with a ring of [`OFF_GRID`] samples around the grid so that
+/// every sample has its eight neighbours and no read needs a bounds test. An off-grid sample, or
+/// one not of the kind a sum counts, adds `+0.0`, which leaves the sum's bits those of skipping
+/// it (a sum started at `+0.0` is never `−0.0`), so the selects need no branch.
 struct Flat {
-    nx: usize,
-    ny: usize,
+    /// Row stride: `nx + 2`.
+    stride: usize,
     g: Vec<[i16; 2]>,
     b: Vec<f32>,
 }
 
+/// The stored weights of a sample of [`Flat`]'s ring: neither fixed (`[FIXED, 0]`) nor free
+/// (a first weight other than `FIXED`), so no sum counts it.
+const OFF_GRID: [i16; 2] = [FIXED, 1];
+
 impl Flat {
-    /// The coarse columns of coarse row `jc` whose fine sample has all eight neighbours on the
-    /// grid (empty on the first and last coarse rows).
-    fn interior(&self, jc: usize) -> std::ops::Range<usize> {
-        let fj = 2 * jc;
-        if fj == 0 || fj + 1 >= self.ny {
-            return 0..0;
+    /// The ringed copy of the row-major `nx × ny` weights `g` and right-hand side `b`.
+    fn new(nx: usize, ny: usize, g: &[[i16; 2]], b: &[f32]) -> Self {
+        let stride = nx + 2;
+        let mut flat = Self { stride, g: vec![OFF_GRID; stride * (ny + 2)], b: vec![0.0; stride * (ny + 2)] };
+        for j in 0..ny {
+            let at = (j + 1) * stride + 1;
+            flat.g[at..at + nx].copy_from_slice(&g[j * nx..(j + 1) * nx]);
+            flat.b[at..at + nx].copy_from_slice(&b[j * nx..(j + 1) * nx]);
         }
-        // Fine column 2ic needs 2ic − 1 ≥ 0 and 2ic + 1 < nx.
-        1..self.nx / 2
+        flat
     }
 
-    /// [`Level::fixed_neighbourhood`] of row-major sample `k`.
+    /// The total weight (4 for `(i, j)`, 1 for each of its four neighbours on the grid) and the
+    /// weighted sum of the fixed values among those five samples, in that order.
     #[inline]
-    fn fixed_neighbourhood(&self, k: usize) -> (f32, f32) {
+    fn fixed_neighbourhood(&self, i: usize, j: usize) -> (f32, f32) {
+        let k = (j + 1) * self.stride + i + 1;
         let (mut fixed_w, mut h) = (0.0f32, 0.0f32);
-        for (d, w) in [(k, 4.0f32), (k - 1, 1.0), (k + 1, 1.0), (k - self.nx, 1.0), (k + self.nx, 1.0)] {
-            let fixed = self.g[d][0] == FIXED;
+        for (d, w) in [(k, 4.0f32), (k - 1, 1.0), (k + 1, 1.0), (k - self.stride, 1.0), (k + self.stride, 1.0)] {
+            let fixed = self.g[d] == [FIXED, 0];
             fixed_w += if fixed { w } else { 0.0 };
             h += if fixed { w * self.b[d] } else { 0.0 };
         }
         (fixed_w, h)
     }
 
-    /// Over the free samples of the 3 × 3 full-weighting neighbourhood of row-major sample `k`:
-    /// the total weight, the weighted sum of doubled right-hand sides, and the weighted sums of
-    /// the two upwind weights (what [`Level::coarse_rhs`] and [`Level::coarsen`] add up).
+    /// Over the free samples of the 3 × 3 full-weighting neighbourhood of `(i, j)` (weights ¼,
+    /// ½, ¼ per axis, rows south to north, samples off the grid skipped): the total weight, the
+    /// weighted sum of doubled right-hand sides, and the weighted sums of the two upwind weights
+    /// (what [`Level::coarse_rhs`] and [`Level::coarsen`] add up).
     #[inline]
-    fn free_weighting(&self, k: usize) -> (f32, f32, f32, f32) {
+    fn free_weighting(&self, i: usize, j: usize) -> (f32, f32, f32, f32) {
+        let k = (j + 1) * self.stride + i + 1;
         let (mut m, mut rhs, mut dx, mut dy) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
-        for (row, wj) in [(k - self.nx, 0.25f32), (k, 0.5), (k + self.nx, 0.25)] {
+        for (row, wj) in [(k - self.stride, 0.25f32), (k, 0.5), (k + self.stride, 0.25)] {
             for (d, wi) in [(row - 1, 0.25f32), (row, 0.5), (row + 1, 0.25)] {
                 let w = wi * wj;
                 let [gx, gy] = self.g[d];
@@ -1551,11 +1483,50 @@ mod tests {
         (0..nx * ny).map(|k| ((k * 37 + seed * 11) % 23) as f32 * 0.37 - 4.0).collect()
     }
 
-    /// The vectorized coarsening (weights and right-hand side) gives the bits of its definition
-    /// sample by sample through `fixed_neighbourhood` and `full_weighting`, with their bounds
-    /// tests (the path the border samples still take).
+    /// The coarsening's per-sample definition on the colour-split level: the total weight (4 for
+    /// `(fi, fj)`, 1 for each of its four neighbours on the grid) and the weighted sum of the
+    /// fixed values among those five samples, added in that order.
+    fn fixed_neighbourhood(level: &Level, fi: usize, fj: usize) -> (f32, f32) {
+        let (mut fixed_w, mut h) = (0.0f32, 0.0f32);
+        for (di, dj) in [(0i64, 0i64), (-1, 0), (1, 0), (0, -1), (0, 1)] {
+            let (i, j) = (fi as i64 + di, fj as i64 + dj);
+            if i >= 0 && j >= 0 && (i as usize) < level.nx && (j as usize) < level.ny {
+                let (i, j) = (i as usize, j as usize);
+                if level.fixed(i, j) {
+                    let w = if di == 0 && dj == 0 { 4.0 } else { 1.0 };
+                    fixed_w += w;
+                    h += w * level.b.get(i, j);
+                }
+            }
+        }
+        (fixed_w, h)
+    }
+
+    /// Calls `f(i, j, weight)` over the 3 × 3 full-weighting neighbourhood of fine sample
+    /// `(fi, fj)` (weights ¼, ½, ¼ per axis, rows south to north; samples off the grid skipped).
+    fn full_weighting(level: &Level, fi: usize, fj: usize, mut f: impl FnMut(usize, usize, f32)) {
+        for dj in -1i64..=1 {
+            let j = fj as i64 + dj;
+            if j < 0 || j as usize >= level.ny {
+                continue;
+            }
+            let wj = if dj == 0 { 0.5 } else { 0.25 };
+            for di in -1i64..=1 {
+                let i = fi as i64 + di;
+                if i < 0 || i as usize >= level.nx {
+                    continue;
+                }
+                let wi = if di == 0 { 0.5 } else { 0.25 };
+                f(i as usize, j as usize, wi * wj);
+            }
+        }
+    }
+
+    /// The coarsening (weights and right-hand side), reading row-major copies with selects,
+    /// gives the bits of its definition sample by sample on the colour-split level, with its
+    /// bounds tests and skipped terms.
     #[test]
-    fn coarsening_fast_path_matches_the_per_sample_definition() {
+    fn coarsening_matches_its_per_sample_definition() {
         for (nx, ny) in SIZES {
             let fine = level(nx, ny);
             let coarse = fine.coarsen();
@@ -1563,9 +1534,9 @@ mod tests {
             for jc in 0..coarse.ny {
                 for ic in 0..coarse.nx {
                     let (fi, fj) = (2 * ic, 2 * jc);
-                    let (fixed_w, h) = fine.fixed_neighbourhood(fi, fj);
+                    let (fixed_w, h) = fixed_neighbourhood(&fine, fi, fj);
                     let (mut m, mut rhs, mut dx, mut dy) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
-                    fine.full_weighting(fi, fj, |i, j, w| {
+                    full_weighting(&fine, fi, fj, |i, j, w| {
                         let [gx, gy] = fine.weights(i, j);
                         if gx != FIXED {
                             m += w;
