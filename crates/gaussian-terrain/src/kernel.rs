@@ -123,10 +123,10 @@ pub(crate) fn raster_samples(primitives: &[Gaussian], grid: &GridSpec, tolerance
 /// `pulp::Arch::Scalar`).
 fn raster_samples_on(arch: pulp::Arch, primitives: &[Gaussian], grid: &GridSpec, tolerance: f64) -> Vec<f32> {
     let (nx, ny) = (grid.nx(), grid.ny());
-    let prepared: Vec<Prepared> = primitives.iter().map(|g| Prepared::new(g, tolerance)).collect();
+    let prepared: Vec<Prepared> = primitives.par_iter().map(|g| Prepared::new(g, tolerance)).collect();
     // Bin by band: primitive indices in order, so every sample sums them in order.
     let bands = ny.div_ceil(BAND);
-    let spans: Vec<Option<(usize, usize)>> = prepared.iter().map(|p| p.rows(grid)).collect();
+    let spans: Vec<Option<(usize, usize)>> = prepared.par_iter().map(|p| p.rows(grid)).collect();
     let mut start = vec![0usize; bands + 1];
     for &(j0, j1) in spans.iter().flatten() {
         for b in j0 / BAND..=j1 / BAND {
