@@ -1374,6 +1374,33 @@ mod tests {
         }
     }
 
+    /// `laplace_like` is `laplace` of the new values with the set-up shared: the same weights
+    /// and right-hand sides on every level, bit for bit; `None` when the free samples differ.
+    #[test]
+    fn laplace_like_is_laplace_of_the_new_values() {
+        let (nx, ny) = (37, 23);
+        let given = |k: usize| (k * 7 + k / nx).is_multiple_of(5);
+        let values = |salt: f32| -> Vec<f32> {
+            (0..nx * ny).map(|k| if given(k) { (k as f32 * 0.37 + salt).sin() * 10.0 } else { f32::NAN }).collect()
+        };
+        let first = DiffusionProblem::laplace(nx, ny, &values(0.0)).unwrap();
+        let like = first.laplace_like(&values(1.3)).unwrap();
+        let direct = DiffusionProblem::laplace(nx, ny, &values(1.3)).unwrap();
+        assert_eq!(like.depth(), direct.depth());
+        assert!(like.depth() > 2);
+        for (l, d) in like.levels.iter().zip(&direct.levels) {
+            assert_eq!(l.g, d.g);
+            let bits = |f: &Field| f.c.iter().flatten().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&l.b), bits(&d.b));
+        }
+        // And not the first problem's right-hand side.
+        assert_ne!(like.levels[0].b.c, first.levels[0].b.c);
+        let mut moved = values(1.3);
+        moved[1] = 2.0;
+        assert!(first.laplace_like(&moved).is_none(), "a free sample given");
+        assert!(first.laplace_like(&values(1.3)[1..]).is_none(), "a shorter grid");
+    }
+
     #[test]
     fn built_hierarchies_keep_their_invariants() {
         for (nx, ny) in [(2, 2), (7, 5), (8, 6), (9, 9), (37, 23), (64, 64), (65, 33), (200, 6)] {

@@ -12,6 +12,7 @@ use relief_diffusion_multigrid::{
     SolveOptions, Solver, Stage, TerrainOptions, generate, generate_observed, presets,
 };
 use relief_heightfield::GridSpec;
+use relief_heightfield::noise::gradient_noise;
 
 fn grid(n: usize, size: f64) -> GridSpec {
     GridSpec::new(n, n, DVec2::ZERO, DVec2::splat(size / (n - 1) as f64)).unwrap()
@@ -481,6 +482,18 @@ fn detail_is_the_diffused_amplitude_times_the_noise() {
         seen = seen.max(one[k].abs());
     }
     assert!(seen > 5.0, "the crest carries detail: {seen}");
+    // It is +A times §4.3's multi-fractal sum, Σₖ 2^(−k(1−R))·S(2ᵏ·p/λ): the default four
+    // octaves, λ a sixteenth of the side, octave k seeded `seed + k`, R = 0.7 held on the crest.
+    let sum = |p: DVec2| {
+        let q = p / (1000.0 / 16.0);
+        let weight = |k: i32| 2f64.powf(-f64::from(k) * (1.0 - f64::from(0.7f32)));
+        (0..4).map(|k| weight(k) * gradient_noise(q * 2f64.powi(k), k as u64)).sum::<f64>()
+    };
+    for i in (20..50).chain(78..108) {
+        let want = 40.0 * sum(g.position(i, 64));
+        let got = f64::from(one[64 * 129 + i]);
+        assert!((got - want).abs() < 1e-3, "({i}, 64): detail {got}, A·N {want}");
+    }
 }
 
 #[test]
