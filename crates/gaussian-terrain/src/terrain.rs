@@ -1,7 +1,7 @@
 //! The vector terrain (a list of primitives, serde) and the atlas of saved landforms.
 
 use glam::DVec2;
-use relief_heightfield::{Extent, Heightfield};
+use relief_heightfield::{Crs, Extent, Heightfield, Units};
 use serde::{Deserialize, Serialize};
 
 use crate::{DetailLayer, Gaussian, GaussianError};
@@ -38,6 +38,15 @@ pub struct VectorTerrain {
     /// Detail primitives (§3.2), added after the Gaussians in this order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub details: Vec<DetailLayer>,
+    /// What the coordinates (centres, σ, domain) measure; none: metres, or the CRS's units.
+    /// Vectorization records the DEM's, so that a raster of the terrain is labelled like the DEM
+    /// (see [`VectorTerrain::units`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<Units>,
+    /// The coordinate reference system of the coordinates (vectorization records the DEM's):
+    /// rasters of the terrain carry it. A label only: nothing is reprojected.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crs: Option<Crs>,
 }
 
 /// The unchecked JSON form of a [`VectorTerrain`].
@@ -59,13 +68,26 @@ struct VectorTerrainJson {
     /// Detail primitives (§3.2).
     #[serde(default)]
     details: Vec<DetailLayer>,
+    /// What the coordinates measure (none: metres, or the CRS's units).
+    #[serde(default)]
+    units: Option<Units>,
+    /// The coordinate reference system of the coordinates.
+    #[serde(default)]
+    crs: Option<Crs>,
 }
 
 impl TryFrom<VectorTerrainJson> for VectorTerrain {
     type Error = GaussianError;
     fn try_from(j: VectorTerrainJson) -> Result<Self, GaussianError> {
-        let terrain =
-            Self { primitives: j.primitives, base: j.base, floor: j.floor, domain: j.domain, details: j.details };
+        let terrain = Self {
+            primitives: j.primitives,
+            base: j.base,
+            floor: j.floor,
+            domain: j.domain,
+            details: j.details,
+            units: j.units,
+            crs: j.crs,
+        };
         terrain.validate()?;
         Ok(terrain)
     }
@@ -74,7 +96,22 @@ impl TryFrom<VectorTerrainJson> for VectorTerrain {
 impl VectorTerrain {
     /// A terrain of these primitives (not yet validated).
     pub fn new(primitives: Vec<Gaussian>) -> Self {
-        Self { base: 0.0, primitives, floor: None, domain: None, details: Vec::new() }
+        Self { primitives, ..Self::default() }
+    }
+
+    /// What the coordinates measure: [`VectorTerrain::units`] if given, else the CRS's units,
+    /// else metres.
+    pub fn units(&self) -> Units {
+        self.units.or_else(|| self.crs.as_ref().and_then(Crs::units)).unwrap_or_default()
+    }
+
+    /// The units and CRS of `dem`'s coordinates, recorded on this terrain (what vectorization
+    /// does).
+    #[must_use]
+    pub fn in_frame_of(mut self, dem: &Heightfield) -> Self {
+        self.units = Some(dem.grid().units());
+        self.crs = dem.crs().cloned();
+        self
     }
 
     /// Number of primitives.
@@ -118,6 +155,12 @@ impl VectorTerrain {
             && !(lo.iter().chain(&hi).all(|v| v.is_finite()) && hi[0] > lo[0] && hi[1] > lo[1])
         {
             return Err(GaussianError::NotFinite { index: 0, what: "domain (finite, max > min)" });
+        }
+        if let (Some(units), Some(crs)) = (self.units, &self.crs)
+            && let Some(crs_units) = crs.units()
+            && crs_units != units
+        {
+            return Err(GaussianError::UnitsDisagree { units, crs: crs.to_string(), crs_units });
         }
         self.primitives.iter().enumerate().try_for_each(|(i, g)| g.validate(i))?;
         self.details.iter().enumerate().try_for_each(|(i, d)| d.validate(i))

@@ -302,7 +302,8 @@ pub fn vectorize(
         base: f64::from(lo),
         domain: Some([ext.min.to_array(), ext.max.to_array()]),
         ..VectorTerrain::default()
-    };
+    }
+    .in_frame_of(dem);
     if range <= 0.0 {
         // A flat DEM is its base.
         report.seconds = started.elapsed().as_secs_f64();

@@ -154,3 +154,32 @@ fn bad_input_gets_typed_errors() {
     let huge = GridSpec::new(20_000, 20_000, DVec2::ZERO, DVec2::ONE).unwrap();
     assert!(matches!(rasterize(&many, &huge, &RasterOptions::default()), Err(GaussianError::GridTooLarge { .. })));
 }
+
+/// A terrain records what its coordinates are (units and CRS, as vectorization takes them from
+/// the DEM), keeps them through JSON, and refuses units its CRS contradicts.
+#[test]
+fn the_frame_is_recorded_read_back_and_checked() {
+    use relief_heightfield::{Crs, Heightfield, Units};
+    let plain = VectorTerrain::new(vec![Gaussian::round(DVec2::ZERO, 1.0, 1.0)]);
+    assert_eq!((plain.units(), plain.crs.as_ref()), (Units::Metres, None));
+    assert!(!serde_json::to_string(&plain).unwrap().contains("units"), "nothing written when unknown");
+    let wgs84 = Crs::from_wkt(r#"GEOGCS["WGS 84",DATUM["WGS_1984"],UNIT["degree",0.0174532925199433]]"#).unwrap();
+    let grid = GridSpec::from_extent(3, 3, Extent::new(DVec2::ZERO, DVec2::ONE)).unwrap().with_units(Units::Degrees);
+    let dem = Heightfield::zeros(grid.unwrap()).with_crs(Some(wgs84.clone()));
+    let framed = plain.clone().in_frame_of(&dem);
+    assert_eq!((framed.units, framed.crs.as_ref()), (Some(Units::Degrees), Some(&wgs84)));
+    let back: VectorTerrain = serde_json::from_str(&serde_json::to_string(&framed).unwrap()).unwrap();
+    assert_eq!(back, framed);
+    // Without units, the CRS's.
+    let crs_only = VectorTerrain { units: None, ..framed.clone() };
+    assert_eq!(crs_only.units(), Units::Degrees);
+    // Feet under a geographic CRS: refused, from code and from JSON.
+    let wrong = VectorTerrain { units: Some(Units::Feet), ..framed };
+    assert!(matches!(
+        wrong.validate(),
+        Err(GaussianError::UnitsDisagree { units: Units::Feet, crs_units: Units::Degrees, .. })
+    ));
+    let text = serde_json::to_string(&wrong).unwrap();
+    let err = serde_json::from_str::<VectorTerrain>(&text).unwrap_err().to_string();
+    assert!(err.contains("disagree with the CRS"), "{err}");
+}

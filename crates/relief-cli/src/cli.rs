@@ -140,7 +140,8 @@ pub(crate) enum Command {
     /// Vectorize a DEM into generalized Gaussian primitives (Perche et al. 2025): a JSON vector
     /// terrain that `relief rasterize` renders at any size.
     Vectorize(VectorizeArgs),
-    /// Rasterize a vector terrain (JSON from `relief vectorize`) at any size.
+    /// Rasterize a vector terrain (JSON from `relief vectorize`) at any size, labelled with the
+    /// units and CRS of the DEM it came from.
     Rasterize(RasterizeArgs),
     /// Author terrain in the browser: a local web studio over every generator, whose document is
     /// the scene JSON `relief generate` runs. Listens on 127.0.0.1 until Ctrl-C.

@@ -522,6 +522,15 @@ fn vectorize_then_rasterize_a_real_dem() {
     assert_eq!((out.nx(), out.ny()), (120, 100));
     let ((a, b), (c, d)) = (source.min_max().unwrap(), out.min_max().unwrap());
     assert!((a - c).abs() < 0.15 * (b - a) && (b - d).abs() < 0.15 * (b - a), "{a}..{b} vs {c}..{d}");
+    // In the DEM's frame, recorded in the JSON and carried to the raster: degrees, in its CRS
+    // (a raster of it once came out labelled as metres with no CRS).
+    let degrees = relief::heightfield::Units::Degrees;
+    assert_eq!((terrain.units, terrain.crs.as_ref()), (Some(degrees), source.crs()));
+    assert!(source.crs().is_some());
+    let tif = tmp.path().join("jacksboro.tif");
+    ok(&["rasterize", json.to_str().unwrap(), "--size", "120x100", "-o", tif.to_str().unwrap()]);
+    assert_eq!(relief::io::read(&tif).unwrap().grid().units(), degrees);
+    assert_eq!((out.crs(), out.grid().units()), (source.crs(), degrees), "the EXR keeps the CRS's WKT");
     // Bad sizes are usage errors; a broken terrain file is a one-line failure.
     fails(&["rasterize", json.to_str().unwrap(), "--size", "1x5", "-o", exr.to_str().unwrap()], 2);
     let bad = tmp.path().join("bad.json");
@@ -560,6 +569,9 @@ fn vectorize_keeps_a_flat_sea_unless_plain() {
         ok(&["rasterize", json.to_str().unwrap(), "--size", "120x91", "-o", exr.to_str().unwrap()]);
         let terrain: relief::gaussian_terrain::VectorTerrain =
             serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        // The DEM's CRS (EPSG:4326) on the raster, from the JSON.
+        let crs = relief::io::read(&exr).unwrap().crs().and_then(relief::heightfield::Crs::epsg);
+        assert_eq!((terrain.crs.as_ref().and_then(relief::heightfield::Crs::epsg), crs), (Some(4326), Some(4326)));
         (terrain.floor, relief::io::read(&exr).unwrap().min_max().unwrap().0)
     };
     assert_eq!(run(false), (Some(0.0), 0.0));

@@ -378,7 +378,13 @@ fn atlases_from_a_real_dem_round_trip() {
         } },
     });
     let later = generate(&Scene::from_json(&json.to_string()).unwrap(), out.path(), &mut Quiet).unwrap();
+    // In the DEM's frame, which the written terrain records: degrees, in its CRS (the later
+    // scene's raster once came out as planar metres with no CRS).
+    assert!(first.heightfield.crs().is_some());
+    assert_eq!(later.heightfield.crs(), first.heightfield.crs());
+    assert_eq!(later.heightfield.grid().units(), relief::heightfield::Units::Degrees);
     let vector = later.vector.unwrap().terrain;
+    assert_eq!(vector.units, Some(relief::heightfield::Units::Degrees));
     for g in hill.placed(DVec2::new(-84.35, 36.50), 0.0, 1.0) {
         assert!(vector.primitives.contains(&g));
     }

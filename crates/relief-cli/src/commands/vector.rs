@@ -69,7 +69,8 @@ fn vectorize_options(args: &VectorizeArgs) -> Result<VectorizeOptions> {
 }
 
 /// `relief rasterize`: the terrain sampled on a `--size` grid over `--window` (default: its
-/// recorded domain), checked against the budget before anything is allocated.
+/// recorded domain), in its recorded units and CRS, checked against the budget before anything
+/// is allocated.
 pub(crate) fn rasterize(args: &RasterizeArgs, ui: &mut Ui) -> Result<()> {
     let (path, output, (nx, ny)) = (&args.terrain, &args.output, args.size);
     ui.writes().reads(path).writes(output, Written::Heightfield)?.check()?;
@@ -83,10 +84,12 @@ pub(crate) fn rasterize(args: &RasterizeArgs, ui: &mut Ui) -> Result<()> {
         Some([a, b, c, d]) => Extent::new(DVec2::new(a, b), DVec2::new(c, d)),
         None => terrain.extent(),
     };
-    let grid = GridSpec::from_extent(nx, ny, extent)?;
+    // Labelled like the DEM it was vectorized from: its units and CRS.
+    let grid = GridSpec::from_extent(nx, ny, extent)?.with_units(terrain.units())?;
     let heightfield = ui.step("rasterize", || {
         relief::gaussian_terrain::rasterize(&terrain, &grid, &relief::gaussian_terrain::RasterOptions::default())
     })?;
+    let heightfield = heightfield.with_crs(terrain.crs.clone());
     ui.step("write", || relief::io::write(output, &heightfield))?;
     ui.say(format_args!("{} primitives -> {} ({nx} x {ny})", terrain.len(), output.display()));
     Ok(())

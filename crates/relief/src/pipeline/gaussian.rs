@@ -12,7 +12,7 @@ use crate::gaussian_terrain::{
     Atlas, Landform, RasterOptions, Skeleton, SkeletonOptions, ToolContext, ToolError, VectorTerrain, VectorizeOptions,
     rasterize, vectorize,
 };
-use crate::heightfield::{Crs, GridSpec, Units};
+use crate::heightfield::GridSpec;
 use crate::scene::{GaussianGenerator, GaussianSource, Scene};
 use crate::vector::crest_skeleton;
 use crate::{ReliefError, ReliefError as E};
@@ -31,18 +31,21 @@ pub(super) fn generate(
         GaussianSource::Dem { iterations, .. } => *iterations as u64,
         _ => 0,
     };
-    let (mut terrain, frame) = timer.counted("source", iterations, |tick| load_source(&g.source, env, &at, tick))?;
+    let mut terrain = timer.counted("source", iterations, |tick| load_source(&g.source, env, &at, tick))?;
     env.budget.primitives(terrain.len() as u64, &at)?;
+    // The raster is in the primitives' coordinates: a vectorized DEM's own (degrees for a
+    // geographic DEM, with its CRS), or what the terrain records, else planar metres.
     let grid = raster_grid(scene, scene.domain.unwrap_or_else(|| terrain.extent()))?
-        .with_units(frame.units)
+        .with_units(terrain.units())
         .map_err(|e| E::at("domain", e))?;
+    let crs = terrain.crs.clone();
     let mut atlas = Atlas::default();
     timer.counted("tools", g.operations.len() as u64, |tick| {
         apply_tools(&mut terrain, &mut atlas, g, &grid, env, tick)
     })?;
     let heightfield = timer
         .step("rasterize", || rasterize(&terrain, &grid, &RasterOptions::default()).map_err(|e| E::at(GENERATOR, e)))?
-        .with_crs(frame.crs);
+        .with_crs(crs);
     let report = Report::Gaussian(GaussianSummary { primitives: terrain.len() });
     let extent = grid.extent();
     terrain.domain = Some([extent.min.to_array(), extent.max.to_array()]);
@@ -50,28 +53,18 @@ pub(super) fn generate(
     Ok(Generated { heightfield, sea_level: None, contours: None, report, warnings: Vec::new(), vector, layers: None })
 }
 
-/// The coordinates a vector terrain's primitives are in: a DEM's own (degrees for a geographic
-/// DEM, with its CRS), or planar metres.
-struct Frame {
-    units: Units,
-    crs: Option<Crs>,
-}
-
-impl Frame {
-    const PLANAR: Frame = Frame { units: Units::Metres, crs: None };
-}
-
-/// The starting vector terrain and its coordinates: written in the scene, read from a file, or
-/// fitted to a DEM (each fitting iteration a unit of `tick`; a cancelled run stops the fit).
+/// The starting vector terrain: written in the scene, read from a file, or fitted to a DEM (in
+/// the DEM's units and CRS; each fitting iteration a unit of `tick`; a cancelled run stops the
+/// fit).
 fn load_source(
     source: &GaussianSource,
     env: &Env<'_>,
     at: &str,
     tick: &mut Tick<'_>,
-) -> Result<(VectorTerrain, Frame), ReliefError> {
+) -> Result<VectorTerrain, ReliefError> {
     match source {
-        GaussianSource::Primitives(terrain) => Ok((terrain.clone(), Frame::PLANAR)),
-        GaussianSource::Terrain { path } => Ok((env.read_json(path, &format!("{at}.path"))?, Frame::PLANAR)),
+        GaussianSource::Primitives(terrain) => Ok(terrain.clone()),
+        GaussianSource::Terrain { path } => env.read_json(path, &format!("{at}.path")),
         GaussianSource::Dem { path, primitives, iterations, resolution, keep_range, details } => {
             let dem = env.read(path).map_err(|e| E::at(format!("{at}.path"), e))?;
             let options = VectorizeOptions {
@@ -90,7 +83,7 @@ fn load_source(
             // A fit stopped early is not the scene's terrain.
             tick.check()?;
             fitted.terrain.validate().map_err(|e| E::at(at, e))?;
-            Ok((fitted.terrain, Frame { units: dem.grid().units(), crs: dem.crs().cloned() }))
+            Ok(fitted.terrain)
         }
     }
 }
