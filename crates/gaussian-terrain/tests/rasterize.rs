@@ -141,6 +141,22 @@ fn bad_input_gets_typed_errors() {
     // The count cap, checked before any work.
     let many = random_terrain(11, 10.0, 4.0, 1);
     assert!(matches!(many.validate_with_limit(10), Err(GaussianError::TooManyPrimitives { count: 11, limit: 10 })));
+    assert!(many.validate_with_limit(11).is_ok(), "the cap itself is allowed");
+    // A base f64 holds but f32 does not, and empty or unbounded domains.
+    let at = |base: f64, domain: [[f64; 2]; 2]| VectorTerrain { base, domain: Some(domain), ..many.clone() }.validate();
+    assert!(at(1e6, [[0.0, 0.0], [1.0, 1.0]]).is_ok());
+    assert!(matches!(at(1e300, [[0.0, 0.0], [1.0, 1.0]]), Err(GaussianError::NotFinite { what: "base", .. })));
+    for domain in [
+        [[0.0, 0.0], [0.0, 1.0]],
+        [[0.0, 0.0], [1.0, 0.0]],
+        [[0.0, 0.0], [1.0, -1.0]],
+        [[0.0, 0.0], [f64::INFINITY, 1.0]],
+    ] {
+        assert!(
+            matches!(at(0.0, domain), Err(GaussianError::NotFinite { what, .. }) if what.starts_with("domain")),
+            "{domain:?}"
+        );
+    }
     // Options and output size.
     assert!(matches!(
         rasterize(&many, &grid, &RasterOptions { tolerance: 0.0 }),
