@@ -99,14 +99,4 @@ pub enum GaussianError {
         /// The name asked for.
         name: String,
     },
-    /// The terrain's units are not those of its CRS.
-    #[error("units {units:?} disagree with the CRS {crs}, whose coordinates are in {crs_units:?}")]
-    UnitsDisagree {
-        /// The terrain's [`crate::VectorTerrain::units`].
-        units: relief_heightfield::Units,
-        /// The CRS, as it names itself.
-        crs: String,
-        /// The CRS's own units.
-        crs_units: relief_heightfield::Units,
-    },
 }

@@ -38,9 +38,10 @@ pub struct VectorTerrain {
     /// Detail primitives (§3.2), added after the Gaussians in this order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub details: Vec<DetailLayer>,
-    /// What the coordinates (centres, σ, domain) measure; none: metres, or the CRS's units.
-    /// Vectorization records the DEM's, so that a raster of the terrain is labelled like the DEM
-    /// (see [`VectorTerrain::units`]).
+    /// What the coordinates (centres, σ, domain) measure; none: the CRS's units, else metres.
+    /// Vectorization records the DEM's grid units, so that a raster of the terrain is labelled
+    /// like the DEM (see [`VectorTerrain::units`]). Given, they win over the CRS's, as a grid's
+    /// do (a DEM read with its units overridden keeps its file's CRS label).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub units: Option<Units>,
     /// The coordinate reference system of the coordinates (vectorization records the DEM's):
@@ -99,8 +100,8 @@ impl VectorTerrain {
         Self { primitives, ..Self::default() }
     }
 
-    /// What the coordinates measure: [`VectorTerrain::units`] if given, else the CRS's units,
-    /// else metres.
+    /// What the coordinates measure: [`VectorTerrain::units`] if given (even where the CRS says
+    /// otherwise), else the CRS's units, else metres.
     pub fn units(&self) -> Units {
         self.units.or_else(|| self.crs.as_ref().and_then(Crs::units)).unwrap_or_default()
     }
@@ -155,12 +156,6 @@ impl VectorTerrain {
             && !(lo.iter().chain(&hi).all(|v| v.is_finite()) && hi[0] > lo[0] && hi[1] > lo[1])
         {
             return Err(GaussianError::NotFinite { index: 0, what: "domain (finite, max > min)" });
-        }
-        if let (Some(units), Some(crs)) = (self.units, &self.crs)
-            && let Some(crs_units) = crs.units()
-            && crs_units != units
-        {
-            return Err(GaussianError::UnitsDisagree { units, crs: crs.to_string(), crs_units });
         }
         self.primitives.iter().enumerate().try_for_each(|(i, g)| g.validate(i))?;
         self.details.iter().enumerate().try_for_each(|(i, d)| d.validate(i))
@@ -281,6 +276,12 @@ impl Landform {
 pub struct Atlas {
     /// The landforms, by name.
     pub landforms: Vec<Landform>,
+    /// What their coordinates measure: the units of the terrain they were taken from (none:
+    /// not recorded). A landform pasted into a terrain in other units would come out scaled by
+    /// their ratio, so users of an atlas compare this with the terrain's
+    /// [`VectorTerrain::units`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<Units>,
 }
 
 /// The unchecked JSON form of an [`Atlas`].
@@ -288,12 +289,14 @@ pub struct Atlas {
 #[serde(deny_unknown_fields)]
 struct AtlasJson {
     landforms: Vec<Landform>,
+    #[serde(default)]
+    units: Option<Units>,
 }
 
 impl TryFrom<AtlasJson> for Atlas {
     type Error = GaussianError;
     fn try_from(j: AtlasJson) -> Result<Self, GaussianError> {
-        let atlas = Self { landforms: j.landforms };
+        let atlas = Self { landforms: j.landforms, units: j.units };
         atlas.validate()?;
         Ok(atlas)
     }

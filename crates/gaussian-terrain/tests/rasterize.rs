@@ -101,7 +101,7 @@ fn an_empty_terrain_is_flat_and_primitives_off_the_window_add_nothing() {
 fn a_placed_landform_is_the_original_moved_turned_and_scaled() {
     let source = random_terrain(60, 200.0, 6.0, 2);
     let landform = Landform::new("crater field", &source.primitives, DVec2::splat(100.0));
-    let atlas = Atlas { landforms: vec![landform] };
+    let atlas = Atlas { landforms: vec![landform], ..Atlas::default() };
     let json = serde_json::to_string(&atlas).unwrap();
     let back: Atlas = serde_json::from_str(&json).unwrap();
     assert_eq!(back, atlas);
@@ -172,7 +172,7 @@ fn bad_input_gets_typed_errors() {
 }
 
 /// A terrain records what its coordinates are (units and CRS, as vectorization takes them from
-/// the DEM), keeps them through JSON, and refuses units its CRS contradicts.
+/// the DEM) and keeps them through JSON; its own units win over its CRS's.
 #[test]
 fn the_frame_is_recorded_read_back_and_checked() {
     use relief_heightfield::{Crs, Heightfield, Units};
@@ -189,13 +189,11 @@ fn the_frame_is_recorded_read_back_and_checked() {
     // Without units, the CRS's.
     let crs_only = VectorTerrain { units: None, ..framed.clone() };
     assert_eq!(crs_only.units(), Units::Degrees);
-    // Feet under a geographic CRS: refused, from code and from JSON.
-    let wrong = VectorTerrain { units: Some(Units::Feet), ..framed };
-    assert!(matches!(
-        wrong.validate(),
-        Err(GaussianError::UnitsDisagree { units: Units::Feet, crs_units: Units::Degrees, .. })
-    ));
-    let text = serde_json::to_string(&wrong).unwrap();
-    let err = serde_json::from_str::<VectorTerrain>(&text).unwrap_err().to_string();
-    assert!(err.contains("disagree with the CRS"), "{err}");
+    // Given units win over the CRS's, as a grid's do (a DEM read with `--units feet` keeps its
+    // file's CRS label): such a terrain is valid and reads back as it was.
+    let overridden = VectorTerrain { units: Some(Units::Feet), ..framed };
+    assert_eq!(overridden.units(), Units::Feet);
+    assert!(overridden.validate().is_ok());
+    let back: VectorTerrain = serde_json::from_str(&serde_json::to_string(&overridden).unwrap()).unwrap();
+    assert_eq!(back, overridden);
 }

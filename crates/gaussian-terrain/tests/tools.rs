@@ -317,7 +317,10 @@ impl relief_gaussian_terrain::ToolContext for Session {
 fn tools_replayed_from_json_equal_the_tool_functions() {
     use relief_gaussian_terrain::{Atlas, Landform, Tool, ToolError};
     let base = terrain();
-    let atlas = Atlas { landforms: vec![Landform::new("hill", &base.primitives[..5], DVec2::splat(500.0))] };
+    let atlas = Atlas {
+        landforms: vec![Landform::new("hill", &base.primitives[..5], DVec2::splat(500.0))],
+        ..Atlas::default()
+    };
     let tools: Vec<Tool> = serde_json::from_str(
         r#"[
             { "op": "stamp", "region": { "shape": "circle", "center": [300, 300], "radius": 120 },

@@ -531,6 +531,19 @@ fn vectorize_then_rasterize_a_real_dem() {
     ok(&["rasterize", json.to_str().unwrap(), "--size", "120x100", "-o", tif.to_str().unwrap()]);
     assert_eq!(relief::io::read(&tif).unwrap().grid().units(), degrees);
     assert_eq!((out.crs(), out.grid().units()), (source.crs(), degrees), "the EXR keeps the CRS's WKT");
+    // Units overridden on reading win over the file's CRS, through the JSON to the raster.
+    let feet = tmp.path().join("feet.json");
+    let (dem_s, feet_s) = (dem.to_str().unwrap(), feet.to_str().unwrap());
+    ok(&["--units", "feet", "vectorize", dem_s, "--primitives", "40", "--iterations", "5", "-o", feet_s]);
+    let exr_feet = tmp.path().join("feet.exr");
+    ok(&["rasterize", feet_s, "--size", "40", "-o", exr_feet.to_str().unwrap()]);
+    assert_eq!(relief::io::read(&exr_feet).unwrap().grid().units(), relief::heightfield::Units::Feet);
+    // And `--crs` relabels a terrain's frame, its units with it.
+    let tif_ftus = tmp.path().join("ftus.tif");
+    ok(&["--crs", "EPSG:2274", "rasterize", feet_s, "--size", "40", "-o", tif_ftus.to_str().unwrap()]);
+    let relabelled = relief::io::read(&tif_ftus).unwrap();
+    assert_eq!(relabelled.crs().and_then(relief::heightfield::Crs::epsg), Some(2274));
+    assert_eq!(relabelled.grid().units(), relief::heightfield::Units::UsSurveyFeet);
     // Bad sizes are usage errors; a broken terrain file is a one-line failure.
     fails(&["rasterize", json.to_str().unwrap(), "--size", "1x5", "-o", exr.to_str().unwrap()], 2);
     let bad = tmp.path().join("bad.json");

@@ -389,6 +389,21 @@ fn atlases_from_a_real_dem_round_trip() {
         assert!(vector.primitives.contains(&g));
     }
     assert_ne!(later.heightfield.samples(), first.heightfield.samples());
+    // The atlas records its landforms' units (degrees): pasted into a planar terrain in metres
+    // they would come out 100 000 times too small, so that is refused.
+    assert_eq!(atlas.units, Some(relief::heightfield::Units::Degrees));
+    let json = serde_json::json!({
+        "version": 1,
+        "reconstruction": { "resolution": [64, 64] },
+        "generator": { "gaussian": {
+            "source": { "kind": "primitives", "primitives": [{ "center": [500, 500], "sigma": [100, 100], "amplitude": 50 }] },
+            "operations": [{ "op": "paste", "atlas": "atlas.json", "landform": "hill", "footprint": 100,
+                             "placement": { "to": [300, 300] }, "damping": 20 }],
+        } },
+    });
+    let err =
+        generate(&Scene::from_json(&json.to_string()).unwrap(), out.path(), &mut Quiet).err().unwrap().to_string();
+    assert!(err.contains("operations[0].atlas") && err.contains("degrees") && err.contains("metres"), "{err}");
 }
 
 /// Fig. 15's loop as a post step: erosion on the raster, then `details` turns the change into

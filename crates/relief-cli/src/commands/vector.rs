@@ -76,9 +76,16 @@ pub(crate) fn rasterize(args: &RasterizeArgs, ui: &mut Ui) -> Result<()> {
     ui.writes().reads(path).writes(output, Written::Heightfield)?.check()?;
     ui.budget().cells((nx as u64).saturating_mul(ny as u64), "--size")?;
     let text = relief::budget::read_json_text(path).with_context(|| format!("reading {}", path.display()))?;
-    let terrain: VectorTerrain =
+    let mut terrain: VectorTerrain =
         serde_json::from_str(&text).with_context(|| format!("{}: not a vector terrain", path.display()))?;
     terrain.validate().with_context(|| path.display().to_string())?;
+    // The global `--crs` and `--units` relabel the terrain's frame as they would a file's.
+    let read = ui.read_options();
+    if let Some(crs) = read.crs {
+        terrain.units = crs.units().or(terrain.units);
+        terrain.crs = Some(crs);
+    }
+    terrain.units = read.units.or(terrain.units);
     ui.budget().primitives(terrain.len() as u64, &path.display().to_string())?;
     let extent = match args.window {
         Some([a, b, c, d]) => Extent::new(DVec2::new(a, b), DVec2::new(c, d)),

@@ -39,7 +39,8 @@ pub(super) fn generate(
         .with_units(terrain.units())
         .map_err(|e| E::at("domain", e))?;
     let crs = terrain.crs.clone();
-    let mut atlas = Atlas::default();
+    // The session's landforms are in the terrain's units; the written atlas says so.
+    let mut atlas = Atlas { units: Some(terrain.units()), ..Atlas::default() };
     timer.counted("tools", g.operations.len() as u64, |tick| {
         apply_tools(&mut terrain, &mut atlas, g, &grid, env, tick)
     })?;
@@ -131,7 +132,15 @@ impl ToolContext for Tools<'_> {
     fn landform(&mut self, atlas: Option<&Path>, name: &str, terrain: &VectorTerrain) -> Result<Landform, ReliefError> {
         let landform = match atlas {
             Some(path) => {
-                let atlas: Atlas = self.env.read_json(path, &format!("{}.atlas", self.here))?;
+                let at = format!("{}.atlas", self.here);
+                let atlas: Atlas = self.env.read_json(path, &at)?;
+                // Pasted across units, a landform would come out scaled by their ratio.
+                if let Some(units) = atlas.units
+                    && units != terrain.units()
+                {
+                    let (theirs, ours) = (units.name(), terrain.units().name());
+                    return Err(E::at(at, format!("its landforms are in {theirs}, the terrain in {ours}")));
+                }
                 atlas.get(name).cloned()
             }
             None => self.atlas.get(name).cloned(),

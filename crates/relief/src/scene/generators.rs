@@ -453,10 +453,12 @@ pub struct GaussianGenerator {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum GaussianSource {
-    /// A vector terrain written in the scene: `primitives`, and optionally `base`, `domain` and
-    /// `details`.
+    /// A vector terrain written in the scene: `primitives`, and optionally `base`, `floor`,
+    /// `domain`, `details`, and the `units` and `crs` its coordinates are in (the raster's
+    /// labels; planar metres by default).
     Primitives(VectorTerrain),
-    /// A vector terrain saved as JSON (`relief vectorize` writes them).
+    /// A vector terrain saved as JSON (`relief vectorize` writes them, with the DEM's units and
+    /// CRS, which the raster keeps).
     Terrain {
         /// The file, relative to the scene.
         #[schemars(with = "String")]
