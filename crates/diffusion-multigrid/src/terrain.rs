@@ -5,7 +5,7 @@ use std::ops::ControlFlow;
 
 use glam::DVec2;
 use rayon::prelude::*;
-use relief_heightfield::noise::{NoiseLattice, gradient_noise};
+use relief_heightfield::noise::{NoiseLattice, NoiseRow, gradient_noise};
 use relief_heightfield::{GridSpec, Heightfield};
 use serde::{Deserialize, Serialize};
 
@@ -173,12 +173,13 @@ pub fn generate_observed(
         let detail = Detail::new(wavelength, options.noise_octaves, options.seed, grid);
         let samples = heightfield.samples_mut();
         samples.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            let line = detail.row(grid.position(0, j).y);
             for (i, h) in row.iter_mut().enumerate() {
                 let k = j * nx + i;
                 let a = f64::from(amplitude[k].max(0.0));
                 if a > 0.0 {
                     let r = f64::from(roughness[k].clamp(0.0, 1.0));
-                    *h += (a * detail.sample(grid.position(i, j), r)) as f32;
+                    *h += (a * line.sample(grid.position(i, j).x, r)) as f32;
                 }
             }
         });
@@ -221,18 +222,52 @@ impl Detail {
         seed.wrapping_add(u64::from(k))
     }
 
-    /// Σₖ 2^(−k(1−R))·S(2ᵏ p / wavelength), without the amplitude.
-    fn sample(&self, p: DVec2, roughness: f64) -> f64 {
-        let q = p / self.wavelength;
+    /// The noise along the line of ordinate `y` (world units), each octave's work for the line
+    /// done once.
+    fn row(&self, y: f64) -> DetailRow<'_> {
+        let qy = y / self.wavelength;
+        let octaves = (0..)
+            .zip(&self.lattices)
+            .map(|(k, lattice)| {
+                let y = qy * Self::frequency(k);
+                match lattice {
+                    Some(lattice) => Octave::Stored(lattice.row(y)),
+                    None => Octave::Hashed { y, seed: Self::octave_seed(self.seed, k) },
+                }
+            })
+            .collect();
+        DetailRow { wavelength: self.wavelength, octaves }
+    }
+}
+
+/// One octave of [`Detail`] along a line.
+enum Octave<'a> {
+    /// From the octave's lattice.
+    Stored(NoiseRow<'a>),
+    /// Hashed: the line's ordinate in octave coordinates, and the octave's seed.
+    Hashed { y: f64, seed: u64 },
+}
+
+/// [`Detail`] along the line of one ordinate, from [`Detail::row`]: the same values as sampling
+/// each point on its own, bit for bit.
+struct DetailRow<'a> {
+    wavelength: f64,
+    octaves: Vec<Octave<'a>>,
+}
+
+impl DetailRow<'_> {
+    /// Σₖ 2^(−k(1−R))·S(2ᵏ p / wavelength) at abscissa `x` (world units), without the amplitude.
+    fn sample(&self, x: f64, roughness: f64) -> f64 {
+        let qx = x / self.wavelength;
         // 2^(−k(1−R)) as powers of one factor: one `powf` per sample rather than per octave.
         let step = 2f64.powf(-(1.0 - roughness));
         let mut weight = 1.0;
         let mut sum = 0.0;
-        for (k, lattice) in (0..).zip(&self.lattices) {
-            let f = Self::frequency(k);
-            let s = match lattice {
-                Some(lattice) => lattice.sample(q * f),
-                None => gradient_noise(q * f, Self::octave_seed(self.seed, k)),
+        for (k, octave) in (0..).zip(&self.octaves) {
+            let x = qx * Detail::frequency(k);
+            let s = match octave {
+                Octave::Stored(row) => row.sample(x),
+                Octave::Hashed { y, seed } => gradient_noise(DVec2::new(x, *y), *seed),
             };
             sum += weight * s;
             weight *= step;

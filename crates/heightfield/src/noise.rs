@@ -43,10 +43,18 @@ fn noise_with(p: DVec2, gradient: impl Fn(i64, i64) -> DVec2) -> f64 {
     let cell = p.floor();
     let (i, j) = (cell.x as i64, cell.y as i64);
     let f = p - cell;
-    let dot = |di: i64, dj: i64| gradient(i + di, j + dj).dot(f - DVec2::new(di as f64, dj as f64));
-    let (u, v) = (fade(f.x), fade(f.y));
-    let bottom = dot(0, 0) + u * (dot(1, 0) - dot(0, 0));
-    let top = dot(0, 1) + u * (dot(1, 1) - dot(0, 1));
+    let corners = [gradient(i, j), gradient(i + 1, j), gradient(i, j + 1), gradient(i + 1, j + 1)];
+    blend(f, fade(f.x), fade(f.y), corners)
+}
+
+/// The noise of a cell from the point's offset `f` in it, the fades `u`, `v` of its components
+/// and the gradients at the cell's corners `(0, 0)`, `(1, 0)`, `(0, 1)`, `(1, 1)`.
+#[inline]
+fn blend(f: DVec2, u: f64, v: f64, [g00, g10, g01, g11]: [DVec2; 4]) -> f64 {
+    let d00 = g00.dot(f);
+    let bottom = d00 + u * (g10.dot(f - DVec2::X) - d00);
+    let d01 = g01.dot(f - DVec2::Y);
+    let top = d01 + u * (g11.dot(f - DVec2::ONE) - d01);
     std::f64::consts::SQRT_2 * (bottom + v * (top - bottom))
 }
 
@@ -100,14 +108,80 @@ impl NoiseLattice {
 
     /// [`gradient_noise`]`(p, seed)`.
     pub fn sample(&self, p: DVec2) -> f64 {
-        noise_with(p, |i, j| {
-            let (a, b) = (i.wrapping_sub(self.i0), j.wrapping_sub(self.j0));
-            if (0..self.nx).contains(&a) && (0..self.ny).contains(&b) {
-                self.gradients[(b * self.nx + a) as usize]
-            } else {
-                gradient(i, j, self.seed)
+        noise_with(p, |i, j| self.gradient(i, j))
+    }
+
+    /// [`Self::sample`] along the line of ordinate `y`, with what depends on `y` alone (its
+    /// lattice row, offset and fade) worked out once for the whole line: the same values, bit
+    /// for bit, for about half the work per point.
+    ///
+    /// ```
+    /// use glam::DVec2;
+    /// use relief_heightfield::noise::NoiseLattice;
+    ///
+    /// let lattice = NoiseLattice::new(DVec2::ZERO, DVec2::splat(8.0), 7).expect("81 points");
+    /// let row = lattice.row(2.7);
+    /// for x in [0.0, 3.14, 7.99, 12.5] {
+    ///     assert_eq!(row.sample(x).to_bits(), lattice.sample(DVec2::new(x, 2.7)).to_bits());
+    /// }
+    /// ```
+    pub fn row(&self, y: f64) -> NoiseRow<'_> {
+        let cell = y.floor();
+        let (j, fy) = (cell as i64, y - cell);
+        let b = j.wrapping_sub(self.j0);
+        // Where both lattice rows of the line are stored, the offset of the first.
+        let stored = (0..self.ny - 1).contains(&b).then(|| (b * self.nx) as usize);
+        NoiseRow { lattice: self, j, fy, v: fade(fy), stored }
+    }
+
+    /// The gradient at lattice point `(i, j)`: stored, or hashed outside the rectangle.
+    #[inline]
+    fn gradient(&self, i: i64, j: i64) -> DVec2 {
+        let (a, b) = (i.wrapping_sub(self.i0), j.wrapping_sub(self.j0));
+        if (0..self.nx).contains(&a) && (0..self.ny).contains(&b) {
+            self.gradients[(b * self.nx + a) as usize]
+        } else {
+            gradient(i, j, self.seed)
+        }
+    }
+}
+
+/// A [`NoiseLattice`] sampled along one line of constant ordinate: see [`NoiseLattice::row`].
+#[derive(Debug, Clone, Copy)]
+pub struct NoiseRow<'a> {
+    lattice: &'a NoiseLattice,
+    /// Lattice row below the line.
+    j: i64,
+    /// The line's offset above that row, and its fade.
+    fy: f64,
+    v: f64,
+    /// Index of the stored gradient `(i0, j)` when rows `j` and `j + 1` are both stored.
+    stored: Option<usize>,
+}
+
+impl NoiseRow<'_> {
+    /// The lattice's noise at `(x, y)`, `y` the line's ordinate.
+    #[inline]
+    pub fn sample(&self, x: f64) -> f64 {
+        let cell = x.floor();
+        let i = cell as i64;
+        let f = DVec2::new(x - cell, self.fy);
+        let (lattice, j) = (self.lattice, self.j);
+        let a = i.wrapping_sub(lattice.i0);
+        let corners = match self.stored {
+            Some(row) if (0..lattice.nx - 1).contains(&a) => {
+                let k = row + a as usize;
+                let (below, above) = (&lattice.gradients[k..k + 2], &lattice.gradients[k + lattice.nx as usize..]);
+                [below[0], below[1], above[0], above[1]]
             }
-        })
+            _ => [
+                lattice.gradient(i, j),
+                lattice.gradient(i + 1, j),
+                lattice.gradient(i, j + 1),
+                lattice.gradient(i + 1, j + 1),
+            ],
+        };
+        blend(f, fade(f.x), self.v, corners)
     }
 }
 
@@ -189,6 +263,15 @@ mod tests {
         for k in 0..10_000 {
             let p = DVec2::new(f64::from(k % 100) * 0.11 - 4.0, f64::from(k / 100) * 0.07 + 3.0);
             assert_eq!(lattice.sample(p).to_bits(), gradient_noise(p, 11).to_bits(), "{p}");
+        }
+        // Along rows: inside, on the last stored row and column, and outside on every side.
+        for y in [2.5, 3.0, 4.0, 4.6, 9.0, 9.99, 10.0, 10.5, 11.2, -1.5] {
+            let row = lattice.row(y);
+            for k in 0..300 {
+                let x = f64::from(k) * 0.047 - 5.0;
+                let p = DVec2::new(x, y);
+                assert_eq!(row.sample(x).to_bits(), lattice.sample(p).to_bits(), "{p}");
+            }
         }
         assert!(NoiseLattice::new(DVec2::ZERO, DVec2::splat(f64::INFINITY), 1).is_none());
         assert!(NoiseLattice::new(DVec2::ZERO, DVec2::splat(1e4), 1).is_none(), "10⁸ points");
