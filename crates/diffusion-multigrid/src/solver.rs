@@ -398,12 +398,10 @@ impl DiffusionProblem {
         Some((x, report))
     }
 
-    /// The V-cycle as a preconditioner: z ≈ A⁻¹·r (zero on fixed samples).
-    fn precondition(&self, r: &Field) -> Field {
-        let l = &self.levels[0];
-        let mut z = Field::zeros(l.nx, l.ny);
-        self.vcycle(0, &mut z, r);
-        z
+    /// The V-cycle as a preconditioner: `z` ≈ A⁻¹·r (zero on fixed samples), `z`'s storage reused.
+    fn precondition_into(&self, r: &Field, z: &mut Field) {
+        z.fill(0.0);
+        self.vcycle(0, z, r);
     }
 
     /// `BiCGStab` (van der Vorst 1992), right-preconditioned by one V-cycle per application. The
@@ -422,12 +420,11 @@ impl DiffusionProblem {
         let l = &self.levels[0];
         let zero = Field::zeros(l.nx, l.ny);
         // A·v = v − S·v on free samples and v on fixed ones: minus the residual of v for rhs 0.
-        let apply = |v: &Field| {
-            let mut a = l.residual(v, &zero);
-            a.map2(&zero, |a, _| -a);
-            a
-        };
-        let mut r = l.residual(&x, &l.b);
+        let apply = |v: &Field, out: &mut Field| l.residual_into(v, &zero, true, out);
+        // Every vector of the iteration lives in storage allocated once: fresh grids cost a page
+        // fault per 4 KiB on first touch, more than the arithmetic of the vector updates.
+        let mut r = Field::zeros(l.nx, l.ny);
+        l.residual_into(&x, &l.b, false, &mut r);
         let mut history = vec![norm(&r) / r0];
         if history[0] < tol {
             return Some((x, history, 0));
@@ -436,6 +433,8 @@ impl DiffusionProblem {
         let (mut rho, mut alpha, mut omega) = (1.0f64, 1.0f64, 1.0f64);
         let mut v = Field::zeros(l.nx, l.ny);
         let mut p = Field::zeros(l.nx, l.ny);
+        let (mut y, mut z) = (Field::zeros(l.nx, l.ny), Field::zeros(l.nx, l.ny));
+        let (mut s, mut t) = (Field::zeros(l.nx, l.ny), Field::zeros(l.nx, l.ny));
         let mut iterations = 0;
         while iterations < max {
             iterations += 1;
@@ -449,31 +448,31 @@ impl DiffusionProblem {
             let om = omega as f32;
             p.map2(&v, |p, v| p - om * v);
             p.map2(&r, |p, r| r + beta * p);
-            let y = self.precondition(&p);
-            v = apply(&y);
+            self.precondition_into(&p, &mut y);
+            apply(&y, &mut v);
             let hv = dot(&hat, &v);
             if hv == 0.0 {
                 break;
             }
             alpha = rho / hv;
-            let mut s = r.clone();
+            s.copy_from(&r);
             let a = alpha as f32;
             s.map2(&v, |s, v| s - a * v);
             if norm(&s) / r0 < tol {
                 x.map2(&y, |x, y| x + a * y);
-                r = l.residual(&x, &l.b);
+                l.residual_into(&x, &l.b, false, &mut r);
                 history.push(norm(&r) / r0);
                 break;
             }
-            let z = self.precondition(&s);
-            let t = apply(&z);
+            self.precondition_into(&s, &mut z);
+            apply(&z, &mut t);
             let tt = dot(&t, &t);
             omega = if tt > 0.0 { dot(&t, &s) / tt } else { 0.0 };
             let om = omega as f32;
             x.map2(&y, |x, y| x + a * y);
             x.map2(&z, |x, z| x + om * z);
             // The true residual, not the recurrence: f32 recurrences drift.
-            r = l.residual(&x, &l.b);
+            l.residual_into(&x, &l.b, false, &mut r);
             history.push(norm(&r) / r0);
             if history[history.len() - 1] < tol {
                 break;
@@ -664,20 +663,26 @@ impl Level {
         let (cx, cy) = (self.nx.div_ceil(2), self.ny.div_ceil(2));
         let flat = self.flat();
         let mut g = vec![[0i16; 2]; cx * cy];
-        let row = |(jc, g): (usize, &mut [[i16; 2]])| {
-            for (ic, g) in g.iter_mut().enumerate() {
+        let mut b = vec![0.0f32; cx * cy];
+        // The weights and the right-hand side of `coarse_rhs_on` in one pass over the neighbourhoods.
+        let row = |(jc, (g, b)): (usize, (&mut [[i16; 2]], &mut [f32]))| {
+            for (ic, (g, b)) in g.iter_mut().zip(b.iter_mut()).enumerate() {
                 let (fi, fj) = (2 * ic, 2 * jc);
-                let fixed = flat.fixed_neighbourhood(fi, fj).0 > 0.0;
-                let (m, _, dx, dy) = flat.free_weighting(fi, fj);
-                *g = if fixed { [FIXED, 0] } else { [quantize(dx / m), quantize(dy / m)] };
+                let (fixed_w, h) = flat.fixed_neighbourhood(fi, fj);
+                let (m, rhs, dx, dy) = flat.free_weighting(fi, fj);
+                (*g, *b) = if fixed_w > 0.0 {
+                    ([FIXED, 0], h / fixed_w)
+                } else {
+                    ([quantize(dx / m), quantize(dy / m)], rhs / m)
+                };
             }
         };
         if self.parallel() {
-            g.par_chunks_mut(cx).enumerate().for_each(row);
+            g.par_chunks_mut(cx).zip(b.par_chunks_mut(cx)).enumerate().for_each(row);
         } else {
-            g.chunks_mut(cx).enumerate().for_each(row);
+            g.chunks_mut(cx).zip(b.chunks_mut(cx)).enumerate().for_each(row);
         }
-        Self::new(cx, cy, &g, &self.coarse_rhs_on(&flat))
+        Self::new(cx, cy, &g, &b)
     }
 
     /// The right-hand side of the coarse version (row-major; see [`Self::coarsen`]): on a fixed
@@ -711,7 +716,28 @@ impl Level {
     /// Row-major copies of the weights and right-hand side, for the coarsening's reads around a
     /// sample (the colour-split layout puts a 3 × 3 neighbourhood in six places).
     fn flat(&self) -> Flat {
-        Flat::new(self.nx, self.ny, &merge_colours(self.nx, self.ny, &self.g), &self.b.to_full())
+        let (nx, w) = (self.nx, self.w);
+        let stride = nx + 2;
+        let mut flat = Flat::ring(nx, self.ny);
+        // Row j's even samples are colour j % 2, its odd ones the other colour.
+        let row = |(j, (g, b)): (usize, (&mut [[i16; 2]], &mut [f32]))| {
+            let (even, odd) = (j & 1, 1 - (j & 1));
+            let at = j * w..(j + 1) * w;
+            let (ge, go) = (&self.g[even][at.clone()], &self.g[odd][at.clone()]);
+            let (be, bo) = (&self.b.c[even][at.clone()], &self.b.c[odd][at]);
+            let (g, b) = (&mut g[1..=nx], &mut b[1..=nx]);
+            for (i, (g, b)) in g.iter_mut().zip(b.iter_mut()).enumerate() {
+                (*g, *b) = if i & 1 == 0 { (ge[i >> 1], be[i >> 1]) } else { (go[i >> 1], bo[i >> 1]) };
+            }
+        };
+        let inner = stride..stride * (self.ny + 1);
+        let (g, b) = (&mut flat.g[inner.clone()], &mut flat.b[inner]);
+        if self.parallel() {
+            g.par_chunks_mut(stride).zip(b.par_chunks_mut(stride)).enumerate().for_each(row);
+        } else {
+            g.chunks_mut(stride).zip(b.chunks_mut(stride)).enumerate().for_each(row);
+        }
+        flat
     }
 
     /// Number of samples of colour `c` in row `j`.
@@ -805,13 +831,24 @@ impl Level {
 
     /// The residual of colour `c`: update value minus current value (0 on fixed samples).
     fn residual_colour(&self, c: usize, x: &Field, rhs: &Field) -> Vec<f32> {
-        let w = self.w;
         let mut out = vec![0.0f32; x.c[c].len()];
+        self.residual_colour_into(c, x, rhs, false, &mut out);
+        out
+    }
+
+    /// [`Self::residual_colour`] into `out`, negated with `negate` (exactly: a sign flip).
+    fn residual_colour_into(&self, c: usize, x: &Field, rhs: &Field, negate: bool, out: &mut [f32]) {
+        let w = self.w;
         let row = |(j, row): (usize, &mut [f32])| {
             let (r, xs) = (&rhs.c[c][j * w..(j + 1) * w], &x.c[c][j * w..(j + 1) * w]);
             self.stencil_row(c, j, &x.c[1 - c], r, row);
             for (o, &v) in row.iter_mut().zip(xs) {
                 *o -= v;
+            }
+            if negate {
+                for o in row.iter_mut() {
+                    *o = -*o;
+                }
             }
         };
         if self.parallel() {
@@ -819,12 +856,18 @@ impl Level {
         } else {
             out.chunks_mut(w).enumerate().for_each(row);
         }
-        out
     }
 
     /// The residual `rhs + S·x − x` of both colours.
     fn residual(&self, x: &Field, rhs: &Field) -> Field {
         Field { nx: self.nx, ny: self.ny, w: self.w, c: [0, 1].map(|c| self.residual_colour(c, x, rhs)) }
+    }
+
+    /// [`Self::residual`] (negated with `negate`) into `out`, a field of this level's size.
+    fn residual_into(&self, x: &Field, rhs: &Field, negate: bool, out: &mut Field) {
+        for (c, out) in out.c.iter_mut().enumerate() {
+            self.residual_colour_into(c, x, rhs, negate, out);
+        }
     }
 
     /// The residual right after a sweep, colour 0 only: colour 1 was just set to its update value,
@@ -1146,16 +1189,10 @@ struct Flat {
 const OFF_GRID: [i16; 2] = [FIXED, 1];
 
 impl Flat {
-    /// The ringed copy of the row-major `nx × ny` weights `g` and right-hand side `b`.
-    fn new(nx: usize, ny: usize, g: &[[i16; 2]], b: &[f32]) -> Self {
+    /// An `nx × ny` grid's ring of [`OFF_GRID`] samples, the inside to fill.
+    fn ring(nx: usize, ny: usize) -> Self {
         let stride = nx + 2;
-        let mut flat = Self { stride, g: vec![OFF_GRID; stride * (ny + 2)], b: vec![0.0; stride * (ny + 2)] };
-        for j in 0..ny {
-            let at = (j + 1) * stride + 1;
-            flat.g[at..at + nx].copy_from_slice(&g[j * nx..(j + 1) * nx]);
-            flat.b[at..at + nx].copy_from_slice(&b[j * nx..(j + 1) * nx]);
-        }
-        flat
+        Self { stride, g: vec![OFF_GRID; stride * (ny + 2)], b: vec![0.0; stride * (ny + 2)] }
     }
 
     /// The total weight (4 for `(i, j)`, 1 for each of its four neighbours on the grid) and the
@@ -1209,6 +1246,18 @@ impl Field {
     fn zeros(nx: usize, ny: usize) -> Self {
         let w = nx.div_ceil(2);
         Self { nx, ny, w, c: [vec![0.0; w * ny], vec![0.0; w * ny]] }
+    }
+
+    /// Every sample set to `v`.
+    fn fill(&mut self, v: f32) {
+        self.c.iter_mut().for_each(|c| c.fill(v));
+    }
+
+    /// `self = other`, in `self`'s storage (the same size).
+    fn copy_from(&mut self, other: &Field) {
+        for (a, b) in self.c.iter_mut().zip(&other.c) {
+            a.copy_from_slice(b);
+        }
     }
 
     fn from_full(nx: usize, ny: usize, v: &[f32]) -> Self {
