@@ -6,13 +6,16 @@ use relief_heightfield::{Crs, GridSpec, Units};
 
 use crate::{IoError, IoErrorKind};
 
-/// `crs` with its WKT filled in from the EPSG tables when it was a bare code the tables know.
+/// `crs` with its WKT filled in from the EPSG tables when it was a bare code the tables know, or
+/// its EPSG code when it was a common geographic CRS written without one ([`Crs::identified`]:
+/// ESRI's `GCS_WGS_1984` is EPSG:4326, as GDAL reads it).
 pub(crate) fn complete(crs: Crs) -> Crs {
     match (crs.wkt(), crs.epsg()) {
         (None, Some(code)) => match epsg_wkt(code) {
             Some(wkt) => crs.with_wkt(wkt),
             None => crs,
         },
+        (Some(_), None) => crs.identified(),
         _ => crs,
     }
 }

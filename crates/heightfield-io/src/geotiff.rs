@@ -206,6 +206,8 @@ fn linear_units(code: u16) -> Option<Units> {
 /// labelled `crs`: its EPSG code when it has one; a user-defined CRS named in `GTCitationGeoKey`
 /// otherwise; WGS 84 for an unlabelled geographic grid.
 fn geo_keys(units: Units, crs: Option<&Crs>, pixel_is_area: bool) -> (Vec<u16>, Option<String>) {
+    let crs = crs.cloned().map(Crs::identified);
+    let crs = crs.as_ref();
     let code = crs.and_then(Crs::epsg).and_then(|c| u16::try_from(c).ok()).filter(|&c| c != USER_DEFINED);
     let geographic = units == Units::Degrees;
     let model = if geographic { MODEL_GEOGRAPHIC } else { MODEL_PROJECTED };

@@ -34,7 +34,9 @@
 //! US survey feet, degrees). Every writer labels its output the same way: `GeoTIFF` keys (a
 //! user-defined CRS keeps its name and units), the `.prj` beside an ASCII grid, the metadata of
 //! PNG, raw and EXR files. EPSG codes get their WKT from the `crs-definitions` tables (generated from
-//! the EPSG registry: thousands of definitions nobody should type by hand). An ASCII grid without
+//! the EPSG registry: thousands of definitions nobody should type by hand); a WKT without a code
+//! that defines WGS 84, NAD83, NAD27 or ETRS89 in degrees (ESRI's `GCS_WGS_1984` `.prj`) gets its
+//! EPSG code, as GDAL reads it ([`Crs::identified`]). An ASCII grid without
 //! `.prj` whose extent fits ±180° × ±90° with cells under an arc-minute reads in degrees, with a
 //! [`ReadNote`] ([`read_with_notes`]); [`ReadOptions::crs`] / [`ReadOptions::units`] override
 //! ([`parse_crs`] reads `EPSG:n`, WKT or a `.prj` path).

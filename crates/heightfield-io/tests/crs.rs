@@ -190,3 +190,23 @@ fn the_degrees_guess_needs_every_condition() {
         assert_eq!(units(name, &header), expected, "{name}");
     }
 }
+
+/// The shared Jacksboro DEM's `.prj` is ESRI's WGS 84 with no authority, as `ArcGIS` writes it. Read
+/// as GDAL reads it (EPSG:4326), its GeoTIFF says WGS 84 instead of an unknown user-defined CRS.
+#[cfg(feature = "geotiff")]
+#[test]
+fn an_esri_wgs84_prj_is_epsg_4326_in_every_format() {
+    let dem = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/dem/jacksboro.asc");
+    let hf = read(&dem).unwrap();
+    let crs = hf.crs().expect("the .prj labels it");
+    assert_eq!(crs.epsg(), Some(4326));
+    assert!(crs.wkt().is_some_and(|w| w.contains("GCS_WGS_1984")), "the file's own WKT is kept");
+    let dir = tempfile::tempdir().unwrap();
+    for file in ["j.tif", "j.asc", "j.r32"].into_iter().chain(cfg!(feature = "exr").then_some("j.exr")) {
+        let path = dir.path().join(file);
+        write(&path, &hf).unwrap();
+        let back = read(&path).unwrap();
+        assert_eq!(back.crs().and_then(Crs::epsg), Some(4326), "{file}");
+        assert_eq!(back.grid().units(), Units::Degrees, "{file}");
+    }
+}

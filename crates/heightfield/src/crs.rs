@@ -109,6 +109,33 @@ impl Crs {
         self
     }
 
+    /// The same CRS with its EPSG code filled in when its WKT carries none but defines one of the
+    /// common geographic CRSs that ESRI `.prj` files and other tools write without an authority
+    /// (`GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",…]]`): WGS 84 (EPSG:4326), NAD83 (4269), NAD27
+    /// (4267) or ETRS89 (4258), told by the datum's name and checked against its ellipsoid, the
+    /// Greenwich meridian and degrees, as GDAL identifies them. Anything else is returned as it
+    /// is: a code is never guessed for a projected CRS, another datum or a meridian other than
+    /// Greenwich.
+    ///
+    /// ```
+    /// use relief_heightfield::Crs;
+    ///
+    /// let esri = r#"GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",SPHEROID["WGS_1984",6378137.0,298.257223563]],PRIMEM["Greenwich",0.0],UNIT["Degree",0.0174532925199433]]"#;
+    /// let crs = Crs::from_wkt(esri)?;
+    /// assert_eq!(crs.epsg(), None);
+    /// let crs = crs.identified();
+    /// assert_eq!(crs.epsg(), Some(4326));
+    /// assert_eq!(crs.wkt(), Some(esri), "the file's own definition is kept");
+    /// # Ok::<(), relief_heightfield::HeightfieldError>(())
+    /// ```
+    #[must_use]
+    pub fn identified(mut self) -> Self {
+        if self.epsg.is_none() {
+            self.epsg = self.root().as_ref().and_then(well_known_geographic);
+        }
+        self
+    }
+
     /// The EPSG code, when known.
     pub fn epsg(&self) -> Option<u32> {
         self.epsg
@@ -163,6 +190,75 @@ impl std::fmt::Display for Crs {
             (None, None) => f.write_str("unnamed CRS"),
         }
     }
+}
+
+/// A geographic datum that files name without an authority: the names it goes by (upper case,
+/// letters and digits only), its ellipsoid's semi-major axis and inverse flattening, and the EPSG
+/// code of the geographic CRS on it in degrees from Greenwich.
+struct KnownDatum {
+    names: &'static [&'static str],
+    a: f64,
+    inverse_flattening: f64,
+    code: u32,
+}
+
+/// GRS 1980 and WGS 84 differ only in the ninth digit of the inverse flattening.
+const KNOWN_DATUMS: [KnownDatum; 4] = [
+    KnownDatum {
+        names: &["WGS1984", "WGS84", "WORLDGEODETICSYSTEM1984"],
+        a: 6_378_137.0,
+        inverse_flattening: 298.257_223_563,
+        code: 4326,
+    },
+    KnownDatum {
+        names: &["NORTHAMERICAN1983", "NORTHAMERICANDATUM1983", "NAD83"],
+        a: 6_378_137.0,
+        inverse_flattening: 298.257_222_101,
+        code: 4269,
+    },
+    KnownDatum {
+        names: &["NORTHAMERICAN1927", "NORTHAMERICANDATUM1927", "NAD27"],
+        a: 6_378_206.4,
+        inverse_flattening: 294.978_698_213_898,
+        code: 4267,
+    },
+    KnownDatum {
+        names: &["ETRS1989", "ETRS89", "EUROPEANTERRESTRIALREFERENCESYSTEM1989"],
+        a: 6_378_137.0,
+        inverse_flattening: 298.257_222_101,
+        code: 4258,
+    },
+];
+
+/// The EPSG code of a geographic CRS `root` (WKT 1 or 2, with no authority of its own) on one of
+/// the [`KNOWN_DATUMS`], with its ellipsoid, the Greenwich meridian and degrees.
+fn well_known_geographic(root: &Node) -> Option<u32> {
+    if !root.keyword_is(&["GEOGCS", "GEOGCRS", "GEOGRAPHICCRS"]) {
+        return None;
+    }
+    let datum = root.children.iter().find(|c| c.keyword_is(&["DATUM", "GEODETICDATUM", "TRF"]))?;
+    let name: String = datum.strings.first()?.chars().filter(char::is_ascii_alphanumeric).collect();
+    let name = name.to_ascii_uppercase();
+    // ESRI prefixes datum names with `D_`.
+    let esri = datum.strings.first()?.to_ascii_uppercase().starts_with("D_");
+    let name = if esri { &name[1..] } else { &name[..] };
+    let known = KNOWN_DATUMS.iter().find(|d| d.names.contains(&name))?;
+    let ellipsoid = datum.children.iter().find(|c| c.keyword_is(&["SPHEROID", "ELLIPSOID"]))?;
+    let close = |v: f64, w: f64| ((v - w) / w).abs() < 1e-9;
+    let [a, rf, ..] = ellipsoid.numbers[..] else { return None };
+    if !(close(a, known.a) && close(rf, known.inverse_flattening)) {
+        return None;
+    }
+    let greenwich = root
+        .children
+        .iter()
+        .filter(|c| c.keyword_is(&["PRIMEM", "PRIMEMERIDIAN"]))
+        .all(|m| m.numbers.first() == Some(&0.0));
+    let axes = root.children.iter().filter(|c| c.keyword_is(&["AXIS"])).flat_map(|a| &a.children);
+    let mut units = root.children.iter().chain(axes).filter(|c| c.keyword_is(&["UNIT", "ANGLEUNIT"])).peekable();
+    let degrees = units.peek().is_some()
+        && units.all(|u| u.numbers.first().is_some_and(|&r| close(r, std::f64::consts::PI / 180.0)));
+    (greenwich && degrees).then_some(known.code)
 }
 
 /// The planar [`Units`] whose length in metres is `metres` (to 1e-7 relative).

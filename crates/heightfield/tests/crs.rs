@@ -120,3 +120,57 @@ fn units_match_their_length_to_a_part_in_ten_million() {
     assert_eq!(unit("1000"), None, "kilometres are not metres");
     assert!(Crs::from_epsg(999_999).is_ok());
 }
+
+/// ESRI's `.prj` of a WGS 84 DEM (the shared Jacksboro DEM's), with the datum, ellipsoid, meridian
+/// and unit to vary.
+fn esri_geographic(datum: &str, ellipsoid: &str, meridian: &str, unit: &str) -> String {
+    format!(
+        "GEOGCS[\"GCS\",DATUM[\"{datum}\",SPHEROID[\"s\",{ellipsoid}]],PRIMEM[\"Greenwich\",{meridian}],UNIT[\"Degree\",{unit}]]"
+    )
+}
+
+#[test]
+fn common_geographic_crss_without_an_authority_are_identified() {
+    let degree = "0.0174532925199433";
+    let identify = |wkt: &str| Crs::from_wkt(wkt).unwrap().identified().epsg();
+    for (datum, ellipsoid, code) in [
+        ("D_WGS_1984", "6378137.0,298.257223563", 4326),
+        ("WGS_1984", "6378137,298.257223563", 4326),
+        ("World Geodetic System 1984", "6378137,298.257223563", 4326),
+        ("D_North_American_1983", "6378137.0,298.257222101", 4269),
+        ("North_American_Datum_1983", "6378137.0,298.257222101", 4269),
+        ("D_North_American_1927", "6378206.4,294.9786982", 4267),
+        ("D_ETRS_1989", "6378137.0,298.257222101", 4258),
+    ] {
+        assert_eq!(identify(&esri_geographic(datum, ellipsoid, "0.0", degree)), Some(code), "{datum}");
+    }
+    // WKT 2, the unit in the axes.
+    let wkt2 = r#"GEOGCRS["WGS 84",DATUM["World Geodetic System 1984",ELLIPSOID["WGS 84",6378137,298.257223563]],PRIMEM["Greenwich",0],CS[ellipsoidal,2],AXIS["lat",north,ANGLEUNIT["degree",0.0174532925199433]],AXIS["lon",east,ANGLEUNIT["degree",0.0174532925199433]]]"#;
+    assert_eq!(identify(wkt2), Some(4326));
+    // Nothing is guessed for what is not exactly one of them.
+    let wgs = "6378137.0,298.257223563";
+    assert_eq!(
+        identify(&esri_geographic("D_WGS_1984", "6378137.0,298.257222101", "0.0", degree)),
+        None,
+        "GRS 80 is not WGS 84's ellipsoid"
+    );
+    assert_eq!(
+        identify(&esri_geographic("D_North_American_1983", wgs, "0.0", degree)),
+        None,
+        "NAD83 on WGS 84's ellipsoid"
+    );
+    assert_eq!(identify(&esri_geographic("D_WGS_1972", "6378135.0,298.26", "0.0", degree)), None, "another datum");
+    assert_eq!(identify(&esri_geographic("D_WGS_1984", wgs, "2.33722917", degree)), None, "Paris meridian");
+    assert_eq!(identify(&esri_geographic("D_WGS_1984", wgs, "0.0", "0.0157079632679489")), None, "grads");
+    assert_eq!(identify(r#"GEOGCS["GCS",DATUM["D_WGS_1984",SPHEROID["s",6378137.0,298.257223563]]]"#), None, "no unit");
+    let projected = format!(
+        "PROJCS[\"WGS_1984_UTM_Zone_17N\",{},PROJECTION[\"Transverse_Mercator\"],UNIT[\"Meter\",1.0]]",
+        esri_geographic("D_WGS_1984", wgs, "0.0", degree)
+    );
+    assert_eq!(identify(&projected), None, "a projected CRS gets no code");
+    // A code of its own wins.
+    let own = r#"GEOGCS["NAD83",DATUM["North_American_Datum_1983",SPHEROID["GRS 1980",6378137,298.257222101]],PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433],AUTHORITY["EPSG","4269"]]"#;
+    assert_eq!(identify(own), Some(4269));
+    let wrong = own.replace("\"4269\"", "\"4152\"");
+    assert_eq!(identify(&wrong), Some(4152), "an explicit authority is kept");
+}
