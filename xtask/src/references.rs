@@ -53,7 +53,62 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      stalls on its crossing slope bands and BiCGStab takes over). With the paper's own solver at its\n\
      fixed budget for all three solves (`\"solver\": \"jacobi_pyramid\", \"max_iterations\": 0`, which\n\
      `generate_timing` honours) whole 2048² generations take 1.0 s (`mountain-ridges`), 1.5 s\n\
-     (`volcanic-island-48`) and 2.1 s (`mountain`): the hole fills and the painting remain.",
+     (`volcanic-island-48`) and 2.1 s (`mountain`): the hole fills and the painting remain.\n\n\
+     2026-11-27: the sweeps' row kernel runs on AVX2 where the CPU has it (dispatched at run time\n\
+     through `pulp`; the portable x86-64 build had only SSE2 for it), and restriction, prolongation\n\
+     and the colour split run on contiguous slices, the coarsening on row-major copies of a level. Every output has the same\n\
+     bits as before: the golden hashes are unchanged, unit tests compare the transfers and the\n\
+     coarsening with their per-sample definitions bit for bit, and the row kernel has no fused\n\
+     operation, so AVX2 runs the SSE2 build's arithmetic lane by lane. The VM ran about 40 % slower that day than on 11-26, so the rows below\n\
+     compare the commit before with this one in the same session, alternated (whole 2048² `generate`,\n\
+     best of 3, `generate_timing` with `WHOLE_ONLY=1`); the tables above and below keep the 11-26 figures:\n\
+     \n\
+     | scene (curves) | before | after | after / before |\n\
+     |---|---:|---:|---:|\n\
+     | `volcanic-island-48` (48) | 3.77 s | 2.74 s | 0.73 |\n\
+     | `mountain` (59) | 6.23 s | 4.85 s | 0.78 |\n\
+     | `lake` (45) | 5.01 s | 3.96 s | 0.79 |\n\
+     | `canyon-step-3` (74) | 3.49 s | 3.19 s | 0.91 |\n\
+     | `desert` (26) | 2.59 s | 2.16 s | 0.83 |\n\
+     | `mountain-ridges` (9) | 2.73 s | 1.98 s | 0.72 |\n\
+     \n\
+     By phase (`mountain`, best of 5 each): the elevation solve went from 2.75–2.83 s to 2.16–2.23 s, the\n\
+     amplitude and roughness solves from 0.67–0.71 s to 0.52–0.58 s. What is left is mostly the number\n\
+     of cycles, not their cost: a V-cycle cuts a plain Laplace residual (the noise amplitude) by only\n\
+     0.3–0.45, where textbook multigrid on Poisson's equation reaches about 0.1, most likely because a\n\
+     coarse sample is fixed when any of its five fine samples is, so the coarse correction is zero on a\n\
+     ring of fine samples that are free. Fixing only the coarse samples whose own fine sample is fixed\n\
+     diverged (the coarse problems lose thin curves), and one sweep before and after (V(1,1)) instead\n\
+     of two needed twice the cycles. Below 0.6 s needs both fewer cycles and cheaper painting and hole\n\
+     fills (0.25–0.47 s and 0.5–1.1 s of the 2048² generations).\n\
+     \n\
+     2026-11-27, later session, the same bits again (golden hashes unchanged; a hash of the maps and all\n\
+     three solutions unchanged). Parts of a 2048² generation of `mountain-ridges` timed in one process,\n\
+     best of 5, the commit before and this one alternated twice (a throwaway copy of\n\
+     `examples/generate_timing.rs` timing each part):\n\
+     \n\
+     | part | before | after |\n\
+     |---|---:|---:|\n\
+     | elevation set-up (hierarchy) | 91–104 ms | 62–72 ms |\n\
+     | amplitude hierarchy | 95–97 ms | 56–61 ms |\n\
+     | roughness hierarchy (`laplace_like`) | 62–65 ms | 39–43 ms |\n\
+     | detail noise (`relief -v diffuse`, best of 3) | 165–178 ms | 94–103 ms |\n\
+     \n\
+     The coarsening summed each coarse sample's 3 × 3 neighbourhood twice (once for the weights, once for\n\
+     the right-hand side) and built its row-major copy of a level through a merged intermediate; both are\n\
+     one pass now. The noise does per row what depends on the row (each octave's lattice rows, offset and\n\
+     fade). BiCGStab now keeps its seven vectors for the whole solve; in a fresh process that changed\n\
+     nothing measurable (`mountain` solve 1.16–1.18 s against 1.20–1.32 s), and the reason is the VM:\n\
+     the first touch of fresh memory costs about 3.5 µs per 4 KiB page here (0.9 ms per MiB), so\n\
+     BiCGStab's first iteration on `mountain-ridges` took 185 ms and its second 60 ms, the same work. A\n\
+     single `relief diffuse` run touches about 0.5 GB for the first time, which is why its diffusion step\n\
+     varies from 0.76 s to 1.7 s between identical runs on this machine. `mimalloc` as the CLI's\n\
+     allocator cut the in-process parts by about 30 % (it keeps freed memory mapped) but left single\n\
+     runs within that spread, so it was not adopted; neither was `GLIBC_TUNABLES` (about 20 % in\n\
+     process). Also measured and not adopted: four sweeps per half V-cycle instead of two (`mountain`\n\
+     solve 1.23 → 1.06 s and `lake` 1.12 → 0.84 s, `mountain-ridges` unchanged, different bits). On\n\
+     `mountain-ridges` the first V-cycle after full multigrid already stalls (the residual falls by less\n\
+     than 15 %) and BiCGStab finishes in 2 iterations.",
     ),
     (
         "engine_export",
