@@ -202,33 +202,25 @@ struct KnownDatum {
     code: u32,
 }
 
-/// GRS 1980 and WGS 84 differ only in the ninth digit of the inverse flattening.
+/// The datums [`Crs::identified`] knows. GRS 1980 (NAD83's and ETRS89's ellipsoid) differs from
+/// WGS 84's in the ninth digit of the inverse flattening, which the check tells apart.
 const KNOWN_DATUMS: [KnownDatum; 4] = [
-    KnownDatum {
-        names: &["WGS1984", "WGS84", "WORLDGEODETICSYSTEM1984"],
-        a: 6_378_137.0,
-        inverse_flattening: 298.257_223_563,
-        code: 4326,
-    },
-    KnownDatum {
-        names: &["NORTHAMERICAN1983", "NORTHAMERICANDATUM1983", "NAD83"],
-        a: 6_378_137.0,
-        inverse_flattening: 298.257_222_101,
-        code: 4269,
-    },
-    KnownDatum {
-        names: &["NORTHAMERICAN1927", "NORTHAMERICANDATUM1927", "NAD27"],
-        a: 6_378_206.4,
-        inverse_flattening: 294.978_698_213_898,
-        code: 4267,
-    },
-    KnownDatum {
-        names: &["ETRS1989", "ETRS89", "EUROPEANTERRESTRIALREFERENCESYSTEM1989"],
-        a: 6_378_137.0,
-        inverse_flattening: 298.257_222_101,
-        code: 4258,
-    },
+    KnownDatum::new(&["WGS1984", "WGS84", "WORLDGEODETICSYSTEM1984"], 6_378_137.0, 298.257_223_563, 4326),
+    KnownDatum::new(&["NORTHAMERICAN1983", "NORTHAMERICANDATUM1983", "NAD83"], 6_378_137.0, 298.257_222_101, 4269),
+    KnownDatum::new(&["NORTHAMERICAN1927", "NORTHAMERICANDATUM1927", "NAD27"], 6_378_206.4, 294.978_698_213_898, 4267),
+    KnownDatum::new(
+        &["ETRS1989", "ETRS89", "EUROPEANTERRESTRIALREFERENCESYSTEM1989"],
+        6_378_137.0,
+        298.257_222_101,
+        4258,
+    ),
 ];
+
+impl KnownDatum {
+    const fn new(names: &'static [&'static str], a: f64, inverse_flattening: f64, code: u32) -> Self {
+        Self { names, a, inverse_flattening, code }
+    }
+}
 
 /// The EPSG code of a geographic CRS `root` (WKT 1 or 2, with no authority of its own) on one of
 /// the [`KNOWN_DATUMS`], with its ellipsoid, the Greenwich meridian and degrees.
