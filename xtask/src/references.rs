@@ -37,23 +37,27 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      from the converged solution of this scene at 2049², the undamped one 0.07 m and 1 m\n\
      (`examples/convergence.rs` with `ACCURACY=1`). The same-bytes speed-ups of 2026-11-26 (small levels\n\
      on the calling thread, banded painting, parallel hole fills, noise lattices) took rasterization\n\
-     from 953 ms to 224 ms at 2048² and the whole generation with the old damped solve from 2.6 s to 1.4 s.\n\n\
+     from 953 ms to 224 ms at 2048² and the whole generation with the old damped solve from 2.6 s to 1.4 s.\n\
+     \n\
      Table 2's other terrains, as fixture scenes with the paper's curve counts (whole `generate`, best of\n\
      5 at 512² and 1024² and of 3 at 2048², `examples/generate_timing.rs` with `WHOLE_ONLY=1`, 2 cores,\n\
-     2026-11-26; the paper's GPU figures beside ours):\n\n\
+     2026-11-26; the paper's GPU figures beside ours):\n\
+     \n\
      | scene (curves) | 512² ours / paper | 1024² ours / paper | 2048² ours / paper |\n\
      |---|---:|---:|---:|\n\
      | `mountain` (59) | 228 / 187 ms | 913 / 270 ms | 4.29 / 0.670 s |\n\
      | `lake` (45) | 190 / 185 ms | 794 / 261 ms | 3.55 / 0.690 s |\n\
      | `canyon-step-3` (74) | 162 / 216 ms | 553 / 339 ms | 2.30 / 0.811 s |\n\
-     | `desert` (26) | 143 / 171 ms | 453 / 253 ms | 1.77 / 0.635 s |\n\n\
+     | `desert` (26) | 143 / 171 ms | 453 / 253 ms | 1.77 / 0.635 s |\n\
+     \n\
      At 512² we match or beat the paper's GPU; from 1024² we are 1.6–6.4× slower. At 2048² the mountain\n\
      spends 1.1 s filling the holes where slope bands cross (27 % of its samples are holes, solved on\n\
      windows covering 1.75× the grid) and 2.1 s in the elevation solve (15 iterations: the V-cycle\n\
      stalls on its crossing slope bands and BiCGStab takes over). With the paper's own solver at its\n\
      fixed budget for all three solves (`\"solver\": \"jacobi_pyramid\", \"max_iterations\": 0`, which\n\
      `generate_timing` honours) whole 2048² generations take 1.0 s (`mountain-ridges`), 1.5 s\n\
-     (`volcanic-island-48`) and 2.1 s (`mountain`): the hole fills and the painting remain.\n\n\
+     (`volcanic-island-48`) and 2.1 s (`mountain`): the hole fills and the painting remain.\n\
+     \n\
      2026-11-27: the sweeps' row kernel runs on AVX2 where the CPU has it (dispatched at run time\n\
      through `pulp`; the portable x86-64 build had only SSE2 for it), and restriction, prolongation\n\
      and the colour split run on contiguous slices, the coarsening on row-major copies of a level. Every output has the same\n\
@@ -108,7 +112,10 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      process). Also measured and not adopted: four sweeps per half V-cycle instead of two (`mountain`\n\
      solve 1.23 → 1.06 s and `lake` 1.12 → 0.84 s, `mountain-ridges` unchanged, different bits). On\n\
      `mountain-ridges` the first V-cycle after full multigrid already stalls (the residual falls by less\n\
-     than 15 %) and BiCGStab finishes in 2 iterations.",
+     than 15 %) and BiCGStab finishes in 2 iterations. Whole generations in one process\n\
+     (`generate_timing` with `WHOLE_ONLY=1`, best of 3, the commit before and this one alternated twice):\n\
+     `mountain-ridges` 1.36–1.47 s → 1.05–1.11 s, `volcanic-island-48` 1.89–2.12 s → 1.88–1.98 s\n\
+     (within its spread).",
     ),
     (
         "engine_export",
