@@ -208,8 +208,14 @@ fn linear_units(code: u16) -> Option<Units> {
 fn geo_keys(units: Units, crs: Option<&Crs>, pixel_is_area: bool) -> (Vec<u16>, Option<String>) {
     let crs = crs.cloned().map(Crs::identified);
     let crs = crs.as_ref();
-    let code = crs.and_then(Crs::epsg).and_then(|c| u16::try_from(c).ok()).filter(|&c| c != USER_DEFINED);
     let geographic = units == Units::Degrees;
+    // A geographic CRS on a grid relabelled to linear units (`--units`) is no projected CRS code:
+    // it goes as a user-defined one, named, as any CRS without a code.
+    let code = crs
+        .and_then(Crs::epsg)
+        .and_then(|c| u16::try_from(c).ok())
+        .filter(|&c| c != USER_DEFINED)
+        .filter(|_| geographic || crs.and_then(Crs::units) != Some(Units::Degrees));
     let model = if geographic { MODEL_GEOGRAPHIC } else { MODEL_PROJECTED };
     let raster = if pixel_is_area { RASTER_PIXEL_IS_AREA } else { RASTER_PIXEL_IS_POINT };
     let mut entries: Vec<[u16; 4]> = vec![[GT_MODEL_TYPE, 0, 1, model], [GT_RASTER_TYPE, 0, 1, raster]];

@@ -209,4 +209,14 @@ fn an_esri_wgs84_prj_is_epsg_4326_in_every_format() {
         assert_eq!(back.crs().and_then(Crs::epsg), Some(4326), "{file}");
         assert_eq!(back.grid().units(), Units::Degrees, "{file}");
     }
+    // Relabelled to metres (as `--units metres` does), its GeoTIFF gets no projected code 4326,
+    // which would read back in degrees.
+    let g = *hf.grid();
+    let grid = GridSpec::new(g.nx(), g.ny(), g.origin(), g.cell_size()).unwrap().with_units(Units::Metres).unwrap();
+    let metres = Heightfield::from_samples(grid, hf.samples().to_vec()).unwrap().with_crs(hf.crs().cloned());
+    let path = dir.path().join("m.tif");
+    write(&path, &metres).unwrap();
+    let back = read(&path).unwrap();
+    assert_eq!(back.grid().units(), Units::Metres);
+    assert_eq!(back.crs().and_then(Crs::epsg), None);
 }

@@ -109,13 +109,14 @@ impl Crs {
         self
     }
 
-    /// The same CRS with its EPSG code filled in when its WKT carries none but defines one of the
-    /// common geographic CRSs that ESRI `.prj` files and other tools write without an authority
-    /// (`GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",…]]`): WGS 84 (EPSG:4326), NAD83 (4269), NAD27
-    /// (4267) or ETRS89 (4258), told by the datum's name and checked against its ellipsoid, the
-    /// Greenwich meridian and degrees, as GDAL identifies them. Anything else is returned as it
-    /// is: a code is never guessed for a projected CRS, another datum or a meridian other than
-    /// Greenwich.
+    /// The same CRS with its EPSG code filled in when its WKT carries no authority at all but
+    /// defines one of the common two-dimensional geographic CRSs that ESRI `.prj` files and other
+    /// tools write that way (`GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",…]]`): WGS 84 (EPSG:4326),
+    /// NAD83 (4269), NAD27 (4267) or ETRS89 (4258), told by the datum's name and checked against
+    /// its ellipsoid, the prime meridian (Greenwich, or none given, which WKT 2 reads as Greenwich)
+    /// and degrees, as GDAL identifies them. Anything else is returned as it is: a code is never
+    /// guessed for a projected or 3D CRS, another datum, another meridian or unit, or a CRS that
+    /// names another authority (OGC's `CRS84`, ESRI's, IGNF's).
     ///
     /// ```
     /// use relief_heightfield::Crs;
@@ -226,6 +227,15 @@ impl KnownDatum {
 /// the [`KNOWN_DATUMS`], with its ellipsoid, the Greenwich meridian and degrees.
 fn well_known_geographic(root: &Node) -> Option<u32> {
     if !root.keyword_is(&["GEOGCS", "GEOGCRS", "GEOGRAPHICCRS"]) {
+        return None;
+    }
+    // Any authority of its own (OGC's CRS84, ESRI's, IGNF's) says what it is better than a guess.
+    if root.children.iter().any(|c| c.keyword_is(&["AUTHORITY", "ID"])) {
+        return None;
+    }
+    // Two axes only: WGS 84 with ellipsoidal heights (3D) is another CRS (EPSG:4979).
+    let three_d = root.children.iter().any(|c| c.keyword_is(&["CS"]) && c.numbers.first().is_some_and(|&n| n > 2.0));
+    if three_d || root.children.iter().filter(|c| c.keyword_is(&["AXIS"])).count() > 2 {
         return None;
     }
     let datum = root.children.iter().find(|c| c.keyword_is(&["DATUM", "GEODETICDATUM", "TRF"]))?;

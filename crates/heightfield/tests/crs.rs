@@ -168,6 +168,16 @@ fn common_geographic_crss_without_an_authority_are_identified() {
         esri_geographic("D_WGS_1984", wgs, "0.0", degree)
     );
     assert_eq!(identify(&projected), None, "a projected CRS gets no code");
+    // 3D (ellipsoidal heights: EPSG:4979) and other authorities are not guessed at.
+    let wkt2_3d = wkt2.replace("CS[ellipsoidal,2]", "CS[ellipsoidal,3]");
+    assert_eq!(identify(&wkt2_3d), None, "WGS 84 3D");
+    let three_axes = esri_geographic("D_WGS_1984", wgs, "0.0", degree).replace(
+        "UNIT[\"Degree\",0.0174532925199433]]",
+        "UNIT[\"Degree\",0.0174532925199433],AXIS[\"Lat\",NORTH],AXIS[\"Long\",EAST],AXIS[\"h\",UP]]",
+    );
+    assert_eq!(identify(&three_axes), None, "three axes");
+    let crs84 = format!("{},ID[\"OGC\",\"CRS84\"]]", &wkt2[..wkt2.len() - 1]);
+    assert_eq!(identify(&crs84), None, "OGC's own identifier is kept as the only one");
     // A code of its own wins.
     let own = r#"GEOGCS["NAD83",DATUM["North_American_Datum_1983",SPHEROID["GRS 1980",6378137,298.257222101]],PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433],AUTHORITY["EPSG","4269"]]"#;
     assert_eq!(identify(own), Some(4269));
