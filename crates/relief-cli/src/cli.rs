@@ -645,9 +645,9 @@ pub(crate) struct ServeArgs {
 pub(crate) struct RasterizeArgs {
     /// The vector terrain.
     pub(crate) terrain: PathBuf,
-    /// Samples: `W` (square) or `WxH`.
-    #[arg(long, value_parser = parse_size)]
-    pub(crate) size: (usize, usize),
+    /// Samples: `W` (square) or `WxH` (required unless `--like` gives the grid).
+    #[arg(long, value_parser = parse_size, required_unless_present = "like")]
+    pub(crate) size: Option<(usize, usize)>,
     /// Output heightfield; the extension picks the format.
     #[arg(short, long)]
     pub(crate) output: PathBuf,
@@ -655,6 +655,10 @@ pub(crate) struct RasterizeArgs {
     /// vectorized DEM's extent, else the primitives' supports).
     #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
     pub(crate) window: Option<[f64; 4]>,
+    /// Sample on this heightfield's grid (size, origin, cell size), e.g. the DEM the terrain was
+    /// vectorized from, to compare the two sample by sample; instead of `--size` and `--window`.
+    #[arg(long, value_name = "DEM", conflicts_with_all = ["size", "window"])]
+    pub(crate) like: Option<PathBuf>,
 }
 
 /// `W` or `WxH` (each side in 2..=16384): `1024`, `2048x1024`.

@@ -531,10 +531,28 @@ fn vectorize_then_rasterize_a_real_dem() {
     ok(&["rasterize", json.to_str().unwrap(), "--size", "120x100", "-o", tif.to_str().unwrap()]);
     assert_eq!(relief::io::read(&tif).unwrap().grid().units(), degrees);
     assert_eq!((out.crs(), out.grid().units()), (source.crs(), degrees), "the EXR keeps the CRS's WKT");
+    // On the DEM's own grid (`--like`), to set beside it sample for sample.
+    let like = tmp.path().join("like.tif");
+    let (json_s, like_s, exr_s) = (json.to_str().unwrap(), like.to_str().unwrap(), exr.to_str().unwrap());
+    ok(&["rasterize", json_s, "--like", dem.to_str().unwrap(), "-o", like_s]);
+    let on_dem = relief::io::read(&like).unwrap();
+    let (g, s) = (on_dem.grid(), source.grid());
+    assert_eq!(
+        (g.nx(), g.ny(), g.origin(), g.cell_size(), g.units()),
+        (s.nx(), s.ny(), s.origin(), s.cell_size(), s.units())
+    );
+    let mean = on_dem.samples().iter().zip(source.samples()).map(|(a, b)| f64::from((a - b).abs())).sum::<f64>()
+        / source.samples().len() as f64;
+    assert!(mean < 0.1 * f64::from(b - a), "mean error {mean} m");
+    fails(&["rasterize", json_s, "-o", exr_s], 2);
+    fails(&["rasterize", json_s, "--like", dem.to_str().unwrap(), "--size", "40", "-o", exr_s], 2);
     // Units overridden on reading win over the file's CRS, through the JSON to the raster.
     let feet = tmp.path().join("feet.json");
     let (dem_s, feet_s) = (dem.to_str().unwrap(), feet.to_str().unwrap());
     ok(&["--units", "feet", "vectorize", dem_s, "--primitives", "40", "--iterations", "5", "-o", feet_s]);
+    // A grid in other units than the terrain's is refused, naming both.
+    let err = fails(&["--force", "rasterize", feet_s, "--like", dem_s, "-o", exr_s], 1);
+    assert!(err.contains("degrees") && err.contains("feet") && err.contains("--size"), "{err}");
     let exr_feet = tmp.path().join("feet.exr");
     ok(&["rasterize", feet_s, "--size", "40", "-o", exr_feet.to_str().unwrap()]);
     assert_eq!(relief::io::read(&exr_feet).unwrap().grid().units(), relief::heightfield::Units::Feet);

@@ -69,12 +69,16 @@ fn vectorize_options(args: &VectorizeArgs) -> Result<VectorizeOptions> {
 }
 
 /// `relief rasterize`: the terrain sampled on a `--size` grid over `--window` (default: its
-/// recorded domain), in its recorded units and CRS, checked against the budget before anything
-/// is allocated.
+/// recorded domain), or on the grid of the `--like` heightfield, in its recorded units and CRS,
+/// checked against the budget before anything is allocated.
 pub(crate) fn rasterize(args: &RasterizeArgs, ui: &mut Ui) -> Result<()> {
-    let (path, output, (nx, ny)) = (&args.terrain, &args.output, args.size);
-    ui.writes().reads(path).writes(output, Written::Heightfield)?.check()?;
-    ui.budget().cells((nx as u64).saturating_mul(ny as u64), "--size")?;
+    let (path, output) = (&args.terrain, &args.output);
+    let inputs = std::iter::once(path).chain(&args.like).cloned();
+    ui.writes().reads_all(inputs).writes(output, Written::Heightfield)?.check()?;
+    let like = args.like.as_ref().map(|p| ui.read(p).map(|dem| (p, *dem.grid()))).transpose()?;
+    let (nx, ny) = like.map_or(args.size.unwrap_or_default(), |(_, g)| (g.nx(), g.ny()));
+    let what = if like.is_some() { "--like" } else { "--size" };
+    ui.budget().cells((nx as u64).saturating_mul(ny as u64), what)?;
     let text = relief::budget::read_json_text(path).with_context(|| format!("reading {}", path.display()))?;
     let mut terrain: VectorTerrain =
         serde_json::from_str(&text).with_context(|| format!("{}: not a vector terrain", path.display()))?;
@@ -87,12 +91,25 @@ pub(crate) fn rasterize(args: &RasterizeArgs, ui: &mut Ui) -> Result<()> {
     }
     terrain.units = read.units.or(terrain.units);
     ui.budget().primitives(terrain.len() as u64, &path.display().to_string())?;
-    let extent = match args.window {
-        Some([a, b, c, d]) => Extent::new(DVec2::new(a, b), DVec2::new(c, d)),
-        None => terrain.extent(),
+    let grid = match like {
+        Some((dem, grid)) if grid.units() != terrain.units() => anyhow::bail!(
+            "{} is in {}, the terrain {} in {}: give --size and --window in the terrain's units",
+            dem.display(),
+            grid.units().name(),
+            path.display(),
+            terrain.units().name()
+        ),
+        Some((_, grid)) => grid,
+        None => {
+            let extent = match args.window {
+                Some([a, b, c, d]) => Extent::new(DVec2::new(a, b), DVec2::new(c, d)),
+                None => terrain.extent(),
+            };
+            GridSpec::from_extent(nx, ny, extent)?
+        }
     };
     // Labelled like the DEM it was vectorized from: its units and CRS.
-    let grid = GridSpec::from_extent(nx, ny, extent)?.with_units(terrain.units())?;
+    let grid = grid.with_units(terrain.units())?;
     let heightfield = ui.step("rasterize", || {
         relief::gaussian_terrain::rasterize(&terrain, &grid, &relief::gaussian_terrain::RasterOptions::default())
     })?;
