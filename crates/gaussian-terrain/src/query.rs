@@ -4,15 +4,17 @@
 //! library: PLOC construction and stack traversal, which a hand-written grid would only
 //! approximate for primitives whose sizes span three orders of magnitude).
 //!
-//! Queries go by cells of a fixed lattice about a typical support wide: a cell walks the
-//! hierarchy once for the supports that may reach it and cuts its points into groups of 16
-//! neighbours (along a Z-order curve). Each support is added to each group it may reach with
-//! the rasterizer's branch-free f32 arithmetic (module `fastmath`), the loop over the group's
-//! points vectorized (AVX2 through `pulp` where the CPU has it); the test of whether it reaches
-//! a group is conservative, so a group skips only supports that add nothing to any of its
-//! points. A single query is a cell with one point, and each point sums the supports over it in
-//! index order whatever the other points of its cell, so a batch returns exactly the single
-//! queries' values, for any thread count.
+//! A batch goes the rasterizer's way (module `kernel`), with its points in place of a grid's
+//! rows: sorted into strips of one y value (a grid row) or of a thin range of y (scattered
+//! points), each sorted by x. Bands of strips run in parallel; a band walks the hierarchy once
+//! for its box, and each support, in index order, adds itself to the stretch of each strip its
+//! ellipse covers (a search from where the stretch would start were the points evenly spread),
+//! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX2
+//! through `pulp` where the CPU has it). A point is held relative to the corner of its square
+//! of a coarse lattice, so its arithmetic depends on the point and the support alone, and each
+//! point sums the supports over it in index order: a single query is a batch of one, and a batch
+//! returns exactly the single queries' values, in any order, for any thread count. Detail
+//! layers (f64 falloffs and noise) go by the cells of a finer lattice.
 
 use glam::{DVec2, DVec3, Vec3A};
 use obvhs::BvhBuildParams;
@@ -24,9 +26,15 @@ use rayon::prelude::*;
 use crate::fastmath::{exp_neg, exp2_signed, log2};
 use crate::{DetailLayer, Gaussian, GaussianError, Ground, VectorTerrain};
 
-/// Side of the query lattice's cells, in typical support widths (measured best among 0.5–2 on
-/// the rasterizer benchmark's terrain).
+/// Side of the detail layers' query cells, in typical support widths (measured best among 0.5–2
+/// on the rasterizer benchmark's terrain).
 const CELL_PER_SUPPORT: f64 = 1.0;
+
+/// Side of the lattice whose corners the kernel measures points from, in query cells: a stretch
+/// of a strip is cut where it crosses into another square of this lattice (4 and 16 measured
+/// within 2 % of each other, 1 slower by 10 %). f32 holds a point 16 support widths from its
+/// corner to a millionth of a width.
+const ANCHOR_CELLS: f64 = 16.0;
 
 /// Cells per parallel task in the batched queries.
 const CELLS_PER_TASK: usize = 16;
@@ -61,6 +69,20 @@ struct Item {
     /// The support's bounding box.
     lo: DVec2,
     hi: DVec2,
+    /// `d²` is `a·x'² + 2b·x'·y' + c·y'²` (`x'`, `y'` from the centre), and the support grown
+    /// by a relative 10⁻⁴ (`R² = grown_r2`, far above the f32 rounding of the kernel's inside
+    /// test) reaches `x_reach` and `y_reach` from the centre, its furthest x at
+    /// `y' = −b·x_reach/c`.
+    a: f64,
+    b: f64,
+    c: f64,
+    grown_r2: f64,
+    x_reach: f64,
+    y_reach: f64,
+    /// What the kernel's f32 coordinates of the centre and of a point it reaches may be off by,
+    /// world units (10⁻⁵ of the support's width and two lattice cells: a point is held
+    /// relative to its cell's corner); set by [`Item::with_slack`].
+    slack: f64,
 }
 
 impl Item {
@@ -68,7 +90,58 @@ impl Item {
         let (u, v) = g.inverse_axes();
         let r = g.support_radius(tolerance);
         let (lo, hi) = g.bounds(tolerance);
-        Self { center: DVec2::from(g.center), u, v, r2: r * r, amplitude: g.amplitude, half_beta: 0.5 * g.beta, lo, hi }
+        let (a, b, c) = (u.x * u.x + v.x * v.x, u.x * u.y + v.x * v.y, u.y * u.y + v.y * v.y);
+        let grown_r2 = (r * (1.0 + 1e-4)).powi(2);
+        let det = a * c - b * b;
+        Self {
+            center: DVec2::from(g.center),
+            u,
+            v,
+            r2: r * r,
+            amplitude: g.amplitude,
+            half_beta: 0.5 * g.beta,
+            lo,
+            hi,
+            a,
+            b,
+            c,
+            grown_r2,
+            x_reach: (grown_r2 * c / det).sqrt(),
+            y_reach: (grown_r2 * a / det).sqrt(),
+            slack: 0.0,
+        }
+    }
+
+    /// The item with its [`Item::slack`] for a lattice of side `cell`.
+    fn with_slack(self, cell: f64) -> Self {
+        Self { slack: 1e-5 * ((self.hi - self.lo).max_element() + 2.0 * cell), ..self }
+    }
+
+    /// The box that holds every point the kernel may count inside the support: the grown
+    /// support and the slack. The hierarchy holds these boxes.
+    fn reach(&self) -> (DVec2, DVec2) {
+        let half = DVec2::new(self.x_reach, self.y_reach) + self.slack;
+        (self.center - half, self.center + half)
+    }
+
+    /// The x range over which the grown support meets the band of y from `y0` to `y1`, grown by
+    /// the slack; `None` when it misses the band. The support's left and right edges are convex
+    /// and concave in y, so their extremes over the band are at the band's y nearest to the
+    /// support's leftmost and rightmost points.
+    fn x_range(&self, y0: f64, y1: f64) -> Option<(f64, f64)> {
+        let lo = (y0 - self.center.y - self.slack).max(-self.y_reach);
+        let hi = (y1 - self.center.y + self.slack).min(self.y_reach);
+        if lo > hi {
+            return None;
+        }
+        let edge = |y: f64, side: f64| {
+            let by = self.b * y;
+            let disc = (by * by - self.a * (self.c * y * y - self.grown_r2)).max(0.0);
+            (side * disc.sqrt() - by) / self.a
+        };
+        let tip = self.b * self.x_reach / self.c;
+        let (left, right) = (edge(tip.clamp(lo, hi), -1.0), edge((-tip).clamp(lo, hi), 1.0));
+        Some((self.center.x + left - self.slack, self.center.x + right + self.slack))
     }
 
     /// The value at `p` in f64, 0 outside the support (a detail falloff's weight).
@@ -79,9 +152,9 @@ impl Item {
         if s > self.r2 { 0.0 } else { self.amplitude * (-0.5 * s.powf(self.half_beta)).exp() }
     }
 
-    /// Whether the support may reach the box `[lo, hi]` grown by `slack` ([`reaches`]). A cull
-    /// for the whole cell: the groups of its points test again, so a support let through that
-    /// reaches none of them only costs time.
+    /// Whether the support may reach the box `[lo, hi]` grown by `slack` ([`reaches`]): a
+    /// detail cell's cull of its falloffs (a falloff let through that reaches none of the cell's
+    /// points adds 0 to each).
     fn meets(&self, lo: DVec2, hi: DVec2, slack: f64) -> bool {
         let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo) + slack);
         reaches(mid - self.center, self.u, self.v, self.r2.sqrt(), half)
@@ -183,18 +256,19 @@ impl VectorTerrain {
             supports.extend(layer.falloffs());
             layers.push((layer.clone(), supports.len()));
         }
-        let bounds: Vec<(DVec2, DVec2)> = supports.iter().map(|g| g.bounds(tolerance)).collect();
-        let origin = bounds.iter().map(|&(lo, hi)| 0.5 * (lo + hi)).sum::<DVec2>() / bounds.len().max(1) as f64;
-        let boxes: Vec<Aabb> = bounds.iter().map(|&(lo, hi)| outward_box(lo - origin, hi - origin)).collect();
+        let items: Vec<Item> = supports.iter().map(|g| Item::new(g, tolerance)).collect();
+        let cell = CELL_PER_SUPPORT
+            * typical_width(&items[..if self.primitives.is_empty() { items.len() } else { self.primitives.len() }]);
+        let items: Vec<Item> = items.into_iter().map(|i| i.with_slack(ANCHOR_CELLS * cell)).collect();
+        let reach: Vec<(DVec2, DVec2)> = items.iter().map(Item::reach).collect();
+        let origin = reach.iter().map(|&(lo, hi)| 0.5 * (lo + hi)).sum::<DVec2>() / reach.len().max(1) as f64;
+        let boxes: Vec<Aabb> = reach.iter().map(|&(lo, hi)| outward_box(lo - origin, hi - origin)).collect();
         let bvh = if boxes.is_empty() {
             Bvh2::default()
         } else {
             let mut build_time = std::time::Duration::ZERO;
             build_bvh2(&boxes, BvhBuildParams::fast_build(), &mut build_time)
         };
-        let items: Vec<Item> = supports.iter().map(|g| Item::new(g, tolerance)).collect();
-        let cell = CELL_PER_SUPPORT
-            * typical_width(&items[..if self.primitives.is_empty() { items.len() } else { self.primitives.len() }]);
         let (gaussians, base, floor) = (self.primitives.len(), self.base, self.floor);
         Ok(TerrainQuery { origin, bvh, items, gaussians, layers, base, floor, cell })
     }
@@ -239,20 +313,12 @@ impl TerrainQuery {
 
     /// The elevation at `p`.
     pub fn elevation(&self, p: DVec2) -> f64 {
-        self.single(p, false).elevation
+        self.batch(&[p], false)[0].elevation
     }
 
     /// The elevation and gradient at `p`.
     pub fn sample(&self, p: DVec2) -> Sample {
-        self.single(p, true)
-    }
-
-    /// [`Self::sample`], the gradient left at zero unless `gradients`.
-    fn single(&self, p: DVec2, gradients: bool) -> Sample {
-        let Some(key) = self.cell_of(p) else { return self.beyond(p) };
-        let mut out = Vec::with_capacity(1);
-        self.cell_samples(key, &[p], &[0], gradients, &mut Block::default(), &mut out);
-        out[0].1
+        self.batch(&[p], true)[0]
     }
 
     /// The upward unit normal at `p`.
@@ -265,35 +331,58 @@ impl TerrainQuery {
     /// are not computed (unless a detail layer's amplitude follows the slope), which matters
     /// most with detail layers: their gradient is a central difference.
     pub fn elevations(&self, points: &[DVec2]) -> Vec<f64> {
-        self.batch(points, false).into_iter().map(|s| s.elevation).collect()
+        if !self.layers.is_empty() {
+            return self.batch(points, false).into_iter().map(|s| s.elevation).collect();
+        }
+        let mut out: Vec<f64> = points.par_iter().map(|&p| self.beyond(p).elevation).collect();
+        for (strip, sums) in self.gaussian_sums(points, false) {
+            for (n, &k) in strip.members.iter().enumerate() {
+                out[k as usize] = self.ground(&sums, n).elevation;
+            }
+        }
+        out
     }
 
     /// The elevations and gradients at `points`, in parallel: the same values as
-    /// [`Self::sample`] one by one, for any thread count. Points close together share one walk
-    /// of the hierarchy, so a batch in the order of a grid or a track is the fast case.
+    /// [`Self::sample`] one by one, for any thread count. Any order of points is fast: they are
+    /// sorted into strips first (grid rows in row order need no sorting).
     pub fn samples(&self, points: &[DVec2]) -> Vec<Sample> {
         self.batch(points, true)
     }
 
     /// [`Self::samples`], the gradients left at zero unless `gradients`.
     fn batch(&self, points: &[DVec2], gradients: bool) -> Vec<Sample> {
-        let mut out: Vec<Sample> = points.iter().map(|&p| self.beyond(p)).collect();
-        let cells = self.bucket(points);
-        let parts: Vec<Vec<(u32, Sample)>> = cells
-            .par_chunks(CELLS_PER_TASK)
-            .map(|cells| {
-                let mut block = Block::default();
-                let mut part = Vec::new();
-                for (key, members) in cells {
-                    self.cell_samples(*key, points, members, gradients, &mut block, &mut part);
-                }
-                part
-            })
-            .collect();
-        for (k, s) in parts.into_iter().flatten() {
-            out[k as usize] = s;
+        let mut out: Vec<Sample> = points.par_iter().map(|&p| self.beyond(p)).collect();
+        for (strip, sums) in self.gaussian_sums(points, gradients) {
+            for (n, &k) in strip.members.iter().enumerate() {
+                out[k as usize] = self.ground(&sums, n);
+            }
+        }
+        if !self.layers.is_empty() {
+            self.add_details(points, gradients, &mut out);
         }
         out
+    }
+
+    /// The Gaussians' sums at the finite points, strip by strip: bands of strips in parallel.
+    fn gaussian_sums(&self, points: &[DVec2], gradients: bool) -> Vec<(Strip, Sums)> {
+        let strips = self.strips(points);
+        // A detail layer modulated by the slope needs the Gaussians' gradient for its value.
+        let by_slope = |layer: &DetailLayer| matches!(&layer.source, crate::DetailSource::Noise { modulation, .. } if modulation.slope.is_some());
+        let slopes = gradients || self.layers.iter().any(|(layer, _)| by_slope(layer));
+        let sums: Vec<Vec<Sums>> =
+            bands(&strips).into_par_iter().map(|band| self.band_sums(&strips[band], slopes)).collect();
+        strips.into_iter().zip(sums.into_iter().flatten()).collect()
+    }
+
+    /// The Gaussians' sample `n` of a band: the base added, the floor applied.
+    fn ground(&self, sums: &Sums, n: usize) -> Sample {
+        let gradient = if sums.gx.is_empty() { DVec2::ZERO } else { DVec2::new(sums.gx[n].into(), sums.gy[n].into()) };
+        let s = Sample { elevation: self.base + f64::from(sums.h[n]), gradient };
+        match self.floor {
+            Some(floor) if s.elevation < floor => Sample { elevation: floor, gradient: DVec2::ZERO },
+            _ => s,
+        }
     }
 
     /// A point no cell holds: NaN when it is not finite, else so far out (beyond the lattice's
@@ -308,6 +397,136 @@ impl TerrainQuery {
         let c = ((p - self.origin) / self.cell).floor();
         let fits = |v: f64| v.is_finite() && v.abs() < f64::from(i32::MAX);
         (fits(c.x) && fits(c.y)).then_some((c.x as i32, c.y as i32))
+    }
+
+    /// The lower corner of the lattice cell `key`.
+    fn corner(&self, key: (i32, i32)) -> DVec2 {
+        self.origin + DVec2::new(f64::from(key.0), f64::from(key.1)) * self.cell
+    }
+
+    /// The square of the anchor lattice ([`ANCHOR_CELLS`] cells a side) that holds `p`, `None`
+    /// when it is not finite or beyond the lattice's i32 range.
+    fn anchor_of(&self, p: DVec2) -> Option<(i32, i32)> {
+        let c = ((p - self.origin) / (ANCHOR_CELLS * self.cell)).floor();
+        let fits = |v: f64| v.is_finite() && v.abs() < f64::from(i32::MAX);
+        (fits(c.x) && fits(c.y)).then_some((c.x as i32, c.y as i32))
+    }
+
+    /// The lower corner of the anchor square `key`.
+    fn anchor(&self, key: (i32, i32)) -> DVec2 {
+        self.origin + DVec2::new(f64::from(key.0), f64::from(key.1)) * (ANCHOR_CELLS * self.cell)
+    }
+
+    /// The points in a lattice cell sorted into strips (see [`Strip`]).
+    fn strips(&self, points: &[DVec2]) -> Vec<Strip> {
+        let cells: Vec<Option<(i32, i32)>> = points.par_iter().map(|&p| self.anchor_of(p)).collect();
+        let row = |k: u32| cells[k as usize].map_or(0, |c| c.1);
+        let by_row = |a: &u32, b: &u32| {
+            let (p, q) = (points[*a as usize], points[*b as usize]);
+            row(*a).cmp(&row(*b)).then(p.y.total_cmp(&q.y)).then(p.x.total_cmp(&q.x))
+        };
+        let mut order: Vec<u32> = (0..points.len() as u32).filter(|&k| cells[k as usize].is_some()).collect();
+        if !order.is_sorted_by(|a, b| by_row(a, b).is_le()) {
+            order.par_sort_unstable_by(by_row);
+        }
+        let mut cuts = Vec::new();
+        let mut start = 0;
+        for k in 1..=order.len() {
+            let cut = k == order.len() || {
+                let (first, last, p) =
+                    (points[order[start] as usize], points[order[k - 1] as usize], points[order[k] as usize]);
+                let full = k - start >= MIN_STRIP || p.y - first.y > self.cell * STRIP_THICKNESS;
+                row(order[k]) != row(order[start]) || (p.y != last.y && full)
+            };
+            if cut {
+                cuts.push(start..k);
+                start = k;
+            }
+        }
+        cuts.into_par_iter().map(|range| self.strip(order[range].to_vec(), points, &cells)).collect()
+    }
+
+    /// The strip of the points `members` (sorted by y, in one lattice row; see [`Strip`]).
+    fn strip(&self, mut members: Vec<u32>, points: &[DVec2], cells: &[Option<(i32, i32)>]) -> Strip {
+        let (y0, y1) = (points[members[0] as usize].y, points[members[members.len() - 1] as usize].y);
+        if y0 != y1 {
+            members.sort_unstable_by(|a, b| points[*a as usize].x.total_cmp(&points[*b as usize].x));
+        }
+        let n = members.len();
+        let mut strip = Strip {
+            y0,
+            y1,
+            x0: points[members[0] as usize].x,
+            per_x: 0.0,
+            x: Vec::with_capacity(n),
+            qx: Vec::with_capacity(n),
+            qy: Vec::with_capacity(n),
+            run_of: Vec::with_capacity(n),
+            runs: Vec::new(),
+            members: Vec::new(),
+        };
+        let mut column = None;
+        for (i, &k) in members.iter().enumerate() {
+            let (p, cell) = (points[k as usize], cells[k as usize].expect("finite points only"));
+            if column != Some(cell.0) {
+                if let Some(run) = strip.runs.last_mut() {
+                    run.end = i as u32;
+                }
+                strip.runs.push(Run { end: n as u32, corner: self.anchor(cell) });
+                column = Some(cell.0);
+            }
+            let q = p - strip.runs[strip.runs.len() - 1].corner;
+            strip.x.push(p.x);
+            strip.qx.push(q.x as f32);
+            strip.qy.push(q.y as f32);
+            strip.run_of.push(strip.runs.len() as u32 - 1);
+        }
+        let last = strip.x[n - 1];
+        strip.per_x = if last > strip.x0 { (n - 1) as f64 / (last - strip.x0) } else { 0.0 };
+        strip.members = members;
+        strip
+    }
+
+    /// The Gaussians' sums at the points of the strips `inside` (a band): the hierarchy walked
+    /// once for the band's box, then every support in index order over every strip it may reach.
+    fn band_sums(&self, inside: &[Strip], gradients: bool) -> Vec<Sums> {
+        let x_min = inside.iter().map(|s| s.x[0]).fold(f64::INFINITY, f64::min);
+        let x_max = inside.iter().map(|s| s.x[s.x.len() - 1]).fold(f64::NEG_INFINITY, f64::max);
+        let lo = DVec2::new(x_min, inside[0].y0) - self.origin;
+        let hi = DVec2::new(x_max, inside[inside.len() - 1].y1) - self.origin;
+        let mut candidates = Vec::new();
+        self.bvh.aabb_traverse(outward_box(lo, hi), |bvh, node| collect_leaf(bvh, node, &mut candidates));
+        candidates.retain(|&k| (k as usize) < self.gaussians);
+        candidates.sort_unstable();
+        let mut sums: Vec<Sums> = inside
+            .iter()
+            .map(|s| {
+                let n = s.x.len();
+                let gradient = if gradients { vec![0.0; n] } else { Vec::new() };
+                Sums { h: vec![0.0; n], gx: gradient.clone(), gy: gradient }
+            })
+            .collect();
+        let work = BandWork { items: &self.items, candidates: &candidates, inside, sums: &mut sums };
+        pulp::Arch::new().dispatch(work);
+        sums
+    }
+
+    /// Adds the detail layers to `out` (the Gaussians' samples), cell by cell in parallel.
+    fn add_details(&self, points: &[DVec2], gradients: bool, out: &mut [Sample]) {
+        let cells = self.bucket(points);
+        let parts: Vec<Vec<(u32, Sample)>> = cells
+            .par_chunks(CELLS_PER_TASK)
+            .map(|cells| {
+                let (mut candidates, mut part) = (Vec::new(), Vec::new());
+                for (key, members) in cells {
+                    self.cell_details(*key, points, members, gradients, out, &mut candidates, &mut part);
+                }
+                part
+            })
+            .collect();
+        for (k, s) in parts.into_iter().flatten() {
+            out[k as usize] = s;
+        }
     }
 
     /// The finite points grouped by lattice cell, cells in (y, x) order.
@@ -352,58 +571,43 @@ impl TerrainQuery {
         cells
     }
 
-    /// The samples at `points[members]`, all in the lattice cell `key`: the supports over the
-    /// cell once, then every point against all of them.
-    fn cell_samples(
+    /// The detail layers at `points[members]`, all in the lattice cell `key`, over the
+    /// Gaussians' samples `ground`: the falloffs over the cell (and over the gradient's steps
+    /// out of it) once, then every point against all of them.
+    #[allow(clippy::too_many_arguments, reason = "one cell's inputs and the caller's scratch")]
+    fn cell_details(
         &self,
         key: (i32, i32),
         points: &[DVec2],
         members: &[u32],
         gradients: bool,
-        block: &mut Block,
+        ground: &[Sample],
+        candidates: &mut Vec<u32>,
         out: &mut Vec<(u32, Sample)>,
     ) {
-        let corner = self.origin + DVec2::new(f64::from(key.0), f64::from(key.1)) * self.cell;
+        let corner = self.corner(key);
         let (lo, hi) = (corner, corner + DVec2::splat(self.cell));
-        let mut candidates = std::mem::take(&mut block.candidates);
         candidates.clear();
-        // The supports over the cell, and over the detail gradient's steps out of it.
         let step = if gradients { self.detail_step() } else { 0.0 };
         self.bvh.aabb_traverse(outward_box(lo - step - self.origin, hi + step - self.origin), |bvh, node| {
-            collect_leaf(bvh, node, &mut candidates)
+            collect_leaf(bvh, node, candidates)
         });
         // What the points' f32 coordinates relative to the corner may be off by, and more.
         let slack = 1e-5 * self.cell;
-        candidates.retain(|&k| self.items[k as usize].meets(lo, hi, slack + step));
+        candidates.retain(|&k| k as usize >= self.gaussians && self.items[k as usize].meets(lo, hi, slack + step));
         candidates.sort_unstable();
-        let split = candidates.partition_point(|&k| (k as usize) < self.gaussians);
-        block.load(&self.items, &candidates[..split], points, members, corner, slack);
-        // A detail layer modulated by the slope needs the Gaussians' gradient for its value.
-        let by_slope = |layer: &DetailLayer| matches!(&layer.source, crate::DetailSource::Noise { modulation, .. } if modulation.slope.is_some());
-        block.gradients = gradients || self.layers.iter().any(|(layer, _)| by_slope(layer));
-        block.run();
-        for (n, &k) in block.order.iter().enumerate() {
-            let p = points[k as usize];
-            let sums = &block.sums[3 * LANES * (n / LANES)..];
-            let lane = n % LANES;
-            let (h, gx, gy) = (sums[lane], sums[LANES + lane], sums[2 * LANES + lane]);
-            let (h, gx, gy) = (f64::from(h), f64::from(gx), f64::from(gy));
-            let mut s = Sample { elevation: self.base + h, gradient: DVec2::new(gx, gy) };
-            if let Some(floor) = self.floor
-                && s.elevation < floor
-            {
-                s = Sample { elevation: floor, gradient: DVec2::ZERO };
-            }
-            if split < candidates.len() {
-                let ground = s;
-                s.elevation += self.details_at(p, &candidates[split..], ground.ground());
-                if gradients {
-                    s.gradient += self.details_gradient(p, ground, &candidates[split..]);
-                }
+        if candidates.is_empty() {
+            return;
+        }
+        for &k in members {
+            let (p, under) = (points[k as usize], ground[k as usize]);
+            let mut s = under;
+            s.elevation += self.details_at(p, candidates, under.ground());
+            if gradients {
+                s.gradient += self.details_gradient(p, under, candidates);
             }
             out.push((k, s));
         }
-        block.candidates = candidates;
     }
 
     /// The detail layers at `p`, given a superset of the falloffs over it (ascending): each
@@ -453,145 +657,112 @@ impl Sample {
     }
 }
 
-/// Points per group: two AVX2 registers of f32 (measured best among 8, 16 and 32 on the
-/// rasterizer benchmark's terrain).
-const LANES: usize = 16;
+/// Most points in a strip of several y values.
+const MIN_STRIP: usize = 64;
 
-/// A cell's work: its Gaussians (centres relative to the cell's corner, f32) and its points in
-/// groups of [`LANES`] nearby points, each group with the sums being accumulated. A Gaussian is
-/// added to a group only when it may reach one of the group's points; the points it skips lie
-/// outside its support, where the kernel adds nothing anyway, so a point's sum is the same
-/// whatever group it is in.
-#[derive(Default)]
-struct Block {
-    supports: Vec<Support>,
-    groups: Vec<Group>,
-    /// Each group's points relative to the cell's corner: [`LANES`] x, then [`LANES`] y (the
-    /// last point repeated to fill the lanes).
-    q: Vec<f32>,
-    /// Each group's sums: [`LANES`] elevations, then x and y derivatives (f32 like the
-    /// rasterizer's sums).
-    sums: Vec<f32>,
-    /// The cell's points (indices into the caller's points) in group order.
-    order: Vec<u32>,
-    /// Whether to sum the gradients too (else only the elevations).
-    gradients: bool,
-    /// Scratch: the supports over the cell, and the points' Z-order keys.
-    candidates: Vec<u32>,
-    keys: Vec<(u32, u32)>,
+/// Most y spread of a strip of several y values, in lattice cells.
+const STRIP_THICKNESS: f64 = 0.125;
+
+/// Points per band (a parallel task), at least one strip.
+const BAND_POINTS: usize = 16_384;
+
+/// Most strips per band.
+const BAND_STRIPS: usize = 16;
+
+/// A batch's points prepared for the kernel. Sorted by lattice row, then y, then x, they are cut
+/// into strips: every point of one y value (a grid row: its span of a support is exact, as the
+/// rasterizer's) or, for scattered points, up to [`MIN_STRIP`] points within
+/// [`STRIP_THICKNESS`] cells of y, sorted by x. A support reaches a strip's points in one
+/// stretch of x, found from where the points would be were they evenly spread; the stretch is
+/// cut where the points' lattice cell changes, since every point is held relative to its own
+/// cell's corner.
+struct Strip {
+    /// The points' y range, the first x, and points per unit of x (0 for one x).
+    y0: f64,
+    y1: f64,
+    x0: f64,
+    per_x: f64,
+    /// Each point's x, for the stretches' searches.
+    x: Vec<f64>,
+    /// Each point relative to its cell's corner (f32, as the kernel takes it).
+    qx: Vec<f32>,
+    qy: Vec<f32>,
+    /// The run of each point: consecutive points in one cell.
+    run_of: Vec<u32>,
+    runs: Vec<Run>,
+    /// Each point's index in the caller's points.
+    members: Vec<u32>,
 }
 
-/// One Gaussian of a [`Block`]: f32 for the kernel, f64 for the test of whether it reaches a
-/// group.
+/// Consecutive points of a strip in one lattice cell: where they end and the cell's corner.
 #[derive(Clone, Copy)]
-struct Support {
-    cx: f32,
-    cy: f32,
-    ux: f32,
-    uy: f32,
-    vx: f32,
-    vy: f32,
-    r2: f32,
-    amplitude: f32,
-    half_beta: f32,
-    center: DVec2,
-    u: DVec2,
-    v: DVec2,
-    r: f64,
-    /// What its f32 centre and the points may be off by (10⁻⁵ of the cell and of its offset
-    /// from the corner: f32 keeps 2⁻²³ of a magnitude), added to the groups' half-sizes.
-    slack: f64,
+struct Run {
+    end: u32,
+    corner: DVec2,
 }
 
-/// Up to [`LANES`] nearby points of a cell: the box that holds them, relative to the cell's
-/// corner.
-#[derive(Clone, Copy)]
-struct Group {
-    /// The centre of the points' box and its half-size.
-    mid: DVec2,
-    half: DVec2,
-}
-
-impl Block {
-    /// Loads the Gaussians `indices` and the points `members` of the cell at `corner`, sums
-    /// cleared: the points sorted along a Z-order curve over the cell, cut into groups.
-    fn load(&mut self, items: &[Item], indices: &[u32], points: &[DVec2], members: &[u32], corner: DVec2, slack: f64) {
-        self.supports.clear();
-        self.supports.extend(indices.iter().map(|&k| {
-            let i = &items[k as usize];
-            let c = i.center - corner;
-            Support {
-                cx: c.x as f32,
-                cy: c.y as f32,
-                ux: i.u.x as f32,
-                uy: i.u.y as f32,
-                vx: i.v.x as f32,
-                vy: i.v.y as f32,
-                r2: i.r2 as f32,
-                amplitude: i.amplitude as f32,
-                half_beta: i.half_beta as f32,
-                center: c,
-                u: i.u,
-                v: i.v,
-                r: i.r2.sqrt(),
-                slack: slack + 1e-5 * c.abs().max_element(),
-            }
-        }));
-        self.order.clear();
-        if members.len() > LANES {
-            let (lo, hi) = members.iter().fold((DVec2::MAX, DVec2::MIN), |(lo, hi), &k| {
-                let p = points[k as usize];
-                (lo.min(p), hi.max(p))
-            });
-            let extent = (hi - lo).max_element();
-            let scale = if extent > 0.0 { 65_535.0 / extent } else { 0.0 };
-            self.keys.clear();
-            self.keys.extend(members.iter().map(|&k| {
-                let q = ((points[k as usize] - lo) * scale).min(DVec2::splat(65_535.0));
-                (z_order(q.x as u32, q.y as u32), k)
-            }));
-            self.keys.sort_unstable();
-            self.order.extend(self.keys.iter().map(|&(_, k)| k));
+/// The partition point of `xs` for `before` (true on a prefix), looked for from `guess`: a few
+/// steps when the guess is close (evenly spread points: a grid row), a bisection otherwise.
+#[allow(
+    clippy::inline_always,
+    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
+fn partition_near(xs: &[f64], guess: usize, before: impl Fn(f64) -> bool) -> usize {
+    const STEPS: usize = 4;
+    let mut g = guess.min(xs.len());
+    for _ in 0..STEPS {
+        if g > 0 && !before(xs[g - 1]) {
+            g -= 1;
+        } else if g < xs.len() && before(xs[g]) {
+            g += 1;
         } else {
-            self.order.extend_from_slice(members);
+            return g;
         }
-        self.groups.clear();
-        self.q.clear();
-        for chunk in self.order.chunks(LANES) {
-            let lane = |l: usize| points[chunk[l.min(chunk.len() - 1)] as usize] - corner;
-            self.q.extend((0..LANES).map(|l| lane(l).x as f32));
-            self.q.extend((0..LANES).map(|l| lane(l).y as f32));
-            let (lo, hi) = chunk.iter().fold((DVec2::MAX, DVec2::MIN), |(lo, hi), &k| {
-                let p = points[k as usize] - corner;
-                (lo.min(p), hi.max(p))
-            });
-            self.groups.push(Group { mid: 0.5 * (lo + hi), half: 0.5 * (hi - lo) });
-        }
-        self.sums.clear();
-        self.sums.resize(3 * LANES * self.groups.len(), 0.0);
     }
-
-    /// Adds every Gaussian, in order, to every group it may reach: the loop over a group's
-    /// lanes is the one the compiler vectorizes, dispatched by `pulp` to the widest vector
-    /// instructions the CPU has (AVX2 where present). The vector build gives the bits of the
-    /// plain one (no implicit fusing, explicit `mul_add`s fused on both).
-    fn run(&mut self) {
-        pulp::Arch::new().dispatch(&mut *self);
+    if g > 0 && !before(xs[g - 1]) {
+        xs[..g].partition_point(|&x| before(x))
+    } else {
+        g + xs[g..].partition_point(|&x| before(x))
     }
 }
 
-/// Interleaves the bits of `x` and `y` (16 each): the Z-order key of a point.
-fn z_order(x: u32, y: u32) -> u32 {
-    let spread = |v: u32| {
-        let v = (v | (v << 8)) & 0x00ff_00ff;
-        let v = (v | (v << 4)) & 0x0f0f_0f0f;
-        let v = (v | (v << 2)) & 0x3333_3333;
-        (v | (v << 1)) & 0x5555_5555
-    };
-    spread(x & 0xffff) | (spread(y & 0xffff) << 1)
+/// The strips cut into bands (parallel tasks): consecutive strips up to [`BAND_POINTS`] points
+/// (at least one strip) and [`BAND_STRIPS`] strips.
+fn bands(strips: &[Strip]) -> Vec<std::ops::Range<usize>> {
+    let mut bands = Vec::new();
+    let (mut first, mut points) = (0, 0);
+    for (s, strip) in strips.iter().enumerate() {
+        points += strip.x.len();
+        if s + 1 == strips.len() || points >= BAND_POINTS || s + 1 - first >= BAND_STRIPS {
+            bands.push(first..s + 1);
+            (first, points) = (s + 1, 0);
+        }
+    }
+    bands
 }
 
-impl pulp::WithSimd for &mut Block {
+/// A band's Gaussian sums: elevations, and the x and y derivatives (empty unless asked for);
+/// f32 like the rasterizer's.
+struct Sums {
+    h: Vec<f32>,
+    gx: Vec<f32>,
+    gy: Vec<f32>,
+}
+
+/// One band's work as a `pulp` operation: dispatched to the widest vector instructions the CPU
+/// has (AVX2 where present), so the loops along a stretch use them. The vector build gives the
+/// bits of the plain one (no implicit fusing, explicit `mul_add`s fused on both).
+struct BandWork<'a> {
+    items: &'a [Item],
+    /// The Gaussians that may reach the band, ascending.
+    candidates: &'a [u32],
+    /// The band's strips and their sums.
+    inside: &'a [Strip],
+    sums: &'a mut [Sums],
+}
+
+impl pulp::WithSimd for BandWork<'_> {
     type Output = ();
 
     #[allow(
@@ -600,48 +771,115 @@ impl pulp::WithSimd for &mut Block {
     )]
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        let groups = self.groups.iter().zip(self.q.chunks_exact(2 * LANES)).zip(self.sums.chunks_exact_mut(3 * LANES));
-        for ((group, q), sums) in groups {
-            for c in &self.supports {
-                if !reaches(group.mid - c.center, c.u, c.v, c.r, group.half + c.slack) {
-                    continue;
-                }
-                // By value: a support behind a reference keeps the loops from vectorizing.
-                let (c, exponent) = (*c, c.half_beta - 1.0);
-                let lower = move |s: f32| exp2_signed(exponent * log2(s));
-                match (self.gradients, c.half_beta == 1.0) {
-                    (true, true) => add_terms(c, q, sums, |_| 1.0),
-                    (true, false) => add_terms(c, q, sums, lower),
-                    (false, true) => add_values(c, q, sums, |_| 1.0),
-                    (false, false) => add_values(c, q, sums, lower),
+        let BandWork { items, candidates, inside, sums } = self;
+        for &k in candidates {
+            let item = &items[k as usize];
+            let reach = item.y_reach + item.slack;
+            let first = inside.partition_point(|s| s.y1 < item.center.y - reach);
+            let last = inside.partition_point(|s| s.y0 <= item.center.y + reach).max(first);
+            for (strip, sums) in inside[first..last].iter().zip(&mut sums[first..last]) {
+                let Some((x0, x1)) = item.x_range(strip.y0, strip.y1) else { continue };
+                let row = (strip.y0 == strip.y1).then(|| strip.qy[0]);
+                let guess = |x: f64| ((x - strip.x0) * strip.per_x).max(0.0) as usize;
+                let mut i = partition_near(&strip.x, guess(x0).saturating_add(1), |x| x < x0);
+                let j = partition_near(&strip.x, guess(x1).saturating_add(1), |x| x <= x1);
+                while i < j {
+                    let run = strip.runs[strip.run_of[i] as usize];
+                    let e = (run.end as usize).min(j);
+                    let c = Local::new(item, run.corner);
+                    let exponent = c.half_beta - 1.0;
+                    let lower = move |s: f32| exp2_signed(exponent * log2(s));
+                    let q = (&strip.qx[..], &strip.qy[..], row);
+                    match (sums.gx.is_empty(), c.half_beta == 1.0) {
+                        (false, true) => add_terms(c, q, sums, (i, e), |_| 1.0),
+                        (false, false) => add_terms(c, q, sums, (i, e), lower),
+                        (true, true) => add_values(c, q, &mut sums.h, (i, e), |_| 1.0),
+                        (true, false) => add_values(c, q, &mut sums.h, (i, e), lower),
+                    }
+                    i = e;
                 }
             }
         }
     }
 }
 
-/// Adds the Gaussian `c` to the sums of the group's points inside its support, given
-/// `lower(s) = s^(β/2 − 1)`: the gradient's factor, and `s^(β/2)` is `s·lower(s)` (β = 2 skips
-/// the logarithm: `lower` is 1).
+/// A Gaussian seen from a cell's corner, in f32 for the kernel: a point `q` from the corner has
+/// local coordinates `x = qx·ux + (qy·uy + kx)`, `y = qx·vx + (qy·vy + ky)` (fused, so a row of
+/// one y takes the bracket once and a point alone gets the same bits), where `(kx, ky)` is
+/// minus the centre's, from the corner, in f64.
+#[derive(Clone, Copy)]
+struct Local {
+    ux: f32,
+    uy: f32,
+    vx: f32,
+    vy: f32,
+    kx: f32,
+    ky: f32,
+    r2: f32,
+    amplitude: f32,
+    half_beta: f32,
+}
+
+impl Local {
+    fn new(i: &Item, corner: DVec2) -> Self {
+        let c = i.center - corner;
+        Local {
+            ux: i.u.x as f32,
+            uy: i.u.y as f32,
+            vx: i.v.x as f32,
+            vy: i.v.y as f32,
+            kx: -c.dot(i.u) as f32,
+            ky: -c.dot(i.v) as f32,
+            r2: i.r2 as f32,
+            amplitude: i.amplitude as f32,
+            half_beta: i.half_beta as f32,
+        }
+    }
+}
+
+/// Samples evaluated side by side: one AVX2 register of f32.
+const LANES: usize = 8;
+
+/// The whole vectors of [`LANES`] lanes that cover the stretch `a..e` of `n` points (widened
+/// within the band, so short stretches need no scalar remainder), and the stretch within them.
 #[allow(
     clippy::inline_always,
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
 )]
 #[inline(always)]
-fn add_terms(c: Support, q: &[f32], sums: &mut [f32], lower: impl Fn(f32) -> f32) {
-    let n = q.len() / 2;
-    let (qx, qy) = q.split_at(n);
-    let (h, rest) = sums.split_at_mut(n);
-    let (gx, gy) = rest.split_at_mut(n);
-    let (qy, h, gx, gy) = (&qy[..n], &mut h[..n], &mut gx[..n], &mut gy[..n]);
+fn widen((a, e): (usize, usize), n: usize) -> (std::ops::Range<usize>, i32, i32) {
+    let width = (e - a).next_multiple_of(LANES).min(n);
+    let lo = a.min(n - width);
+    (lo..lo + width, (a - lo) as i32, (e - lo) as i32)
+}
+
+/// Adds the Gaussian `c` to the sums of the stretch `lanes` of points inside its support, given
+/// `lower(s) = s^(β/2 − 1)`: the gradient's factor, and `s^(β/2)` is `s·lower(s)` (β = 2 skips
+/// the logarithm: `lower` is 1). Lanes outside the stretch keep their bits.
+#[allow(
+    clippy::inline_always,
+    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
+fn add_terms(
+    c: Local,
+    (qx, qy, _): (&[f32], &[f32], Option<f32>),
+    sums: &mut Sums,
+    lanes: (usize, usize),
+    lower: impl Fn(f32) -> f32,
+) {
+    let (range, first, last) = widen(lanes, qx.len());
+    let n = range.len();
+    let (qx, qy) = (&qx[range.clone()][..n], &qy[range.clone()][..n]);
+    let (h, gx, gy) = (&mut sums.h[range.clone()][..n], &mut sums.gx[range.clone()][..n], &mut sums.gy[range][..n]);
     for j in 0..n {
-        let (dx, dy) = (qx[j] - c.cx, qy[j] - c.cy);
-        let (x, y) = (dx * c.ux + dy * c.uy, dx * c.vx + dy * c.vy);
+        let (x, y) = (qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, c.kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, c.ky)));
         let s = x * x + y * y;
         let lower = lower(s);
         let g = c.amplitude * exp_neg(-0.5 * (s * lower));
         let slope = -g * c.half_beta * lower;
-        let inside = s <= c.r2;
+        let k = j as i32;
+        let inside = s <= c.r2 && k >= first && k < last;
         let (nh, ngx, ngy) = (h[j] + g, gx[j] + slope * (x * c.ux + y * c.vx), gy[j] + slope * (x * c.uy + y * c.vy));
         h[j] = if inside { nh } else { h[j] };
         gx[j] = if inside { ngx } else { gx[j] };
@@ -655,16 +893,35 @@ fn add_terms(c: Support, q: &[f32], sums: &mut [f32], lower: impl Fn(f32) -> f32
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
 )]
 #[inline(always)]
-fn add_values(c: Support, q: &[f32], sums: &mut [f32], lower: impl Fn(f32) -> f32) {
-    let n = q.len() / 2;
-    let (qx, qy) = q.split_at(n);
-    let (qy, h) = (&qy[..n], &mut sums[..n]);
-    for j in 0..n {
-        let (dx, dy) = (qx[j] - c.cx, qy[j] - c.cy);
-        let (x, y) = (dx * c.ux + dy * c.uy, dx * c.vx + dy * c.vy);
+fn add_values(
+    c: Local,
+    (qx, qy, row): (&[f32], &[f32], Option<f32>),
+    h: &mut [f32],
+    lanes: (usize, usize),
+    lower: impl Fn(f32) -> f32,
+) {
+    let (range, first, last) = widen(lanes, qx.len());
+    let n = range.len();
+    let (qx, qy, h) = (&qx[range.clone()][..n], &qy[range.clone()][..n], &mut h[range][..n]);
+    let value = |x: f32, y: f32| {
         let s = x * x + y * y;
-        let g = c.amplitude * exp_neg(-0.5 * (s * lower(s)));
-        h[j] = if s <= c.r2 { h[j] + g } else { h[j] };
+        (s <= c.r2).then(|| c.amplitude * exp_neg(-0.5 * (s * lower(s))))
+    };
+    if let Some(row) = row {
+        // One y for the whole stretch: the brackets once.
+        let (ax, ay) = (row.mul_add(c.uy, c.kx), row.mul_add(c.vy, c.ky));
+        for j in 0..n {
+            let k = j as i32;
+            let g = value(qx[j].mul_add(c.ux, ax), qx[j].mul_add(c.vx, ay));
+            h[j] = if k >= first && k < last { h[j] + g.unwrap_or(0.0) } else { h[j] };
+        }
+    } else {
+        for j in 0..n {
+            let k = j as i32;
+            let g =
+                value(qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, c.kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, c.ky)));
+            h[j] = if k >= first && k < last { h[j] + g.unwrap_or(0.0) } else { h[j] };
+        }
     }
 }
 
@@ -672,15 +929,57 @@ fn add_values(c: Support, q: &[f32], sums: &mut [f32], lower: impl Fn(f32) -> f3
 mod tests {
     use super::*;
 
+    /// The x range over a band of y holds every point of the grown support in the band, and
+    /// its ends are reached (to the outline's spacing): the support's extremes, or the band's edge.
     #[test]
-    fn z_order_interleaves_x_then_y() {
-        assert_eq!(z_order(1, 0), 1);
-        assert_eq!(z_order(0, 1), 2);
-        assert_eq!(z_order(3, 3), 15);
-        assert_eq!(z_order(0b1010, 0b0110), 0b0110_1100);
-        assert_eq!(z_order(0xffff, 0), 0x5555_5555);
-        assert_eq!(z_order(0, 0xffff), 0xaaaa_aaaa);
-        assert_eq!(z_order(0x1_0001, 0), 1, "only 16 bits of each");
+    fn x_range_is_the_support_over_the_band() {
+        let g = Gaussian { center: [3.0, -2.0], sigma: [6.0, 1.5], theta: 0.6, amplitude: 1.0, beta: 1.5 };
+        let item = Item::new(&g, 1e-3);
+        let r = item.grown_r2.sqrt();
+        let outline: Vec<DVec2> = (0..20_000)
+            .map(|k| {
+                let t = f64::from(k) * std::f64::consts::TAU / 20_000.0;
+                let local = DVec2::new(r * g.sigma[0] * t.cos(), r * g.sigma[1] * t.sin());
+                DVec2::from(g.center) + DVec2::from_angle(g.theta).rotate(local)
+            })
+            .collect();
+        let top = outline.iter().map(|p| p.y).fold(f64::MIN, f64::max);
+        assert!((top - (g.center[1] + item.y_reach)).abs() < 1e-6);
+        for (y0, y1) in [(-20.0, 20.0), (-2.0, -2.0), (0.5, 1.5), (-9.0, -6.0), (top - 0.01, top + 5.0)] {
+            let (x0, x1) = item.x_range(y0, y1).unwrap();
+            let inside: Vec<f64> = outline.iter().filter(|p| p.y >= y0 && p.y <= y1).map(|p| p.x).collect();
+            // An edge point in the band, or for a thin band the edge at its y.
+            let (lo, hi) = if inside.is_empty() {
+                (x0, x1)
+            } else {
+                (inside.iter().copied().fold(f64::MAX, f64::min), inside.iter().copied().fold(f64::MIN, f64::max))
+            };
+            assert!(x0 <= lo && x1 >= hi, "band {y0}..{y1}: {x0}..{x1} misses {lo}..{hi}");
+            if !inside.is_empty() {
+                assert!(lo - x0 < 1e-2 && x1 - hi < 1e-2, "band {y0}..{y1}: {x0}..{x1} wider than {lo}..{hi}");
+            }
+        }
+        // One y: the chord of the ellipse there.
+        let (x0, x1) = item.x_range(-2.0, -2.0).unwrap();
+        let chord = |x: f64| g.distance_squared(DVec2::new(x, -2.0)) - item.grown_r2;
+        assert!(chord(x0 + item.slack).abs() < 1e-9 && chord(x1 - item.slack).abs() < 1e-9);
+        assert!(item.x_range(top + 0.1, top + 1.0).is_none());
+        assert!(item.x_range(-100.0, 2.0 * g.center[1] - top - 0.1).is_none());
+    }
+
+    /// The search from a guess finds the partition point whatever the guess.
+    #[test]
+    fn partition_near_finds_the_partition_point() {
+        let xs: Vec<f64> = (0..300).map(|k| f64::from(k * k % 1000) * 0.5).collect::<Vec<_>>();
+        let mut xs = xs;
+        xs.sort_by(f64::total_cmp);
+        for target in [-1.0, 0.0, 3.5, 100.0, 250.0, 499.0, 600.0] {
+            let want = xs.partition_point(|&x| x < target);
+            for guess in [0, 1, 2, want.saturating_sub(3), want, want + 2, 150, 299, 300, 5000] {
+                assert_eq!(partition_near(&xs, guess, |x| x < target), want, "target {target} guess {guess}");
+            }
+        }
+        assert_eq!(partition_near(&[], 3, |x| x < 1.0), 0);
     }
 
     /// The box test is exact on the axes of a round support and never refuses a box holding a

@@ -5,7 +5,7 @@
 use glam::DVec2;
 use relief_fixtures::random_terrain;
 use relief_gaussian_terrain::{
-    DetailLayer, DetailSource, Gaussian, RasterOptions, VectorTerrain, rasterize, rasterize_exact,
+    DetailLayer, DetailSource, Gaussian, RasterOptions, Sample, VectorTerrain, rasterize, rasterize_exact,
 };
 use relief_heightfield::{Extent, GridSpec};
 
@@ -278,4 +278,38 @@ fn elevations_without_gradients_still_see_the_slope() {
         steep += usize::from(s.gradient.length() > 0.75);
     }
     assert!(steep > 10, "only {steep} points where the slope ramp is above half");
+}
+
+/// Scattered points in no order (strips of several y values, sorted inside by x, cut where a
+/// stretch crosses into another anchor square), with repeats, NaN and a far point: every batch
+/// gives the single queries' bits, and the values are the terrain's.
+#[test]
+fn scattered_points_in_any_order_are_the_single_queries() {
+    let terrain = random_terrain(3_000, 1000.0, 16.0, 9);
+    let query = terrain.query().unwrap();
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = move || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut points: Vec<DVec2> =
+        (0..20_000).map(|_| DVec2::new(next() * 1100.0 - 50.0, next() * 1100.0 - 50.0)).collect();
+    points.extend_from_within(..50);
+    points.push(DVec2::NAN);
+    points.push(DVec2::new(1e12, -3.0));
+    let single: Vec<Sample> = points.iter().map(|&p| query.sample(p)).collect();
+    let batch = query.samples(&points);
+    let elevations = query.elevations(&points);
+    for (k, (s, b)) in single.iter().zip(&batch).enumerate() {
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+        assert!(same(s.elevation, b.elevation) && same(s.gradient.x, b.gradient.x), "point {k}: {s:?} {b:?}");
+        assert!(same(s.gradient.y, b.gradient.y) && same(elevations[k], s.elevation), "point {k}");
+    }
+    assert!(batch[batch.len() - 2].elevation.is_nan() && batch[batch.len() - 1].elevation == 0.0);
+    // Against the terrain itself: to the truncation tolerance (and f32 rounding).
+    let bound = 1e-3 * terrain.primitives.iter().map(|g| g.amplitude.abs()).fold(0.0, f64::max) * 16.0;
+    let worst =
+        points[..2_000].iter().zip(&elevations).map(|(&p, h)| (h - terrain.height_at(p)).abs()).fold(0.0, f64::max);
+    assert!(worst < bound, "worst {worst}, bound {bound}");
+    assert!(elevations.iter().filter(|h| **h != 0.0).count() > 15_000);
 }
