@@ -7,12 +7,12 @@
 //! A batch goes the rasterizer's way (module `kernel`), with its points in place of a grid's
 //! rows: sorted into strips of one y value (a grid row) or of a thin range of y (scattered
 //! points), each sorted by x. Bands of strips run in parallel; a band walks the hierarchy once
-//! for its box, and each support, in index order, adds itself to the stretch of each strip its
+//! for its box, and each support, in a fixed order, adds itself to the stretch of each strip its
 //! ellipse covers (a search from where the stretch would start were the points evenly spread),
 //! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX2
 //! through `pulp` where the CPU has it). A point is held relative to the corner of its square
 //! of a coarse lattice, so its arithmetic depends on the point and the support alone, and each
-//! point sums the supports over it in index order: a single query is a batch of one, and a batch
+//! point sums the supports over it in that order: a single query is a batch of one, and a batch
 //! returns exactly the single queries' values, in any order, for any thread count. Detail
 //! layers (f64 falloffs and noise) go by the cells of a finer lattice.
 
@@ -31,9 +31,9 @@ use crate::{DetailLayer, Gaussian, GaussianError, Ground, VectorTerrain};
 const CELL_PER_SUPPORT: f64 = 1.0;
 
 /// Side of the lattice whose corners the kernel measures points from, in query cells: a stretch
-/// of a strip is cut where it crosses into another square of this lattice (4 and 16 measured
-/// within 2 % of each other, 1 slower by 10 %). f32 holds a point 16 support widths from its
-/// corner to a millionth of a width.
+/// of a strip is cut where it crosses into another square of this lattice (on the rasterizer
+/// benchmark's terrain, 1024² points: 4 took 1.34–1.46× the rasterizer's time, 16 1.29–1.32×,
+/// 64 1.25–1.31×). f32 holds a point 16 support widths from its corner to a millionth of a width.
 const ANCHOR_CELLS: f64 = 16.0;
 
 /// Cells per parallel task in the batched queries.
@@ -72,10 +72,12 @@ struct Item {
     /// `d²` is `a·x'² + 2b·x'·y' + c·y'²` (`x'`, `y'` from the centre), and the support grown
     /// by a relative 10⁻⁴ (`R² = grown_r2`, far above the f32 rounding of the kernel's inside
     /// test) reaches `x_reach` and `y_reach` from the centre, its furthest x at
-    /// `y' = −b·x_reach/c`.
+    /// `y' = −tip = −b·x_reach/c`.
     a: f64,
+    inv_a: f64,
     b: f64,
     c: f64,
+    tip: f64,
     grown_r2: f64,
     x_reach: f64,
     y_reach: f64,
@@ -93,6 +95,7 @@ impl Item {
         let (a, b, c) = (u.x * u.x + v.x * v.x, u.x * u.y + v.x * v.y, u.y * u.y + v.y * v.y);
         let grown_r2 = (r * (1.0 + 1e-4)).powi(2);
         let det = a * c - b * b;
+        let x_reach = (grown_r2 * c / det).sqrt();
         Self {
             center: DVec2::from(g.center),
             u,
@@ -103,10 +106,12 @@ impl Item {
             lo,
             hi,
             a,
+            inv_a: 1.0 / a,
             b,
             c,
+            tip: b * x_reach / c,
             grown_r2,
-            x_reach: (grown_r2 * c / det).sqrt(),
+            x_reach,
             y_reach: (grown_r2 * a / det).sqrt(),
             slack: 0.0,
         }
@@ -128,6 +133,8 @@ impl Item {
     /// the slack; `None` when it misses the band. The support's left and right edges are convex
     /// and concave in y, so their extremes over the band are at the band's y nearest to the
     /// support's leftmost and rightmost points.
+    #[allow(clippy::inline_always, reason = "called once per stretch from the kernel's loop")]
+    #[inline(always)]
     fn x_range(&self, y0: f64, y1: f64) -> Option<(f64, f64)> {
         let lo = (y0 - self.center.y - self.slack).max(-self.y_reach);
         let hi = (y1 - self.center.y + self.slack).min(self.y_reach);
@@ -137,10 +144,9 @@ impl Item {
         let edge = |y: f64, side: f64| {
             let by = self.b * y;
             let disc = (by * by - self.a * (self.c * y * y - self.grown_r2)).max(0.0);
-            (side * disc.sqrt() - by) / self.a
+            (side * disc.sqrt() - by) * self.inv_a
         };
-        let tip = self.b * self.x_reach / self.c;
-        let (left, right) = (edge(tip.clamp(lo, hi), -1.0), edge((-tip).clamp(lo, hi), 1.0));
+        let (left, right) = (edge(self.tip.clamp(lo, hi), -1.0), edge((-self.tip).clamp(lo, hi), 1.0));
         Some((self.center.x + left - self.slack, self.center.x + right + self.slack))
     }
 
@@ -203,7 +209,7 @@ pub struct TerrainQuery {
     /// Boxes are stored relative to this point, so f32 keeps them tight far from the origin.
     origin: DVec2,
     bvh: Bvh2,
-    /// The Gaussians, then each detail layer's falloffs, in order.
+    /// The Gaussians by the y of their centres, then each detail layer's falloffs in order.
     items: Vec<Item>,
     /// `items[gaussians..]` are detail falloffs.
     gaussians: usize,
@@ -250,7 +256,10 @@ impl VectorTerrain {
             });
         }
         self.validate()?;
+        // The Gaussians by the y of their centres (then index): a band's supports lie close
+        // together in memory, and every point sums them in this order.
         let mut supports: Vec<Gaussian> = self.primitives.clone();
+        supports.sort_by(|a, b| a.center[1].total_cmp(&b.center[1]));
         let mut layers = Vec::with_capacity(self.details.len());
         for layer in &self.details {
             supports.extend(layer.falloffs());
@@ -313,12 +322,26 @@ impl TerrainQuery {
 
     /// The elevation at `p`.
     pub fn elevation(&self, p: DVec2) -> f64 {
-        self.batch(&[p], false)[0].elevation
+        self.single(p, false).elevation
     }
 
     /// The elevation and gradient at `p`.
     pub fn sample(&self, p: DVec2) -> Sample {
-        self.batch(&[p], true)[0]
+        self.single(p, true)
+    }
+
+    /// A batch of one point, on the calling thread.
+    fn single(&self, p: DVec2, gradients: bool) -> Sample {
+        if self.anchor_of(p).is_none() {
+            return self.beyond(p);
+        }
+        let points = [p];
+        let strip = [self.strip(vec![0], &points)];
+        let mut out = [self.ground(&self.band_sums(&strip, self.slopes(gradients))[0], 0)];
+        if !self.layers.is_empty() {
+            self.add_details(&points, gradients, &mut out);
+        }
+        out[0]
     }
 
     /// The upward unit normal at `p`.
@@ -367,12 +390,17 @@ impl TerrainQuery {
     /// The Gaussians' sums at the finite points, strip by strip: bands of strips in parallel.
     fn gaussian_sums(&self, points: &[DVec2], gradients: bool) -> Vec<(Strip, Sums)> {
         let strips = self.strips(points);
-        // A detail layer modulated by the slope needs the Gaussians' gradient for its value.
-        let by_slope = |layer: &DetailLayer| matches!(&layer.source, crate::DetailSource::Noise { modulation, .. } if modulation.slope.is_some());
-        let slopes = gradients || self.layers.iter().any(|(layer, _)| by_slope(layer));
+        let slopes = self.slopes(gradients);
         let sums: Vec<Vec<Sums>> =
             bands(&strips).into_par_iter().map(|band| self.band_sums(&strips[band], slopes)).collect();
         strips.into_iter().zip(sums.into_iter().flatten()).collect()
+    }
+
+    /// Whether the Gaussians' gradients are needed: when asked for, or when a detail layer's
+    /// amplitude follows the slope.
+    fn slopes(&self, gradients: bool) -> bool {
+        let by_slope = |layer: &DetailLayer| matches!(&layer.source, crate::DetailSource::Noise { modulation, .. } if modulation.slope.is_some());
+        gradients || self.layers.iter().any(|(layer, _)| by_slope(layer))
     }
 
     /// The Gaussians' sample `n` of a band: the base added, the floor applied.
@@ -405,11 +433,14 @@ impl TerrainQuery {
     }
 
     /// The square of the anchor lattice ([`ANCHOR_CELLS`] cells a side) that holds `p`, `None`
-    /// when it is not finite or beyond the lattice's i32 range.
+    /// when it is not finite or more than 2³⁰ squares from the origin (so far out that no
+    /// support reaches it).
     fn anchor_of(&self, p: DVec2) -> Option<(i32, i32)> {
-        let c = ((p - self.origin) / (ANCHOR_CELLS * self.cell)).floor();
-        let fits = |v: f64| v.is_finite() && v.abs() < f64::from(i32::MAX);
-        (fits(c.x) && fits(c.y)).then_some((c.x as i32, c.y as i32))
+        const FAR: f64 = (1u32 << 30) as f64;
+        let c = (p - self.origin) / (ANCHOR_CELLS * self.cell);
+        // Truncation, one down for a negative fraction: the floor without a libm call.
+        let floor = |v: f64| v as i32 - i32::from(f64::from(v as i32) > v);
+        (c.x.abs() < FAR && c.y.abs() < FAR).then(|| (floor(c.x), floor(c.y)))
     }
 
     /// The lower corner of the anchor square `key`.
@@ -419,38 +450,88 @@ impl TerrainQuery {
 
     /// The points in a lattice cell sorted into strips (see [`Strip`]).
     fn strips(&self, points: &[DVec2]) -> Vec<Strip> {
-        let cells: Vec<Option<(i32, i32)>> = points.par_iter().map(|&p| self.anchor_of(p)).collect();
-        let row = |k: u32| cells[k as usize].map_or(0, |c| c.1);
-        let by_row = |a: &u32, b: &u32| {
+        // The lattice row grows with y, so an order by (y, x) is one by row too.
+        let by_y = |a: &u32, b: &u32| {
             let (p, q) = (points[*a as usize], points[*b as usize]);
-            row(*a).cmp(&row(*b)).then(p.y.total_cmp(&q.y)).then(p.x.total_cmp(&q.x))
+            p.y.total_cmp(&q.y).then(p.x.total_cmp(&q.x))
         };
-        let mut order: Vec<u32> = (0..points.len() as u32).filter(|&k| cells[k as usize].is_some()).collect();
-        if !order.is_sorted_by(|a, b| by_row(a, b).is_le()) {
-            order.par_sort_unstable_by(by_row);
+        let mut order: Vec<u32> = Vec::with_capacity(points.len());
+        let mut sorted = true;
+        for (k, p) in points.iter().enumerate() {
+            if self.anchor_of(*p).is_some() {
+                sorted &= order.last().is_none_or(|last| by_y(last, &(k as u32)).is_le());
+                order.push(k as u32);
+            }
         }
+        if !sorted {
+            order = self.sort_by_y(&order, points);
+        }
+        let row = |k: u32| self.anchor_of(points[k as usize]).map_or(0, |c| c.1);
         let mut cuts = Vec::new();
-        let mut start = 0;
+        let (mut start, mut start_row) = (0, order.first().map_or(0, |&k| row(k)));
         for k in 1..=order.len() {
             let cut = k == order.len() || {
                 let (first, last, p) =
                     (points[order[start] as usize], points[order[k - 1] as usize], points[order[k] as usize]);
-                let full = k - start >= MIN_STRIP || p.y - first.y > self.cell * STRIP_THICKNESS;
-                row(order[k]) != row(order[start]) || (p.y != last.y && full)
+                let row_of_many = first.y == last.y && k - start >= MIN_ROW;
+                let full = row_of_many || p.y - first.y > self.cell * STRIP_THICKNESS;
+                p.y != last.y && (full || row(order[k]) != start_row)
             };
             if cut {
                 cuts.push(start..k);
                 start = k;
+                start_row = order.get(k).map_or(0, |&k| row(k));
             }
         }
-        cuts.into_par_iter().map(|range| self.strip(order[range].to_vec(), points, &cells)).collect()
+        cuts.into_par_iter().map(|range| self.strip(order[range].to_vec(), points)).collect()
+    }
+
+    /// `order` sorted by y (ties in any order: a strip sorts its own points by x): a counting
+    /// sort into slabs a strip thick, then each slab on its own; one sort of the whole when the
+    /// points are too far apart for slabs.
+    fn sort_by_y(&self, order: &[u32], points: &[DVec2]) -> Vec<u32> {
+        let y = |k: u32| points[k as usize].y;
+        let (lo, hi) = order.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &k| (lo.min(y(k)), hi.max(y(k))));
+        let unit = self.cell * STRIP_THICKNESS;
+        let slabs = ((hi - lo) / unit).floor() + 1.0;
+        if slabs > 4.0 * order.len() as f64 {
+            let mut keyed: Vec<(u64, u32)> = order.par_iter().map(|&k| (sortable(y(k)), k)).collect();
+            keyed.par_sort_unstable();
+            return keyed.into_iter().map(|(_, k)| k).collect();
+        }
+        let slabs = slabs as usize;
+        let slab = |k: u32| (((y(k) - lo) / unit) as usize).min(slabs - 1);
+        let mut start = vec![0usize; slabs + 1];
+        for &k in order {
+            start[slab(k) + 1] += 1;
+        }
+        for s in 0..slabs {
+            start[s + 1] += start[s];
+        }
+        let mut fill = start.clone();
+        let mut sorted = vec![0u32; order.len()];
+        for &k in order {
+            let s = slab(k);
+            sorted[fill[s]] = k;
+            fill[s] += 1;
+        }
+        let mut parts = Vec::with_capacity(slabs);
+        let mut rest = sorted.as_mut_slice();
+        for s in 0..slabs {
+            let (part, tail) = rest.split_at_mut(start[s + 1] - start[s]);
+            parts.push(part);
+            rest = tail;
+        }
+        parts.into_par_iter().for_each(|part| sort_by_key(part, |k| sortable(y(k))));
+        sorted
     }
 
     /// The strip of the points `members` (sorted by y, in one lattice row; see [`Strip`]).
-    fn strip(&self, mut members: Vec<u32>, points: &[DVec2], cells: &[Option<(i32, i32)>]) -> Strip {
+    fn strip(&self, mut members: Vec<u32>, points: &[DVec2]) -> Strip {
         let (y0, y1) = (points[members[0] as usize].y, points[members[members.len() - 1] as usize].y);
-        if y0 != y1 {
-            members.sort_unstable_by(|a, b| points[*a as usize].x.total_cmp(&points[*b as usize].x));
+        let x = |k: u32| points[k as usize].x;
+        if !members.is_sorted_by(|a, b| x(*a).total_cmp(&x(*b)).is_le()) {
+            sort_by_key(&mut members, |k| sortable(x(k)));
         }
         let n = members.len();
         let mut strip = Strip {
@@ -467,13 +548,14 @@ impl TerrainQuery {
         };
         let mut column = None;
         for (i, &k) in members.iter().enumerate() {
-            let (p, cell) = (points[k as usize], cells[k as usize].expect("finite points only"));
-            if column != Some(cell.0) {
+            let p = points[k as usize];
+            let cell = self.anchor_of(p).expect("points in the lattice only");
+            if column != Some(cell) {
                 if let Some(run) = strip.runs.last_mut() {
                     run.end = i as u32;
                 }
                 strip.runs.push(Run { end: n as u32, corner: self.anchor(cell) });
-                column = Some(cell.0);
+                column = Some(cell);
             }
             let q = p - strip.runs[strip.runs.len() - 1].corner;
             strip.x.push(p.x);
@@ -488,7 +570,7 @@ impl TerrainQuery {
     }
 
     /// The Gaussians' sums at the points of the strips `inside` (a band): the hierarchy walked
-    /// once for the band's box, then every support in index order over every strip it may reach.
+    /// once for the band's box, then every support in order over every strip it may reach.
     fn band_sums(&self, inside: &[Strip], gradients: bool) -> Vec<Sums> {
         let x_min = inside.iter().map(|s| s.x[0]).fold(f64::INFINITY, f64::min);
         let x_max = inside.iter().map(|s| s.x[s.x.len() - 1]).fold(f64::NEG_INFINITY, f64::max);
@@ -657,11 +739,28 @@ impl Sample {
     }
 }
 
-/// Most points in a strip of several y values.
-const MIN_STRIP: usize = 64;
+/// Sorts the point indices `part` by `key`, computed once per point (ties in any order).
+fn sort_by_key(part: &mut [u32], key: impl Fn(u32) -> u64) {
+    let mut keyed: Vec<(u64, u32)> = part.iter().map(|&k| (key(k), k)).collect();
+    keyed.sort_unstable();
+    for (slot, (_, k)) in part.iter_mut().zip(keyed) {
+        *slot = k;
+    }
+}
 
-/// Most y spread of a strip of several y values, in lattice cells.
-const STRIP_THICKNESS: f64 = 0.125;
+/// An integer in the order of [`f64::total_cmp`].
+fn sortable(v: f64) -> u64 {
+    let bits = v.to_bits();
+    if bits >> 63 == 1 { !bits } else { bits | 1 << 63 }
+}
+
+/// Fewest points of one y value that make a strip of their own (a grid row).
+const MIN_ROW: usize = 64;
+
+/// Most y spread of a strip, in query cells (typical support widths): a support crosses about 4
+/// strips. On 1024² scattered points over the benchmark's terrain, 1/16 took 185–198 ms, 1/8
+/// 150–152, 1/4 130–135, 1/2 136–138 and 1 131–141.
+const STRIP_THICKNESS: f64 = 0.25;
 
 /// Points per band (a parallel task), at least one strip.
 const BAND_POINTS: usize = 16_384;
@@ -670,9 +769,9 @@ const BAND_POINTS: usize = 16_384;
 const BAND_STRIPS: usize = 16;
 
 /// A batch's points prepared for the kernel. Sorted by lattice row, then y, then x, they are cut
-/// into strips: every point of one y value (a grid row: its span of a support is exact, as the
-/// rasterizer's) or, for scattered points, up to [`MIN_STRIP`] points within
-/// [`STRIP_THICKNESS`] cells of y, sorted by x. A support reaches a strip's points in one
+/// into strips: the points of one y value when there are [`MIN_ROW`] of them (a grid row: its
+/// stretch of a support is exact, as the rasterizer's span), else the points within
+/// [`STRIP_THICKNESS`] cells of y (scattered points), sorted by x. A support reaches a strip's points in one
 /// stretch of x, found from where the points would be were they evenly spread; the stretch is
 /// cut where the points' lattice cell changes, since every point is held relative to its own
 /// cell's corner.
@@ -774,6 +873,8 @@ impl pulp::WithSimd for BandWork<'_> {
         let BandWork { items, candidates, inside, sums } = self;
         for &k in candidates {
             let item = &items[k as usize];
+            // The support seen from the last corner: consecutive strips mostly share it.
+            let mut seen: Option<(DVec2, Local)> = None;
             let reach = item.y_reach + item.slack;
             let first = inside.partition_point(|s| s.y1 < item.center.y - reach);
             let last = inside.partition_point(|s| s.y0 <= item.center.y + reach).max(first);
@@ -786,7 +887,10 @@ impl pulp::WithSimd for BandWork<'_> {
                 while i < j {
                     let run = strip.runs[strip.run_of[i] as usize];
                     let e = (run.end as usize).min(j);
-                    let c = Local::new(item, run.corner);
+                    let c = match seen {
+                        Some((corner, c)) if corner == run.corner => c,
+                        _ => seen.insert((run.corner, Local::new(item, run.corner))).1,
+                    };
                     let exponent = c.half_beta - 1.0;
                     let lower = move |s: f32| exp2_signed(exponent * log2(s));
                     let q = (&strip.qx[..], &strip.qy[..], row);

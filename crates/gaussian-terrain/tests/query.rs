@@ -312,4 +312,17 @@ fn scattered_points_in_any_order_are_the_single_queries() {
         points[..2_000].iter().zip(&elevations).map(|(&p, h)| (h - terrain.height_at(p)).abs()).fold(0.0, f64::max);
     assert!(worst < bound, "worst {worst}, bound {bound}");
     assert!(elevations.iter().filter(|h| **h != 0.0).count() > 15_000);
+    // Few points far apart in y (sorted whole, not by slabs), and y = ±0 with x out of order.
+    let sparse = [
+        DVec2::new(500.0, 4e7),
+        DVec2::new(300.0, 0.0),
+        DVec2::new(200.0, -0.0),
+        DVec2::new(100.0, 0.0),
+        DVec2::new(400.0, -3e7),
+        DVec2::new(250.0, -0.0),
+        DVec2::new(500.0, 500.0),
+    ];
+    let single: Vec<f64> = sparse.iter().map(|&p| query.elevation(p)).collect();
+    assert_eq!(query.elevations(&sparse), single);
+    assert!(single[1..4].iter().chain(&single[5..]).any(|h| *h != 0.0));
 }
