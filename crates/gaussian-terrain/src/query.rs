@@ -539,6 +539,7 @@ impl TerrainQuery {
             y1,
             x0: points[members[0] as usize].x,
             per_x: 0.0,
+            even: false,
             x: Vec::with_capacity(n),
             qx: Vec::with_capacity(n),
             qy: Vec::with_capacity(n),
@@ -565,6 +566,7 @@ impl TerrainQuery {
         }
         let last = strip.x[n - 1];
         strip.per_x = if last > strip.x0 { (n - 1) as f64 / (last - strip.x0) } else { 0.0 };
+        strip.even = strip.x.iter().enumerate().all(|(k, &x)| strip.rank(x) == k);
         strip.members = members;
         strip
     }
@@ -781,6 +783,9 @@ struct Strip {
     y1: f64,
     x0: f64,
     per_x: f64,
+    /// Whether [`Strip::rank`] gives every point its own index (evenly spread points: a grid
+    /// row).
+    even: bool,
     /// Each point's x, for the stretches' searches.
     x: Vec<f64>,
     /// Each point relative to its cell's corner (f32, as the kernel takes it).
@@ -791,6 +796,40 @@ struct Strip {
     runs: Vec<Run>,
     /// Each point's index in the caller's points.
     members: Vec<u32>,
+}
+
+impl Strip {
+    /// Where a point at `x` would be, were the points evenly spread: its index rounded, so
+    /// rounding errors of the points' own x keep their ranks. It never decreases with `x`.
+    #[allow(
+        clippy::inline_always,
+        reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn rank(&self, x: f64) -> usize {
+        ((x - self.x0) * self.per_x + 0.5).max(0.0) as usize
+    }
+
+    /// The points from `x0` to `x1`, or a few more: when the strip is [`Strip::even`], a point
+    /// of rank `k` has index `k`, so the points in the range have ranks from `rank(x0)` to
+    /// `rank(x1)` (and a neighbour of each end may come along; the kernel's own inside test
+    /// leaves it out, as a support's grown range reaches no point it counts outside). Else a
+    /// search from the ranks.
+    #[allow(
+        clippy::inline_always,
+        reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn stretch(&self, x0: f64, x1: f64) -> (usize, usize) {
+        let n = self.x.len();
+        if self.even {
+            let i = self.rank(x0).min(n);
+            (i, self.rank(x1).saturating_add(1).clamp(i, n))
+        } else {
+            let i = partition_near(&self.x, self.rank(x0), |x| x < x0);
+            (i, partition_near(&self.x, self.rank(x1), |x| x <= x1).max(i))
+        }
+    }
 }
 
 /// Consecutive points of a strip in one lattice cell: where they end and the cell's corner.
@@ -881,9 +920,7 @@ impl pulp::WithSimd for BandWork<'_> {
             for (strip, sums) in inside[first..last].iter().zip(&mut sums[first..last]) {
                 let Some((x0, x1)) = item.x_range(strip.y0, strip.y1) else { continue };
                 let row = (strip.y0 == strip.y1).then(|| strip.qy[0]);
-                let guess = |x: f64| ((x - strip.x0) * strip.per_x).max(0.0) as usize;
-                let mut i = partition_near(&strip.x, guess(x0).saturating_add(1), |x| x < x0);
-                let j = partition_near(&strip.x, guess(x1).saturating_add(1), |x| x <= x1);
+                let (mut i, j) = strip.stretch(x0, x1);
                 while i < j {
                     let run = strip.runs[strip.run_of[i] as usize];
                     let e = (run.end as usize).min(j);
