@@ -1108,6 +1108,32 @@ mod tests {
         assert!(item.x_range(-100.0, 2.0 * g.center[1] - top - 0.1).is_none());
     }
 
+    /// A grid row is an even strip: every point ranks at its own index, and a stretch holds the
+    /// points in its range and at most one more at each end. A strip of uneven points is not
+    /// even, and its stretches are exact.
+    #[test]
+    fn grid_rows_are_even_strips() {
+        let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::new(50.0, 50.0), 10.0, 1.0)]);
+        let query = terrain.query().unwrap();
+        let row: Vec<DVec2> = (0..700).map(|i| DVec2::new(-3.7 + f64::from(i) * 0.1437, 20.0)).collect();
+        let strips = query.strips(&row);
+        assert_eq!(strips.len(), 1);
+        let strip = &strips[0];
+        assert!(strip.even && strip.y0 == strip.y1);
+        assert!(strip.x.iter().enumerate().all(|(k, &x)| strip.rank(x) == k));
+        let uneven: Vec<DVec2> = (0..700).map(|i| DVec2::new(f64::from(i * i) * 1e-3, 20.0)).collect();
+        let other = &query.strips(&uneven)[0];
+        assert!(!other.even);
+        for (x0, x1) in [(-10.0, -5.0), (0.0, 0.0), (1.0, 7.3), (12.34, 80.0), (99.0, 120.0), (-1.0, 200.0)] {
+            let (i, j) = strip.stretch(x0, x1);
+            let (p0, p1) = (strip.x.partition_point(|&x| x < x0), strip.x.partition_point(|&x| x <= x1));
+            assert!(i <= p0 && j >= p1.max(i), "{x0}..{x1}: {i}..{j} against {p0}..{p1}");
+            assert!(p0 - i <= 1 && j - p1.max(i) <= 1, "{x0}..{x1}: {i}..{j} against {p0}..{p1}");
+            let (p0, p1) = (other.x.partition_point(|&x| x < x0), other.x.partition_point(|&x| x <= x1));
+            assert_eq!(other.stretch(x0, x1), (p0, p1.max(p0)));
+        }
+    }
+
     /// The search from a guess finds the partition point whatever the guess.
     #[test]
     fn partition_near_finds_the_partition_point() {

@@ -326,3 +326,24 @@ fn scattered_points_in_any_order_are_the_single_queries() {
     assert_eq!(query.elevations(&sparse), single);
     assert!(single[1..4].iter().chain(&single[5..]).any(|h| *h != 0.0));
 }
+
+/// A support far narrower than the typical one, far from its anchor corner: the points' f32
+/// coordinates are off by more than its relative margin, so only the slack keeps the batch's
+/// choice of stretches (over strips of several y) and the single queries' the same.
+#[test]
+fn a_tiny_support_far_from_its_corner_gives_the_same_bits() {
+    let mut terrain = random_terrain(500, 1000.0, 16.0, 4);
+    let centre = DVec2::new(611.3, 377.9);
+    terrain.primitives.push(Gaussian::round(centre, 0.002, 1000.0));
+    let query = terrain.query().unwrap();
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let points: Vec<DVec2> = (0..20_000).map(|_| centre + DVec2::new(next(), next()) * 0.02).collect();
+    let single: Vec<f64> = points.iter().map(|&p| query.elevation(p)).collect();
+    assert_eq!(query.elevations(&points), single);
+    let base = query.elevation(centre + DVec2::new(0.5, 0.0));
+    assert!(single.iter().filter(|h| (**h - base).abs() > 1.0).count() > 1000);
+}
