@@ -118,6 +118,66 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      (within its spread).",
     ),
     (
+        "gaussian_terrain",
+        "Rasterizer rows re-measured 2026-11-26 after the row loops went through `pulp` (AVX2) with\n\
+     whole-vector spans and fused polynomials; the previous rasterizer on the same machine, same\n\
+     session: 62.5 ms (10k), 102.7 ms (30k), 131.7 ms (60k) at 1024². The 60k row is still 1.3× the\n\
+     issue #25 target of 50 ms. Query rows: batched continuous queries at the 1024² sample positions\n\
+     (`TerrainQuery::elevations`, hierarchy built once outside the timing); they test about twice the\n\
+     supports each point lies in, so they run at a third of the rasterizer's speed per sample.\n\
+     \n\
+     Queries re-measured 2026-11-27 after each cell's points went into groups of 16 neighbours that\n\
+     skip the supports they cannot reach (a conservative box test in each support's own frame; the\n\
+     former test, the support ellipse grown by the cell's half-diagonal, missed slivers of elongated\n\
+     supports by up to 0.8 % of their amplitude). This VM ran about 1.5× slower than on 11-26, so the\n\
+     rows below are left as they were. Two criterion runs today: rasterize/1024/60k 96.4 and 88.3 ms,\n\
+     query/samples 216.4 and 238.3 ms, query/elevations 237.6 and 250.0 ms, build 40.7 and 47.7 ms:\n\
+     2.2–2.8× the rasterizer per sample. Interleaved in one process (rasterizer, new query, former\n\
+     query on the same 1024² samples, best of 10, three runs): the new query takes 0.78–0.85 of the\n\
+     former's time. `elevations` now skips the gradients (unless a detail layer follows the slope):\n\
+     on this terrain that gains little (2.2–2.3× the rasterizer against 2.1–2.5× for `samples`, same\n\
+     runs), but with a noise detail layer (100 000 falloffs of σ 20, the one in `tests/query.rs`)\n\
+     added, `elevations` took 1.34 s against the rasterizer's 0.42 s, and `samples` 24.1 s: a detail\n\
+     layer's gradient is a central difference, which walked the hierarchy four more times per point.\n\
+     It now reuses the cell's falloffs (culled with the step added): 5.8 s, still four more sums of\n\
+     every falloff over the point, in f64. What is left is the kernel itself (gradient terms, and a logarithm and a power\n\
+     for every β ≠ 2, on every lane of a group a support may reach) against the rasterizer's\n\
+     value-only spans cut to the samples inside each support.\n\
+     \n\
+     Rasterizer re-measured 2026-11-27 (evening) after its set-up (each primitive's inverse axes,\n\
+     support and rows) went parallel; the table rows below are the 11-26 run's and are left as they\n\
+     were. One criterion run each, the same session, before → after: 1024²/10k 34.5 → 33.4 ms,\n\
+     1024²/30k 59.3 → 53.3 ms, 1024²/60k 57.6 → 55.1 ms, 4096²/60k 612 → 621 ms (one run each: within\n\
+     this VM's noise). Alternated in one process, best of 10, three rounds, 1024²/60k: 55–58 ms before,\n\
+     51–54 ms after, the same output bits (hashed). Tried and dropped, measured the same way: copying\n\
+     each band's primitives next to each other (1024²/60k 50–51 ms, but 1024²/10k 32 → 41 ms),\n\
+     whole-vector chunks in the row loop (2 ms slower at 60k), bands of 8 rows (67–75 ms) or 32 (no\n\
+     change). Lanes counted on the 1024²/60k terrain: the rasterizer evaluates 22.3 M lanes over\n\
+     1.22 M row spans (81 % of them inside a support); the batched query 36 M lanes (53 %) behind\n\
+     4.78 M f64 box tests. Groups of 8 points, each support tried with the kernel's own inside test\n\
+     after a box test of 8 supports at once, cut that to 25 M lanes (76 %) but took 229–252 ms\n\
+     against 214–222 ms single-threaded: the cost is per (group, support) pair, not per wasted lane.\n\
+     Storing the supports in the hierarchy's leaf order did not help either.\n\
+     \n\
+     Queries re-measured 2026-11-28 after they went the rasterizer's way: the points sorted into\n\
+     strips (a grid row, or a quarter of a typical support width of y for scattered points), bands of\n\
+     16 strips in parallel, each support added to the stretch of each strip its ellipse covers, the\n\
+     Gaussians stored by the y of their centres. One criterion run, the same session (the table rows\n\
+     below are the 11-26 run's and are left as they were): rasterize/1024/60k 58.3 ms,\n\
+     query/elevations 72.2 ms (1.24×), query/samples 109.4 ms (1.88×), build 23.3 ms; 10k 34.3 ms,\n\
+     30k 53.9 ms. Alternated in one process against the former query (best of 8, three rounds, 1024²\n\
+     grid in row order): elevations 123–125 ms → 68 ms (2.0–2.5× → 1.29–1.34× the rasterizer's\n\
+     51–53 ms), samples 135–146 → 103–105 ms; 1M scattered points in random order 122–143 → 130–135\n\
+     ms (the sort into strips is a counting sort by slabs, then small sorts); 100 000 single queries\n\
+     3.5 → 4.1 µs each (a batch of one allocates its strip). Every support's arithmetic is\n\
+     unchanged, but the summation order (by centre y, not index) changes f32 roundings: the golden\n\
+     `gaussian-atlas` skeleton's elevations were re-blessed. What is left against the rasterizer:\n\
+     about 11 ms building the strips (sorting check, cutting, each point's corner and coordinates)\n\
+     and the stretches' own work (the x range of an ellipse over a strip, two square roots, where the\n\
+     rasterizer's row needs one; the cut at each anchor square; loading each point's coordinates\n\
+     where the rasterizer steps them).",
+    ),
+    (
         "engine_export",
         "`glb` rows time a whole mesh export: greedy-insertion decimation to the error bound (a fraction of\n\
      the relief), normals, colours and the GLB bytes. On the 1025² fBm terrain (539 m of relief) 0.1 %\n\

@@ -1134,6 +1134,53 @@ mod tests {
         }
     }
 
+    /// Grid rows in row order make one strip each, however close; scattered points make strips
+    /// at most [`STRIP_THICKNESS`] cells thick, sorted by x, each within one anchor row, cut
+    /// only where they must be; every point is in one strip.
+    #[test]
+    fn strips_are_rows_or_thin_slabs() {
+        // The fixture's primitives, as this crate's own (the fixture links another build of it).
+        let fixture = relief_fixtures::random_terrain(400, 1000.0, 16.0, 2);
+        let primitives = fixture.primitives.iter().map(|g| Gaussian {
+            center: g.center,
+            sigma: g.sigma,
+            theta: g.theta,
+            amplitude: g.amplitude,
+            beta: g.beta,
+        });
+        let query = VectorTerrain::new(primitives.collect()).query().unwrap();
+        let (thick, rows) = (query.cell * STRIP_THICKNESS, 60);
+        let grid: Vec<DVec2> =
+            (0..100 * rows).map(|k| DVec2::new(f64::from(k % 100) * 10.0, f64::from(k / 100) * thick * 0.1)).collect();
+        let strips = query.strips(&grid);
+        assert_eq!(strips.len(), rows as usize);
+        assert!(strips.iter().all(|s| s.even && s.y0 == s.y1 && s.members.len() == 100));
+        let mut state = 7_u64;
+        let mut next = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let scattered: Vec<DVec2> = (0..5_000).map(|_| DVec2::new(next() * 1000.0, next() * 1000.0)).collect();
+        let strips = query.strips(&scattered);
+        let anchor_row = |k: u32| query.anchor_of(scattered[k as usize]).unwrap().1;
+        let mut seen = vec![false; scattered.len()];
+        for (n, s) in strips.iter().enumerate() {
+            assert!(s.y1 - s.y0 <= thick && s.x.is_sorted());
+            assert!(s.members.iter().all(|&k| anchor_row(k) == anchor_row(s.members[0])));
+            for &k in &s.members {
+                assert!(!std::mem::replace(&mut seen[k as usize], true));
+                assert!((scattered[k as usize].y - s.y0) * (scattered[k as usize].y - s.y1) <= 0.0);
+            }
+            // The next strip could not have taken this one's points: thicker, or another row.
+            if let Some(next) = strips.get(n + 1) {
+                let same_row = anchor_row(next.members[0]) == anchor_row(s.members[0]);
+                assert!(next.y1 - s.y0 > thick || !same_row, "strip {n} could hold the next");
+            }
+        }
+        assert!(seen.iter().all(|s| *s));
+        assert!(strips.len() > 20 && strips.len() < 1_000);
+    }
+
     /// The search from a guess finds the partition point whatever the guess.
     #[test]
     fn partition_near_finds_the_partition_point() {
