@@ -542,8 +542,8 @@ impl TerrainQuery {
             even: false,
             x: Vec::with_capacity(n),
             qx: Vec::with_capacity(n),
-            qy: Vec::with_capacity(n),
-            run_of: Vec::with_capacity(n),
+            qy: Vec::new(),
+            row: None,
             runs: Vec::new(),
             members: Vec::new(),
         };
@@ -561,8 +561,11 @@ impl TerrainQuery {
             let q = p - strip.runs[strip.runs.len() - 1].corner;
             strip.x.push(p.x);
             strip.qx.push(q.x as f32);
-            strip.qy.push(q.y as f32);
-            strip.run_of.push(strip.runs.len() as u32 - 1);
+            if y0 == y1 {
+                strip.row = Some(q.y as f32);
+            } else {
+                strip.qy.push(q.y as f32);
+            }
         }
         let last = strip.x[n - 1];
         strip.per_x = if last > strip.x0 { (n - 1) as f64 / (last - strip.x0) } else { 0.0 };
@@ -788,11 +791,12 @@ struct Strip {
     even: bool,
     /// Each point's x, for the stretches' searches.
     x: Vec<f64>,
-    /// Each point relative to its cell's corner (f32, as the kernel takes it).
+    /// Each point relative to its cell's corner (f32, as the kernel takes it): y only for a
+    /// strip of several y values, else `row` for all.
     qx: Vec<f32>,
     qy: Vec<f32>,
-    /// The run of each point: consecutive points in one cell.
-    run_of: Vec<u32>,
+    row: Option<f32>,
+    /// Consecutive points in one cell, in order.
     runs: Vec<Run>,
     /// Each point's index in the caller's points.
     members: Vec<u32>,
@@ -919,10 +923,11 @@ impl pulp::WithSimd for BandWork<'_> {
             let last = inside.partition_point(|s| s.y0 <= item.center.y + reach).max(first);
             for (strip, sums) in inside[first..last].iter().zip(&mut sums[first..last]) {
                 let Some((x0, x1)) = item.x_range(strip.y0, strip.y1) else { continue };
-                let row = (strip.y0 == strip.y1).then(|| strip.qy[0]);
                 let (mut i, j) = strip.stretch(x0, x1);
+                let mut r = strip.runs.partition_point(|run| run.end as usize <= i);
                 while i < j {
-                    let run = strip.runs[strip.run_of[i] as usize];
+                    let run = strip.runs[r];
+                    r += 1;
                     let e = (run.end as usize).min(j);
                     let c = match seen {
                         Some((corner, c)) if corner == run.corner => c,
@@ -930,7 +935,7 @@ impl pulp::WithSimd for BandWork<'_> {
                     };
                     let exponent = c.half_beta - 1.0;
                     let lower = move |s: f32| exp2_signed(exponent * log2(s));
-                    let q = (&strip.qx[..], &strip.qy[..], row);
+                    let q = (&strip.qx[..], &strip.qy[..], strip.row);
                     match (sums.gx.is_empty(), c.half_beta == 1.0) {
                         (false, true) => add_terms(c, q, sums, (i, e), |_| 1.0),
                         (false, false) => add_terms(c, q, sums, (i, e), lower),
@@ -1004,27 +1009,42 @@ fn widen((a, e): (usize, usize), n: usize) -> (std::ops::Range<usize>, i32, i32)
 #[inline(always)]
 fn add_terms(
     c: Local,
-    (qx, qy, _): (&[f32], &[f32], Option<f32>),
+    (qx, qy, row): (&[f32], &[f32], Option<f32>),
     sums: &mut Sums,
     lanes: (usize, usize),
     lower: impl Fn(f32) -> f32,
 ) {
     let (range, first, last) = widen(lanes, qx.len());
     let n = range.len();
-    let (qx, qy) = (&qx[range.clone()][..n], &qy[range.clone()][..n]);
-    let (h, gx, gy) = (&mut sums.h[range.clone()][..n], &mut sums.gx[range.clone()][..n], &mut sums.gy[range][..n]);
-    for j in 0..n {
-        let (x, y) = (qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, c.kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, c.ky)));
+    let qx = &qx[range.clone()][..n];
+    let (h, gx, gy) =
+        (&mut sums.h[range.clone()][..n], &mut sums.gx[range.clone()][..n], &mut sums.gy[range.clone()][..n]);
+    // The value and gradient terms at local (x, y), 0 outside the support.
+    let term = |x: f32, y: f32| {
         let s = x * x + y * y;
         let lower = lower(s);
         let g = c.amplitude * exp_neg(-0.5 * (s * lower));
         let slope = -g * c.half_beta * lower;
-        let k = j as i32;
-        let inside = s <= c.r2 && k >= first && k < last;
-        let (nh, ngx, ngy) = (h[j] + g, gx[j] + slope * (x * c.ux + y * c.vx), gy[j] + slope * (x * c.uy + y * c.vy));
-        h[j] = if inside { nh } else { h[j] };
-        gx[j] = if inside { ngx } else { gx[j] };
-        gy[j] = if inside { ngy } else { gy[j] };
+        (s <= c.r2, g, slope * (x * c.ux + y * c.vx), slope * (x * c.uy + y * c.vy))
+    };
+    let keep = |j: usize| (j as i32) >= first && (j as i32) < last;
+    if let Some(row) = row {
+        // One y for the whole stretch: the brackets once.
+        let (ax, ay) = (row.mul_add(c.uy, c.kx), row.mul_add(c.vy, c.ky));
+        for j in 0..n {
+            let (inside, g, dx, dy) = term(qx[j].mul_add(c.ux, ax), qx[j].mul_add(c.vx, ay));
+            let add = inside && keep(j);
+            (h[j], gx[j], gy[j]) = if add { (h[j] + g, gx[j] + dx, gy[j] + dy) } else { (h[j], gx[j], gy[j]) };
+        }
+    } else {
+        let qy = &qy[range][..n];
+        for j in 0..n {
+            let (x, y) =
+                (qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, c.kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, c.ky)));
+            let (inside, g, dx, dy) = term(x, y);
+            let add = inside && keep(j);
+            (h[j], gx[j], gy[j]) = if add { (h[j] + g, gx[j] + dx, gy[j] + dy) } else { (h[j], gx[j], gy[j]) };
+        }
     }
 }
 
@@ -1043,7 +1063,7 @@ fn add_values(
 ) {
     let (range, first, last) = widen(lanes, qx.len());
     let n = range.len();
-    let (qx, qy, h) = (&qx[range.clone()][..n], &qy[range.clone()][..n], &mut h[range][..n]);
+    let (qx, h) = (&qx[range.clone()][..n], &mut h[range.clone()][..n]);
     let value = |x: f32, y: f32| {
         let s = x * x + y * y;
         (s <= c.r2).then(|| c.amplitude * exp_neg(-0.5 * (s * lower(s))))
@@ -1057,6 +1077,7 @@ fn add_values(
             h[j] = if k >= first && k < last { h[j] + g.unwrap_or(0.0) } else { h[j] };
         }
     } else {
+        let qy = &qy[range][..n];
         for j in 0..n {
             let k = j as i32;
             let g =
