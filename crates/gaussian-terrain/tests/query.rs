@@ -347,3 +347,24 @@ fn a_tiny_support_far_from_its_corner_gives_the_same_bits() {
     let base = query.elevation(centre + DVec2::new(0.5, 0.0));
     assert!(single.iter().filter(|h| (**h - base).abs() > 1.0).count() > 1000);
 }
+
+/// A support wider than several anchor squares: a stretch of it crosses squares, and the lanes
+/// that pad a stretch to whole vectors hold points of the next square, measured from another
+/// corner. Only the stretch's own points may take it: the grid's batch is the single queries.
+#[test]
+fn a_support_wider_than_the_anchor_squares() {
+    let mut terrain = random_terrain(20_000, 1000.0, 16.0, 6);
+    terrain.primitives.push(Gaussian::round(DVec2::new(480.0, 510.0), 400.0, 50.0));
+    let query = terrain.query().unwrap();
+    let g = grid(151, DVec2::ZERO, 1000.0);
+    let points = grid_points(&g);
+    let single: Vec<f64> = points.iter().map(|&p| query.elevation(p)).collect();
+    assert_eq!(query.elevations(&points), single);
+    let samples = query.samples(&points);
+    assert!(samples.iter().zip(&points).all(|(s, &p)| *s == query.sample(p)));
+    // And the rasterizer's values, to a support's truncation at a sample on its edge.
+    let raster = rasterize(&terrain, &g, &RasterOptions::default()).unwrap();
+    let worst = single.iter().zip(raster.samples()).map(|(h, r)| (h - f64::from(*r)).abs()).fold(0.0, f64::max);
+    let biggest = terrain.primitives.iter().map(|g| g.amplitude.abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-3 * biggest + 1e-3, "worst {worst}");
+}
