@@ -162,20 +162,19 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      Queries re-measured 2026-11-28 after they went the rasterizer's way: the points sorted into\n\
      strips (a grid row, or a quarter of a typical support width of y for scattered points), bands of\n\
      16 strips in parallel, each support added to the stretch of each strip its ellipse covers, the\n\
-     Gaussians stored by the y of their centres. One criterion run, the same session (the table rows\n\
-     below are the 11-26 run's and are left as they were): rasterize/1024/60k 58.3 ms,\n\
-     query/elevations 72.2 ms (1.24×), query/samples 109.4 ms (1.88×), build 23.3 ms; 10k 34.3 ms,\n\
-     30k 53.9 ms. Alternated in one process against the former query (best of 8, three rounds, 1024²\n\
-     grid in row order): elevations 123–125 ms → 68 ms (2.0–2.5× → 1.29–1.34× the rasterizer's\n\
-     51–53 ms), samples 135–146 → 103–105 ms; 1M scattered points in random order 122–143 → 130–135\n\
-     ms (the sort into strips is a counting sort by slabs, then small sorts); 100 000 single queries\n\
-     3.5 → 4.1 µs each (a batch of one allocates its strip). Every support's arithmetic is\n\
-     unchanged, but the summation order (by centre y, not index) changes f32 roundings: the golden\n\
-     `gaussian-atlas` skeleton's elevations were re-blessed. What is left against the rasterizer:\n\
-     about 11 ms building the strips (sorting check, cutting, each point's corner and coordinates)\n\
-     and the stretches' own work (the x range of an ellipse over a strip, two square roots, where the\n\
-     rasterizer's row needs one; the cut at each anchor square; loading each point's coordinates\n\
-     where the rasterizer steps them).",
+     Gaussians stored by the y of their centres. Criterion, the same session (the table rows below are\n\
+     the 11-26 run's and are left as they were): rasterize/1024/60k 56.5 ms, query/elevations 71.7 ms\n\
+     (1.27×), query/samples 88.8 ms (1.57×), build 24.0 ms. Alternated in one process against the\n\
+     former query (best of 8, three rounds, 1024² grid in row order): elevations 123–125 ms → 68 ms\n\
+     (2.0–2.5× → 1.29–1.34× the rasterizer's 51–53 ms), samples 135–146 → 95–99 ms; 1M scattered\n\
+     points in random order 122–143 → 130–135 ms (the sort into strips is a counting sort by slabs,\n\
+     then small sorts); 100 000 single queries 3.5 → 4.1 µs each (a batch of one allocates its strip).\n\
+     Every support's arithmetic is unchanged, but the summation order (by centre y, not index)\n\
+     changes f32 roundings: the golden `gaussian-atlas` skeleton's elevations were re-blessed. What\n\
+     is left against the rasterizer: about 11 ms building the strips (sorting check, cutting, each\n\
+     point's corner and coordinates) and the stretches' own work (the x range of an ellipse over a\n\
+     strip, two square roots, where the rasterizer's row needs one; the cut at each anchor square;\n\
+     loading each point's coordinates where the rasterizer steps them).",
     ),
     (
         "engine_export",
