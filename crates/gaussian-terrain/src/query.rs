@@ -82,8 +82,8 @@ struct Item {
     x_reach: f64,
     y_reach: f64,
     /// What the kernel's f32 coordinates of the centre and of a point it reaches may be off by,
-    /// world units (10⁻⁵ of the support's width and two lattice cells: a point is held
-    /// relative to its cell's corner); set by [`Item::with_slack`].
+    /// world units (10⁻⁵ of the support's width and of two anchor squares: a point is held
+    /// relative to its square's corner); set by [`Item::with_slack`].
     slack: f64,
 }
 
@@ -117,9 +117,9 @@ impl Item {
         }
     }
 
-    /// The item with its [`Item::slack`] for a lattice of side `cell`.
-    fn with_slack(self, cell: f64) -> Self {
-        Self { slack: 1e-5 * ((self.hi - self.lo).max_element() + 2.0 * cell), ..self }
+    /// The item with its [`Item::slack`] for anchor squares of side `anchor`.
+    fn with_slack(self, anchor: f64) -> Self {
+        Self { slack: 1e-5 * ((self.hi - self.lo).max_element() + 2.0 * anchor), ..self }
     }
 
     /// The box that holds every point the kernel may count inside the support: the grown
@@ -413,8 +413,8 @@ impl TerrainQuery {
         }
     }
 
-    /// A point no cell holds: NaN when it is not finite, else so far out (beyond the lattice's
-    /// i32 range) that no support reaches it: the base.
+    /// A point beyond the anchor lattice: NaN when it is not finite, else so far out (more than
+    /// 2³⁰ anchor squares from the origin) that no support reaches it: the base.
     fn beyond(&self, p: DVec2) -> Sample {
         let elevation = self.floor.map_or(self.base, |f| self.base.max(f));
         if p.is_finite() { Sample { elevation, gradient: DVec2::ZERO } } else { Sample::NAN }
@@ -448,7 +448,8 @@ impl TerrainQuery {
         self.origin + DVec2::new(f64::from(key.0), f64::from(key.1)) * (ANCHOR_CELLS * self.cell)
     }
 
-    /// The points in a lattice cell sorted into strips (see [`Strip`]).
+    /// The points within the anchor lattice's range (the others are [`Self::beyond`]) sorted
+    /// into strips (see [`Strip`]).
     fn strips(&self, points: &[DVec2]) -> Vec<Strip> {
         // The lattice row grows with y, so an order by (y, x) is one by row too.
         let by_y = |a: &u32, b: &u32| {
@@ -526,7 +527,7 @@ impl TerrainQuery {
         sorted
     }
 
-    /// The strip of the points `members` (sorted by y, in one lattice row; see [`Strip`]).
+    /// The strip of the points `members` (sorted by y, in one anchor row; see [`Strip`]).
     fn strip(&self, mut members: Vec<u32>, points: &[DVec2]) -> Strip {
         let (y0, y1) = (points[members[0] as usize].y, points[members[members.len() - 1] as usize].y);
         let x = |k: u32| points[k as usize].x;
@@ -778,8 +779,8 @@ const BAND_STRIPS: usize = 16;
 /// stretch of a support is exact, as the rasterizer's span), else the points within
 /// [`STRIP_THICKNESS`] cells of y (scattered points), sorted by x. A support reaches a strip's points in one
 /// stretch of x, found from where the points would be were they evenly spread; the stretch is
-/// cut where the points' lattice cell changes, since every point is held relative to its own
-/// cell's corner.
+/// cut where the points' anchor square changes, since every point is held relative to its own
+/// square's corner.
 struct Strip {
     /// The points' y range, the first x, and points per unit of x (0 for one x).
     y0: f64,
@@ -791,12 +792,12 @@ struct Strip {
     even: bool,
     /// Each point's x, for the stretches' searches.
     x: Vec<f64>,
-    /// Each point relative to its cell's corner (f32, as the kernel takes it): y only for a
+    /// Each point relative to its square's corner (f32, as the kernel takes it): y only for a
     /// strip of several y values, else `row` for all.
     qx: Vec<f32>,
     qy: Vec<f32>,
     row: Option<f32>,
-    /// Consecutive points in one cell, in order.
+    /// Consecutive points in one anchor square, in order.
     runs: Vec<Run>,
     /// Each point's index in the caller's points.
     members: Vec<u32>,
@@ -836,7 +837,7 @@ impl Strip {
     }
 }
 
-/// Consecutive points of a strip in one lattice cell: where they end and the cell's corner.
+/// Consecutive points of a strip in one anchor square: where they end and the square's corner.
 #[derive(Clone, Copy)]
 struct Run {
     end: u32,
@@ -949,7 +950,7 @@ impl pulp::WithSimd for BandWork<'_> {
     }
 }
 
-/// A Gaussian seen from a cell's corner, in f32 for the kernel: a point `q` from the corner has
+/// A Gaussian seen from an anchor square's corner, in f32 for the kernel: a point `q` from the corner has
 /// local coordinates `x = qx·ux + (qy·uy + kx)`, `y = qx·vx + (qy·vy + ky)` (fused, so a row of
 /// one y takes the bracket once and a point alone gets the same bits), where `(kx, ky)` is
 /// minus the centre's, from the corner, in f64.
