@@ -36,7 +36,7 @@ const CELL_PER_SUPPORT: f64 = 1.0;
 /// 64 1.25–1.31×). f32 holds a point 16 support widths from its corner to a millionth of a width.
 const ANCHOR_CELLS: f64 = 16.0;
 
-/// Cells per parallel task in the batched queries.
+/// Detail cells per parallel task in the batched queries.
 const CELLS_PER_TASK: usize = 16;
 
 /// The elevation and its gradient at one point.
@@ -69,18 +69,15 @@ struct Item {
     /// The support's bounding box.
     lo: DVec2,
     hi: DVec2,
-    /// `d²` is `a·x'² + 2b·x'·y' + c·y'²` (`x'`, `y'` from the centre), and the support grown
-    /// by a relative 10⁻⁴ (`R² = grown_r2`, far above the f32 rounding of the kernel's inside
-    /// test) reaches `x_reach` and `y_reach` from the centre, its furthest x at
-    /// `y' = −tip = −b·x_reach/c`.
-    a: f64,
-    inv_a: f64,
-    b: f64,
-    c: f64,
-    tip: f64,
-    grown_r2: f64,
+    /// The support grown by a relative 10⁻⁴ (far above the f32 rounding of the kernel's inside
+    /// test) reaches `x_reach` and `y_reach` from the centre, its furthest x at `y' = −tip`;
+    /// over a row at `y'` from the centre it spans `x' = slope·y' ± width·√(y_reach² − y'²)`.
+    /// From the covariance `A·Aᵀ` scaled by the larger σ, so no σ overflows or cancels.
     x_reach: f64,
     y_reach: f64,
+    tip: f64,
+    slope: f64,
+    width: f64,
     /// What the kernel's f32 coordinates of the centre and of a point it reaches may be off by,
     /// world units (10⁻⁵ of the support's width and of two anchor squares: a point is held
     /// relative to its square's corner); set by [`Item::with_slack`].
@@ -92,10 +89,12 @@ impl Item {
         let (u, v) = g.inverse_axes();
         let r = g.support_radius(tolerance);
         let (lo, hi) = g.bounds(tolerance);
-        let (a, b, c) = (u.x * u.x + v.x * v.x, u.x * u.y + v.x * v.y, u.y * u.y + v.y * v.y);
-        let grown_r2 = (r * (1.0 + 1e-4)).powi(2);
-        let det = a * c - b * b;
-        let x_reach = (grown_r2 * c / det).sqrt();
+        // Σ = A·Aᵀ / m² (m the larger σ): √Σxx, √Σyy and Σxy, all within [−1, 1].
+        let (sin, cos) = g.theta.sin_cos();
+        let m = g.sigma[0].max(g.sigma[1]);
+        let (sx, sy) = (g.sigma[0] / m, g.sigma[1] / m);
+        let (xx, yy, xy) = ((sx * cos).hypot(sy * sin), (sx * sin).hypot(sy * cos), (sx * sx - sy * sy) * sin * cos);
+        let grown = r * (1.0 + 1e-4) * m;
         Self {
             center: DVec2::from(g.center),
             u,
@@ -105,14 +104,11 @@ impl Item {
             half_beta: 0.5 * g.beta,
             lo,
             hi,
-            a,
-            inv_a: 1.0 / a,
-            b,
-            c,
-            tip: b * x_reach / c,
-            grown_r2,
-            x_reach,
-            y_reach: (grown_r2 * a / det).sqrt(),
+            x_reach: grown * xx,
+            y_reach: grown * yy,
+            tip: -grown * xy / xx,
+            slope: xy / (yy * yy),
+            width: sx * sy / (yy * yy),
             slack: 0.0,
         }
     }
@@ -142,11 +138,13 @@ impl Item {
             return None;
         }
         let edge = |y: f64, side: f64| {
-            let by = self.b * y;
-            let disc = (by * by - self.a * (self.c * y * y - self.grown_r2)).max(0.0);
-            (side * disc.sqrt() - by) * self.inv_a
+            let room = ((self.y_reach - y) * (self.y_reach + y)).max(0.0);
+            self.slope * y + side * self.width * room.sqrt()
         };
         let (left, right) = (edge(self.tip.clamp(lo, hi), -1.0), edge((-self.tip).clamp(lo, hi), 1.0));
+        // A support flattened to a segment (no y extent in f64) has no finite slope: its box.
+        let (left, right) =
+            if left.is_finite() && right.is_finite() { (left, right) } else { (-self.x_reach, self.x_reach) };
         Some((self.center.x + left - self.slack, self.center.x + right + self.slack))
     }
 
@@ -354,6 +352,9 @@ impl TerrainQuery {
     /// are not computed (unless a detail layer's amplitude follows the slope), which matters
     /// most with detail layers: their gradient is a central difference.
     pub fn elevations(&self, points: &[DVec2]) -> Vec<f64> {
+        if points.len() > MAX_BATCH {
+            return points.chunks(MAX_BATCH).flat_map(|chunk| self.elevations(chunk)).collect();
+        }
         if !self.layers.is_empty() {
             return self.batch(points, false).into_iter().map(|s| s.elevation).collect();
         }
@@ -375,6 +376,9 @@ impl TerrainQuery {
 
     /// [`Self::samples`], the gradients left at zero unless `gradients`.
     fn batch(&self, points: &[DVec2], gradients: bool) -> Vec<Sample> {
+        if points.len() > MAX_BATCH {
+            return points.chunks(MAX_BATCH).flat_map(|chunk| self.batch(chunk, gradients)).collect();
+        }
         let mut out: Vec<Sample> = points.par_iter().map(|&p| self.beyond(p)).collect();
         for (strip, sums) in self.gaussian_sums(points, gradients) {
             for (n, &k) in strip.members.iter().enumerate() {
@@ -413,8 +417,9 @@ impl TerrainQuery {
         }
     }
 
-    /// A point beyond the anchor lattice: NaN when it is not finite, else so far out (more than
-    /// 2³⁰ anchor squares from the origin) that no support reaches it: the base.
+    /// A point beyond the anchor lattice: NaN when it is not finite, else the base (more than
+    /// 2³⁰ anchor squares, 2³⁴ typical support widths, from the origin: only a support that
+    /// wide could reach it, and queries take it as out of reach).
     fn beyond(&self, p: DVec2) -> Sample {
         let elevation = self.floor.map_or(self.base, |f| self.base.max(f));
         if p.is_finite() { Sample { elevation, gradient: DVec2::ZERO } } else { Sample::NAN }
@@ -495,7 +500,7 @@ impl TerrainQuery {
         let (lo, hi) = order.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &k| (lo.min(y(k)), hi.max(y(k))));
         let unit = self.cell * STRIP_THICKNESS;
         let slabs = ((hi - lo) / unit).floor() + 1.0;
-        if slabs > 4.0 * order.len() as f64 {
+        if slabs.is_nan() || slabs > 4.0 * order.len() as f64 {
             let mut keyed: Vec<(u64, u32)> = order.par_iter().map(|&k| (sortable(y(k)), k)).collect();
             keyed.par_sort_unstable();
             return keyed.into_iter().map(|(_, k)| k).collect();
@@ -759,6 +764,10 @@ fn sortable(v: f64) -> u64 {
     let bits = v.to_bits();
     if bits >> 63 == 1 { !bits } else { bits | 1 << 63 }
 }
+
+/// Most points a batch takes at once (point indices are u32, a stretch's lanes i32): larger
+/// batches go in chunks, each point's value the same.
+const MAX_BATCH: usize = i32::MAX as usize;
 
 /// Fewest points of one y value that make a strip of their own (a grid row).
 const MIN_ROW: usize = 64;
@@ -1098,7 +1107,7 @@ mod tests {
     fn x_range_is_the_support_over_the_band() {
         let g = Gaussian { center: [3.0, -2.0], sigma: [6.0, 1.5], theta: 0.6, amplitude: 1.0, beta: 1.5 };
         let item = Item::new(&g, 1e-3);
-        let r = item.grown_r2.sqrt();
+        let r = g.support_radius(1e-3) * (1.0 + 1e-4);
         let outline: Vec<DVec2> = (0..20_000)
             .map(|k| {
                 let t = f64::from(k) * std::f64::consts::TAU / 20_000.0;
@@ -1124,7 +1133,7 @@ mod tests {
         }
         // One y: the chord of the ellipse there.
         let (x0, x1) = item.x_range(-2.0, -2.0).unwrap();
-        let chord = |x: f64| g.distance_squared(DVec2::new(x, -2.0)) - item.grown_r2;
+        let chord = |x: f64| g.distance_squared(DVec2::new(x, -2.0)) - r * r;
         assert!(chord(x0 + item.slack).abs() < 1e-9 && chord(x1 - item.slack).abs() < 1e-9);
         assert!(item.x_range(top + 0.1, top + 1.0).is_none());
         assert!(item.x_range(-100.0, 2.0 * g.center[1] - top - 0.1).is_none());

@@ -368,3 +368,28 @@ fn a_support_wider_than_the_anchor_squares() {
     let biggest = terrain.primitives.iter().map(|g| g.amplitude.abs()).fold(0.0, f64::max);
     assert!(worst < 1e-3 * biggest + 1e-3, "worst {worst}");
 }
+
+/// Supports of extreme shape (stretched a hundred million times, σ near the f64 limits, a
+/// segment with no y extent): no NaN reaches the hierarchy, and batches of scattered points
+/// around each are the single queries.
+#[test]
+fn supports_of_extreme_shape() {
+    let shapes = [([100.0, 1e-6], 0.7), ([1e90, 1e90], 0.3), ([1.0, 1e-200], 0.0), ([3e-150, 1e-160], 1.1)];
+    for (sigma, theta) in shapes {
+        let g = Gaussian { center: [10.0, 20.0], sigma, theta, amplitude: 5.0, beta: 2.0 };
+        let mut terrain = random_terrain(200, 100.0, 8.0, 1);
+        terrain.primitives.push(g);
+        let query = terrain.query().unwrap();
+        let reach = sigma[0].max(sigma[1]).min(50.0) * 3.0;
+        let mut state = 99_u64;
+        let mut next = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let points: Vec<DVec2> =
+            (0..3_000).map(|_| DVec2::new(10.0, 20.0) + DVec2::new(next(), next()) * reach).collect();
+        let single: Vec<f64> = points.iter().map(|&p| query.elevation(p)).collect();
+        assert_eq!(query.elevations(&points), single, "σ {sigma:?}");
+        assert!(single.iter().all(|h| h.is_finite()), "σ {sigma:?}");
+    }
+}
