@@ -17,6 +17,15 @@ fn grid_points(g: &GridSpec) -> Vec<DVec2> {
     (0..g.len()).map(|k| g.position(g.coords(k).0, g.coords(k).1)).collect()
 }
 
+/// A seeded stream of uniform numbers in [0, 1) (a 64-bit LCG's top 53 bits).
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 fn relief(terrain: &VectorTerrain) -> f64 {
     terrain.primitives.iter().map(|g| g.amplitude.abs()).sum::<f64>()
 }
@@ -287,11 +296,7 @@ fn elevations_without_gradients_still_see_the_slope() {
 fn scattered_points_in_any_order_are_the_single_queries() {
     let terrain = random_terrain(3_000, 1000.0, 16.0, 9);
     let query = terrain.query().unwrap();
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = move || {
-        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = uniform(0x9e37_79b9_7f4a_7c15);
     let mut points: Vec<DVec2> =
         (0..20_000).map(|_| DVec2::new(next() * 1100.0 - 50.0, next() * 1100.0 - 50.0)).collect();
     points.extend_from_within(..50);
@@ -336,11 +341,8 @@ fn a_tiny_support_far_from_its_corner_gives_the_same_bits() {
     let centre = DVec2::new(611.3, 377.9);
     terrain.primitives.push(Gaussian::round(centre, 0.002, 1000.0));
     let query = terrain.query().unwrap();
-    let mut state = 0x2545_f491_4f6c_dd1d_u64;
-    let mut next = move || {
-        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut uniform = uniform(0x2545_f491_4f6c_dd1d);
+    let mut next = move || uniform() - 0.5;
     let points: Vec<DVec2> = (0..20_000).map(|_| centre + DVec2::new(next(), next()) * 0.02).collect();
     let single: Vec<f64> = points.iter().map(|&p| query.elevation(p)).collect();
     assert_eq!(query.elevations(&points), single);
@@ -381,11 +383,8 @@ fn supports_of_extreme_shape() {
         terrain.primitives.push(g);
         let query = terrain.query().unwrap();
         let reach = sigma[0].max(sigma[1]).min(50.0) * 3.0;
-        let mut state = 99_u64;
-        let mut next = move || {
-            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut uniform = uniform(99);
+        let mut next = move || uniform() - 0.5;
         let points: Vec<DVec2> =
             (0..3_000).map(|_| DVec2::new(10.0, 20.0) + DVec2::new(next(), next()) * reach).collect();
         let single: Vec<f64> = points.iter().map(|&p| query.elevation(p)).collect();
