@@ -1,6 +1,6 @@
 //! `cargo xtask bench`: run the criterion benches, collect medians, write `docs/benchmarks.md`.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
@@ -8,17 +8,23 @@ use std::process::Command;
 
 use anyhow::{Context, Result};
 
-use crate::references::{GROUP_NOTES, REFERENCES, Reference};
+use crate::references::{GROUP_NOTES, REFERENCES, Reference, SECTION_NOTES};
 
 /// Runs the benches (shorter warm-up and measurement with `quick`; only `packages` when given) and
 /// writes the report from every median under `target/criterion`, so a partial run refreshes its
-/// rows and keeps the others from earlier runs.
+/// rows and keeps the others from earlier runs. Rows of the previous report with no median on
+/// disk (a fresh clone has none) are carried over and marked, rather than dropped.
 pub(crate) fn run(root: &Path, quick: bool, packages: &[String], report_only: bool) -> Result<()> {
     if !report_only {
         run_benches(root, quick, packages)?;
     }
-    let medians = collect(&root.join("target/criterion"))?;
-    let mut report = render(&medians, quick);
+    let out = root.join("docs/benchmarks.md");
+    let mut medians = collect(&root.join("target/criterion"))?;
+    let previous_text = fs::read_to_string(&out).unwrap_or_default();
+    let previous = previous_medians(&previous_text);
+    let measured = medians.len();
+    let carried = carry_over(&mut medians, previous);
+    let mut report = render(&medians, &carried, quick);
     report.push_str(&paired_tin(root, quick)?);
     report.push_str(&crate::gdal::contour_runs(root, quick)?);
     report.push_str(&crate::gdal::geotiff_runs(root, quick)?);
@@ -27,11 +33,11 @@ pub(crate) fn run(root: &Path, quick: bool, packages: &[String], report_only: bo
     report.push_str(&vectorize_runs(root, quick, !fit_again)?);
     let studio_again = !report_only && (packages.is_empty() || packages.iter().any(|p| p == "relief-studio"));
     report.push_str(&studio_runs(root, !studio_again)?);
-    let out = root.join("docs/benchmarks.md");
+    let report = keep_previous_sections(&report, &previous_text);
     let tmp = out.with_extension("md.tmp");
     fs::write(&tmp, report).with_context(|| format!("writing {}", tmp.display()))?;
     fs::rename(&tmp, &out).with_context(|| format!("renaming into {}", out.display()))?;
-    println!("wrote {} ({} benchmarks)", out.display(), medians.len());
+    println!("wrote {} ({measured} benchmarks measured, {} carried over)", out.display(), carried.len());
     Ok(())
 }
 
@@ -91,6 +97,7 @@ fn vectorize_runs(root: &Path, quick: bool, reprint: bool) -> Result<String> {
          ≈ 60 s on an RTX 3090; the issue's target: 60 s at 1024² on 2 cores). ℓ₁ is normalized like Table 3 (relief mapped to [−1, 1]), measured at the DEM's \
          resolution. Run: `cargo run --release -p relief-gaussian-terrain --example vectorize_timing -- <size>`.\n\n",
     );
+    md.push_str(&section_notes("gaussian-terrain, vectorize"));
     if reprint {
         md.push_str(&fs::read_to_string(&cache).unwrap_or_else(|_| "(not run yet)\n".into()));
         md.push('\n');
@@ -143,6 +150,7 @@ relief studio in headless Chromium (software WebGL) on the same machine as its s
          contour regrowth under 1 s. Run: `RELIEF_E2E=1 RELIEF_STUDIO_LATENCY=1 cargo test --release -p \
          relief-studio --test browser -- --nocapture`.\n\n",
     );
+    md.push_str(&section_notes("studio"));
     let on_path = |name: &str| {
         std::env::var_os("PATH").is_some_and(|paths| std::env::split_paths(&paths).any(|d| d.join(name).is_file()))
     };
@@ -183,6 +191,11 @@ fn fidelity_runs(root: &Path, quick: bool) -> Result<String> {
          gradients, one Adam step size for every parameter, the plain sum); the other variants are ours with one \
          of them. Run: `cargo run --release -p relief --example vectorize_fidelity -- DENSITY VARIANT…`.\n",
     );
+    let notes = section_notes("Real DEMs: fidelity, and our choices against the paper's");
+    if !notes.is_empty() {
+        let _ = write!(md, "\n{}", notes.trim_end());
+        md.push('\n');
+    }
     let variants = ["ours", "paper", "plain-range", "positional-densify", "uniform-steps"];
     let densities: &[&str] = if quick { &["10"] } else { &["10", "40"] };
     for density in densities {
@@ -226,8 +239,104 @@ fn collect(dir: &Path) -> Result<BTreeMap<String, f64>> {
     Ok(out)
 }
 
-/// The markdown report.
-fn render(medians: &BTreeMap<String, f64>, quick: bool) -> String {
+/// The paragraphs of [`SECTION_NOTES`] for the section `heading`, each followed by a blank line.
+fn section_notes(heading: &str) -> String {
+    SECTION_NOTES.iter().filter(|(h, _)| *h == heading).map(|(_, note)| [*note, "\n\n"].concat()).collect()
+}
+
+/// What a section holds when its measurement has never run here (no cache under `target/`).
+const NOT_RUN: &str = "(not run yet";
+
+/// `report` with each `## ` section that holds [`NOT_RUN`] replaced by the `previous` report's
+/// section of the same heading, when that one was measured: a fresh clone, or a machine without
+/// the tool a section needs, keeps the last figures instead of losing them.
+fn keep_previous_sections(report: &str, previous: &str) -> String {
+    let earlier = sections(previous);
+    sections(report)
+        .into_iter()
+        .map(|(heading, text)| {
+            let kept = earlier.iter().find(|(h, t)| *h == heading && !heading.is_empty() && !t.contains(NOT_RUN));
+            match kept {
+                Some((_, t)) if text.contains(NOT_RUN) => t.clone(),
+                _ => text,
+            }
+        })
+        .collect()
+}
+
+/// `text` cut before each `## ` heading: (the heading, the section with it), the text before
+/// the first heading under an empty one.
+fn sections(text: &str) -> Vec<(String, String)> {
+    let mut out: Vec<(String, String)> = vec![(String::new(), String::new())];
+    for line in text.split_inclusive('\n') {
+        if let Some(heading) = line.strip_prefix("## ") {
+            out.push((heading.trim_end().to_string(), String::new()));
+        }
+        out.last_mut().expect("never empty").1.push_str(line);
+    }
+    out
+}
+
+/// The header of every criterion table in the report.
+const TABLE_HEADER: &str = "| benchmark | ours | reference | reference time | ratio |";
+
+/// Marks a row carried over from the previous report.
+const CARRIED: &str = "†";
+
+/// The medians in a report written by [`render`]: each table row's id and its `ours` time (the
+/// first row of an id with several references). Only the criterion tables are read, not the
+/// tables of the groups' prose.
+fn previous_medians(report: &str) -> BTreeMap<String, f64> {
+    let mut out = BTreeMap::new();
+    let mut in_table = false;
+    for line in report.lines() {
+        if line == TABLE_HEADER {
+            in_table = true;
+            continue;
+        }
+        if !line.starts_with('|') {
+            in_table = false;
+        }
+        if !in_table {
+            continue;
+        }
+        let mut cells = line.split('|').skip(1);
+        let (Some(id), Some(ours)) = (cells.next(), cells.next()) else { continue };
+        let id = id.trim().trim_end_matches(CARRIED).trim_matches('`');
+        if let (false, Some(s)) = (id.is_empty(), parse_time(ours.trim())) {
+            out.entry(id.to_string()).or_insert(s);
+        }
+    }
+    out
+}
+
+/// Seconds from a time as [`fmt_time`] writes it.
+fn parse_time(text: &str) -> Option<f64> {
+    let (value, unit) = text.split_once(' ')?;
+    let value: f64 = value.parse().ok()?;
+    let scale = match unit {
+        "s" => 1.0,
+        "ms" => 1e-3,
+        "µs" => 1e-6,
+        _ => return None,
+    };
+    Some(value * scale)
+}
+
+/// Adds to `medians` the `previous` ones it lacks, returning their ids.
+fn carry_over(medians: &mut BTreeMap<String, f64>, previous: BTreeMap<String, f64>) -> BTreeSet<String> {
+    let mut carried = BTreeSet::new();
+    for (id, s) in previous {
+        if !medians.contains_key(&id) {
+            medians.insert(id.clone(), s);
+            carried.insert(id);
+        }
+    }
+    carried
+}
+
+/// The markdown report; the ids in `carried` are marked as not measured in this run.
+fn render(medians: &BTreeMap<String, f64>, carried: &BTreeSet<String>, quick: bool) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "# Benchmarks\n");
     let _ = writeln!(
@@ -244,6 +353,14 @@ fn render(medians: &BTreeMap<String, f64>, quick: bool) -> String {
         "ratio is ours ÷ reference, so below 1 means faster. Timings on shared 2-core machines are noisy:"
     );
     let _ = writeln!(md, "compare side-by-side rows of the same run before absolute ones.\n");
+    if !carried.is_empty() {
+        let _ = writeln!(
+            md,
+            "Rows marked {CARRIED} were not measured in this run (a partial run, or no criterion data on \
+             disk): they are carried over from the previous report. Delete a row here to drop a bench \
+             that no longer exists.\n"
+        );
+    }
     let mut by_crate: BTreeMap<&str, Vec<(&String, f64)>> = BTreeMap::new();
     for (id, &s) in medians {
         let group = id.split('/').next().unwrap_or(id);
@@ -254,9 +371,10 @@ fn render(medians: &BTreeMap<String, f64>, quick: bool) -> String {
         for (_, note) in GROUP_NOTES.iter().filter(|(g, _)| *g == group) {
             let _ = writeln!(md, "{note}\n");
         }
-        let _ = writeln!(md, "| benchmark | ours | reference | reference time | ratio |");
+        let _ = writeln!(md, "{TABLE_HEADER}");
         let _ = writeln!(md, "|---|---:|---|---:|---:|");
         for (id, s) in rows {
+            let mark = if carried.contains(id) { CARRIED } else { "" };
             let refs: Vec<(&str, Option<f64>)> = REFERENCES
                 .iter()
                 .filter(|(b, _)| b == id)
@@ -266,13 +384,13 @@ fn render(medians: &BTreeMap<String, f64>, quick: bool) -> String {
                 })
                 .collect();
             if refs.is_empty() {
-                let _ = writeln!(md, "| `{id}` | {} | — | — | — |", fmt_time(s));
+                let _ = writeln!(md, "| `{id}`{mark} | {} | — | — | — |", fmt_time(s));
             }
             for (label, reference) in refs {
                 let (time, ratio) = reference.map_or(("not measured".to_string(), "—".to_string()), |r| {
                     (fmt_time(r), format!("{:.2}", s / r))
                 });
-                let _ = writeln!(md, "| `{id}` | {} | {label} | {time} | {ratio} |", fmt_time(s));
+                let _ = writeln!(md, "| `{id}`{mark} | {} | {label} | {time} | {ratio} |", fmt_time(s));
             }
         }
         md.push('\n');
@@ -317,4 +435,71 @@ fn today() -> String {
         .ok()
         .and_then(|o| String::from_utf8(o.stdout).ok())
         .map_or_else(|| "unknown date".into(), |d| d.trim().to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A report's rows read back give the same figures when written again, marked as carried;
+    /// the groups' own prose tables are not read as medians.
+    #[test]
+    fn carried_rows_keep_their_figures() {
+        let measured: BTreeMap<String, f64> = [
+            ("contours/extract_10_levels/100000", 0.008_43),
+            ("gaussian_terrain/rasterize/1024/60k", 0.056_5),
+            ("island/generate/2048", 1.234),
+            ("tin/insert/1000", 0.000_123_4),
+        ]
+        .into_iter()
+        .map(|(id, s)| (id.to_string(), s))
+        .collect();
+        let mut report = render(&measured, &BTreeSet::new(), false);
+        report.push_str("\n| scene | before |\n|---|---:|\n| `mountain` | 4.85 s |\n");
+        let previous = previous_medians(&report);
+        assert_eq!(previous.keys().collect::<Vec<_>>(), measured.keys().collect::<Vec<_>>());
+
+        // A later run measured only one group: the others come from the report.
+        let mut medians: BTreeMap<String, f64> =
+            [("gaussian_terrain/rasterize/1024/60k".to_string(), 0.050_1)].into_iter().collect();
+        let carried = carry_over(&mut medians, previous);
+        assert_eq!(carried.len(), 3);
+        assert!(!carried.contains("gaussian_terrain/rasterize/1024/60k"));
+        let again = render(&medians, &carried, false);
+        assert!(again.contains("| `gaussian_terrain/rasterize/1024/60k` | 50.1 ms |"));
+        for (id, &s) in measured.iter().filter(|(id, _)| carried.contains(*id)) {
+            let row = format!("| `{id}`{CARRIED} | {} |", fmt_time(s));
+            assert!(again.contains(&row), "missing {row}");
+        }
+        // Read back once more, the marks do not leak into the ids, and the figures stay put.
+        let rounded = |s: f64| parse_time(&fmt_time(s)).unwrap();
+        let expected: BTreeMap<String, f64> = medians.iter().map(|(id, &s)| (id.clone(), rounded(s))).collect();
+        assert_eq!(previous_medians(&again), expected);
+    }
+
+    /// A section never measured here takes the previous report's; measured ones, and a previous
+    /// section that was never measured either, do not.
+    #[test]
+    fn unmeasured_sections_keep_the_previous_ones() {
+        let previous = "# Benchmarks\n\nold header\n\n## a\n\nold a\n\n## gdal\n\n| old | table |\n\n\
+                        ## studio\n\n(not run yet)\n\n";
+        let report = "# Benchmarks\n\nnew header\n\n## a\n\nnew a\n\n## gdal\n\n(not run yet: install gdal-bin)\n\n\
+                      ## studio\n\n(not run yet)\n\n## new\n\n(not run yet)\n";
+        let kept = keep_previous_sections(report, previous);
+        assert_eq!(
+            kept,
+            "# Benchmarks\n\nnew header\n\n## a\n\nnew a\n\n## gdal\n\n| old | table |\n\n\
+             ## studio\n\n(not run yet)\n\n## new\n\n(not run yet)\n"
+        );
+        assert_eq!(keep_previous_sections(report, ""), report);
+    }
+
+    #[test]
+    fn times_parse_in_every_unit() {
+        assert_eq!(parse_time("1.50 s"), Some(1.5));
+        assert!((parse_time("57.6 ms").unwrap() - 0.0576).abs() < 1e-12);
+        assert!((parse_time("12.3 µs").unwrap() - 12.3e-6).abs() < 1e-15);
+        assert_eq!(parse_time("not measured"), None);
+        assert_eq!(parse_time("—"), None);
+    }
 }

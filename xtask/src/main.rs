@@ -5,7 +5,9 @@
 //!   packages; `--quick`: short measurements, largest sizes skipped) and writes
 //!   `docs/benchmarks.md`, our medians beside the figures the papers and the issues report.
 //!   `--report-only` rewrites the report from the medians already under `target/criterion` (after
-//!   a filtered `cargo bench`, say) without running anything but the paired TIN measurement.
+//!   a filtered `cargo bench`, say) without running the criterion benches (the paired TIN and
+//!   prominence measurements still run). Rows and sections not measured are carried over from the
+//!   previous report (see `bench.rs`).
 //! - `fuzz [SECONDS] [TARGET]...`: runs the cargo-fuzz targets under `fuzz/` (nightly), each for
 //!   SECONDS (default 600); see `fuzz.rs`.
 //! - `gdal-contours`: measures `relief contours` beside `gdal_contour` and `relief convert` to
