@@ -455,6 +455,16 @@ mod tests {
         .map(|(id, s)| (id.to_string(), s))
         .collect();
         let mut report = render(&measured, &BTreeSet::new(), false);
+        // A group's note and a bench's references come from references.rs, only their own.
+        let note = GROUP_NOTES.iter().find(|(g, _)| *g == "gaussian_terrain").expect("a note").1;
+        assert!(report.contains(note));
+        assert_eq!(GROUP_NOTES.iter().filter(|(_, n)| report.contains(n)).count(), 1);
+        assert!(
+            report
+                .contains("| `gaussian_terrain/rasterize/1024/60k` | 56.5 ms | target (issue #25) | 50.0 ms | 1.13 |")
+        );
+        assert!(!report.contains("| `gaussian_terrain/rasterize/1024/60k` | 56.5 ms | — |"));
+        assert!(!report.contains("Rows marked"));
         report.push_str("\n| scene | before |\n|---|---:|\n| `mountain` | 4.85 s |\n");
         let previous = previous_medians(&report);
         assert_eq!(previous.keys().collect::<Vec<_>>(), measured.keys().collect::<Vec<_>>());
@@ -466,6 +476,7 @@ mod tests {
         assert_eq!(carried.len(), 3);
         assert!(!carried.contains("gaussian_terrain/rasterize/1024/60k"));
         let again = render(&medians, &carried, false);
+        assert!(again.contains(&format!("Rows marked {CARRIED} were not measured")));
         assert!(again.contains("| `gaussian_terrain/rasterize/1024/60k` | 50.1 ms |"));
         for (id, &s) in measured.iter().filter(|(id, _)| carried.contains(*id)) {
             let row = format!("| `{id}`{CARRIED} | {} |", fmt_time(s));
@@ -492,6 +503,16 @@ mod tests {
              ## studio\n\n(not run yet)\n\n## new\n\n(not run yet)\n"
         );
         assert_eq!(keep_previous_sections(report, ""), report);
+    }
+
+    /// A section's notes are its own, each closed by a blank line.
+    #[test]
+    fn section_notes_are_found_by_heading() {
+        let studio = section_notes("studio");
+        let own: Vec<&str> = SECTION_NOTES.iter().filter(|(h, _)| *h == "studio").map(|(_, n)| *n).collect();
+        assert!(!own.is_empty());
+        assert_eq!(studio, own.iter().map(|n| format!("{n}\n\n")).collect::<Vec<_>>().concat());
+        assert_eq!(section_notes("no such section"), "");
     }
 
     #[test]
