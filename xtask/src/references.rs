@@ -185,7 +185,11 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      the stretch's critical path), and a parallel first pass over the points (filter and order check:\n\
      no gain, the 4 MB index vector's first touch dominates). Time per part of `elevations` on this\n\
      CPU: 10–11 ms building the strips (3 ms checking and indexing, 2 ms cutting, 5 ms filling them),\n\
-     53 ms in the bands' kernels (the rasterizer's whole run is 51–55 ms), 2 ms writing the results.",
+     53 ms in the bands' kernels (the rasterizer's whole run is 51–55 ms), 2 ms writing the results.\n\
+     A point alone (a single query, or a band of one point) now sends every candidate support\n\
+     straight to the kernel, whose inside test decides, instead of finding an x range and a stretch\n\
+     per support: 100 000 single queries on this terrain 3.95–4.0 → 2.5 µs each (alternated, three\n\
+     rounds; the 11-27 query took 3.5 µs), the same bits.",
     ),
     (
         "engine_export",

@@ -12,7 +12,8 @@
 //! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX2
 //! through `pulp` where the CPU has it). A point is held relative to the corner of its square
 //! of a coarse lattice, so its arithmetic depends on the point and the support alone, and each
-//! point sums the supports over it in that order: a single query is a batch of one, and a batch
+//! point sums the supports over it in that order: a single query is a batch of one (whose
+//! supports go straight to the kernel's own inside test, with no stretch to find), and a batch
 //! returns exactly the single queries' values, in any order, for any thread count. Detail
 //! layers (f64 falloffs and noise) go by the cells of a finer lattice.
 
@@ -575,7 +576,7 @@ impl TerrainQuery {
         }
         let last = strip.x[n - 1];
         strip.per_x = if last > strip.x0 { (n - 1) as f64 / (last - strip.x0) } else { 0.0 };
-        strip.even = strip.x.iter().enumerate().all(|(k, &x)| strip.rank(x) == k);
+        strip.even = strip.per_x > 0.0 && strip.x.iter().enumerate().all(|(k, &x)| strip.rank(x) == k);
         strip.members = members;
         strip
     }
@@ -924,6 +925,17 @@ impl pulp::WithSimd for BandWork<'_> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         let BandWork { items, candidates, inside, sums } = self;
+        if let ([strip], [sums]) = (inside, &mut *sums)
+            && strip.x.len() == 1
+        {
+            // A point alone (a single query): every candidate straight to the kernel, whose own
+            // inside test is what decides; the x ranges and searches would cost more than it.
+            let corner = strip.runs[0].corner;
+            for &k in candidates {
+                add_stretch(Local::new(&items[k as usize], corner), strip, sums, (0, 1));
+            }
+            return;
+        }
         for &k in candidates {
             let item = &items[k as usize];
             // The support seen from the last corner: consecutive strips mostly share it.
@@ -943,19 +955,30 @@ impl pulp::WithSimd for BandWork<'_> {
                         Some((corner, c)) if corner == run.corner => c,
                         _ => seen.insert((run.corner, Local::new(item, run.corner))).1,
                     };
-                    let exponent = c.half_beta - 1.0;
-                    let lower = move |s: f32| exp2_signed(exponent * log2(s));
-                    let q = (&strip.qx[..], &strip.qy[..], strip.row);
-                    match (sums.gx.is_empty(), c.half_beta == 1.0) {
-                        (false, true) => add_terms(c, q, sums, (i, e), |_| 1.0),
-                        (false, false) => add_terms(c, q, sums, (i, e), lower),
-                        (true, true) => add_values(c, q, &mut sums.h, (i, e), |_| 1.0),
-                        (true, false) => add_values(c, q, &mut sums.h, (i, e), lower),
-                    }
+                    add_stretch(c, strip, sums, (i, e));
                     i = e;
                 }
             }
         }
+    }
+}
+
+/// Adds the Gaussian `c` over the points `i..e` of `strip` (in one anchor square) to `sums`:
+/// with gradients when `sums` has them, the logarithm skipped for β = 2.
+#[allow(
+    clippy::inline_always,
+    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
+fn add_stretch(c: Local, strip: &Strip, sums: &mut Sums, (i, e): (usize, usize)) {
+    let exponent = c.half_beta - 1.0;
+    let lower = move |s: f32| exp2_signed(exponent * log2(s));
+    let q = (&strip.qx[..], &strip.qy[..], strip.row);
+    match (sums.gx.is_empty(), c.half_beta == 1.0) {
+        (false, true) => add_terms(c, q, sums, (i, e), |_| 1.0),
+        (false, false) => add_terms(c, q, sums, (i, e), lower),
+        (true, true) => add_values(c, q, &mut sums.h, (i, e), |_| 1.0),
+        (true, false) => add_values(c, q, &mut sums.h, (i, e), lower),
     }
 }
 
