@@ -76,8 +76,9 @@ pub struct VectorizeOptions {
     /// (lakes, plateaus) weigh more, and when at least 1 % of the DEM lies at its minimum (a sea,
     /// a filled no-data area) the fit is raised to that minimum wherever it falls below, recorded
     /// as the terrain's [`VectorTerrain::floor`], so such ground stays exactly flat instead of
-    /// carrying the ripples of primitives cancelling each other. `false` fits the plain sum, as
-    /// the paper does.
+    /// carrying the ripples of primitives cancelling each other (and, in the last fifth of the
+    /// steps, the flat weight trims what leaks over it from above). `false` fits the plain sum,
+    /// as the paper does.
     pub keep_range: bool,
     /// Seed of the initial placement.
     pub seed: u64,
@@ -366,7 +367,8 @@ struct Fit {
 /// steps with a learning rate decaying to a tenth over the budget, densifying every
 /// `options.densify_every` steps but in the last fifth, until [`stop_reason`] says otherwise.
 /// With `floored`, the approximation is raised to 0 (the DEM's minimum) where it falls below,
-/// and samples so raised pass no gradient back.
+/// and samples so raised pass no gradient back; the floor's flat ground gets the flat weight in
+/// the last fifth only.
 fn fit(
     target: &[f32],
     pixels: &GridSpec,
@@ -381,10 +383,12 @@ fn fit(
     let mut objective = Loss::new(target, wx, wy);
     let mut grad = Vec::new();
     // Flat ground at the floor stays flat through the floor itself.
-    let mut flats = if options.keep_range { flat_samples(target, wx, wy) } else { Vec::new() };
-    if floored {
-        flats.retain(|&k| target[k as usize] > 0.0);
-    }
+    // Flat ground weighs more (`hold_flats`). Ground flat at the floor is held from below by
+    // the floor itself; from above only once densification is over (the last fifth), where the
+    // weight trims what the land's primitives leak over it without reshaping the layout.
+    let flats = if options.keep_range { flat_samples(target, wx, wy) } else { Vec::new() };
+    let above_floor: Vec<u32> =
+        if floored { flats.iter().copied().filter(|&k| target[k as usize] > 0.0).collect() } else { flats.clone() };
     let max_ln_sigma = size.ln();
     let mut iteration = 0;
     loop {
@@ -400,7 +404,8 @@ fn fit(
         }
         if options.keep_range {
             penalize_out_of_range(&approx, &mut grad);
-            hold_flats(&approx, target, &flats, &mut grad);
+            let settling = iteration * 5 >= options.iterations * 4;
+            hold_flats(&approx, target, if settling { &flats } else { &above_floor }, &mut grad);
         }
         let state = Progress {
             iteration,

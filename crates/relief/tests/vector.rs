@@ -92,7 +92,9 @@ fn a_vectorized_coast_keeps_its_sea_flat() {
 /// Luxembourg's SRTM elevations with the no-data beyond its border filled at the lowest
 /// elevation, as a user fills it: a 100 m step all around. The plain fit digs below the DEM's
 /// range along the step (and, with only the floor, a peak overshoots the top by 3 %); the kept
-/// range stays within 0.5 % of the relief.
+/// range stays within 0.5 % of the relief. Over the open flat beyond the border (5 × 5 samples
+/// at the floor), the land's primitives leaked bumps of 1.5–23 % of the relief at this budget
+/// (seeds 0–5) until the last fifth of the fit weighed the floor's flat ground too.
 #[test]
 fn a_filled_border_stays_within_the_dem_range() {
     use relief::gaussian_terrain::{RasterOptions, rasterize};
@@ -100,16 +102,27 @@ fn a_filled_border_stays_within_the_dem_range() {
     let (lo, hi) = dem.min_max().unwrap();
     dem.fill_no_data(lo).unwrap();
     let relief = f64::from(hi - lo);
-    let beyond = |options: &VectorizeOptions| {
+    let (nx, ny) = (dem.nx(), dem.ny());
+    let open_flat: Vec<usize> = (0..nx * ny)
+        .filter(|&k| {
+            let (i, j) = (k % nx, k / nx);
+            (j.saturating_sub(2)..(j + 3).min(ny))
+                .all(|jj| (i.saturating_sub(2)..(i + 3).min(nx)).all(|ii| dem.value(ii, jj) == lo))
+        })
+        .collect();
+    assert!(open_flat.len() > 500, "{} open-flat samples", open_flat.len());
+    let fit = |options: &VectorizeOptions| {
         let fit = vectorize(&dem, options, |_| ControlFlow::Continue(())).unwrap();
         let back = rasterize(&fit.terrain, dem.grid(), &RasterOptions::default()).unwrap();
         let (a, b) = back.min_max().unwrap();
-        (f64::from(lo - a).max(0.0) / relief, f64::from(b - hi).max(0.0) / relief)
+        let bump = open_flat.iter().map(|&k| f64::from(back.samples()[k] - lo).abs()).fold(0.0, f64::max);
+        (f64::from(lo - a).max(0.0) / relief, f64::from(b - hi).max(0.0) / relief, bump / relief)
     };
     let options = VectorizeOptions { primitives: 90, iterations: 200, ..Default::default() };
-    let (below, above) = beyond(&options);
+    let (below, above, bump) = fit(&options);
     assert!(below == 0.0 && above <= 0.005, "beyond the range by {below} below, {above} above");
-    let (below, above) = beyond(&VectorizeOptions { keep_range: false, ..options });
+    assert!(bump <= 0.005, "a bump of {bump} of the relief over the open flat");
+    let (below, above, _) = fit(&VectorizeOptions { keep_range: false, ..options });
     assert!(below > 0.02, "the plain sum only {below} below ({above} above)");
 }
 
