@@ -94,7 +94,8 @@ fn a_vectorized_coast_keeps_its_sea_flat() {
 /// range along the step (and, with only the floor, a peak overshoots the top by 3 %); the kept
 /// range stays within 0.5 % of the relief. Over the open flat beyond the border (5 × 5 samples
 /// at the floor), the land's primitives leaked bumps of 1.5–23 % of the relief at this budget
-/// (seeds 0–5) until the last fifth of the fit weighed the floor's flat ground too.
+/// (seeds 0–5) until the last fifth of the fit weighed the floor's flat ground too; weighed
+/// earlier, it reshapes the land (ℓ₁ 0.080 from the tenth step, 0.0753 in the last fifth).
 #[test]
 fn a_filled_border_stays_within_the_dem_range() {
     use relief::gaussian_terrain::{RasterOptions, rasterize};
@@ -116,13 +117,15 @@ fn a_filled_border_stays_within_the_dem_range() {
         let back = rasterize(&fit.terrain, dem.grid(), &RasterOptions::default()).unwrap();
         let (a, b) = back.min_max().unwrap();
         let bump = open_flat.iter().map(|&k| f64::from(back.samples()[k] - lo).abs()).fold(0.0, f64::max);
-        (f64::from(lo - a).max(0.0) / relief, f64::from(b - hi).max(0.0) / relief, bump / relief)
+        let l1 = fit.report.l1_normalized;
+        (f64::from(lo - a).max(0.0) / relief, f64::from(b - hi).max(0.0) / relief, bump / relief, l1)
     };
     let options = VectorizeOptions { primitives: 90, iterations: 200, ..Default::default() };
-    let (below, above, bump) = fit(&options);
+    let (below, above, bump, l1) = fit(&options);
     assert!(below == 0.0 && above <= 0.005, "beyond the range by {below} below, {above} above");
     assert!(bump <= 0.005, "a bump of {bump} of the relief over the open flat");
-    let (below, above, _) = fit(&VectorizeOptions { keep_range: false, ..options });
+    assert!(l1 < 0.078, "ℓ₁ {l1}");
+    let (below, above, _, _) = fit(&VectorizeOptions { keep_range: false, ..options });
     assert!(below > 0.02, "the plain sum only {below} below ({above} above)");
 }
 
