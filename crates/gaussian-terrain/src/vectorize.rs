@@ -382,7 +382,6 @@ fn fit(
     let mut params = initialise(target, pixels, options);
     let mut objective = Loss::new(target, wx, wy);
     let mut grad = Vec::new();
-    // Flat ground at the floor stays flat through the floor itself.
     // Flat ground weighs more (`hold_flats`). Ground flat at the floor is held from below by
     // the floor itself; from above only once densification is over (the last fifth), where the
     // weight trims what the land's primitives leak over it without reshaping the layout.
