@@ -162,7 +162,7 @@ struct Member {
 }
 
 /// One band's work as a `pulp` operation: dispatched to the widest vector instructions the CPU
-/// has (AVX2 where present), so the loops along rows use them. The bytes are those of the plain
+/// has (AVX-512 or AVX2 where present), so the loops along rows use them. The bytes are those of the plain
 /// build: the loops only run side by side what the plain build runs one by one, Rust never fuses
 /// `a·b + c` on its own, and the explicit `mul_add`s are fused on both builds.
 struct Band<'a> {
@@ -189,27 +189,25 @@ impl pulp::WithSimd for Band<'_> {
             let rows = (m.j0 as usize).max(b * BAND)..=(m.j1 as usize).min(b * BAND + BAND - 1);
             for j in rows {
                 let r = j - b * BAND;
-                add_span(p, grid, j, &mut band[r * nx..(r + 1) * nx]);
+                add_span(p, grid, j, &mut band[r * nx..(r + 1) * nx], S::F32_LANES);
             }
         }
     }
 }
 
-/// Samples evaluated side by side: one AVX2 register of f32.
-const LANES: usize = 8;
-
 /// Adds primitive `p` along grid row `j` over the samples inside its support. The loop runs
-/// over whole vectors of [`LANES`] samples (widened within the row, so short spans need no
-/// scalar remainder); samples outside the span keep their bits exactly.
+/// over whole vectors of `lanes` samples (the dispatched register's f32 count: 16 with AVX-512,
+/// 8 with AVX2; widened within the row, so short spans need no scalar remainder); samples
+/// outside the span keep their bits exactly, so the width changes the speed, never the sums.
 #[allow(
     clippy::inline_always,
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
 )]
 #[inline(always)]
-fn add_span(p: &Prepared, grid: &GridSpec, j: usize, row: &mut [f32]) {
+fn add_span(p: &Prepared, grid: &GridSpec, j: usize, row: &mut [f32], lanes: usize) {
     let Some(Span { i0, i1, x: lx, y: ly, sx, sy }) = p.span(grid, j) else { return };
     let amp = p.amplitude;
-    let width = (i1 - i0 + 1).next_multiple_of(LANES).min(row.len());
+    let width = (i1 - i0 + 1).next_multiple_of(lanes).min(row.len());
     let lo = i0.min(row.len() - width);
     let out = &mut row[lo..lo + width];
     // Local coordinates step from sample i0; a sample k of `out` is i0 + (k − shift).
@@ -238,7 +236,7 @@ fn add_span(p: &Prepared, grid: &GridSpec, j: usize, row: &mut [f32]) {
 mod tests {
     use super::*;
 
-    /// The vector build (AVX2 where the CPU has it) gives the bits of the plain one: the loops
+    /// The vector build (AVX-512 or AVX2 where the CPU has it) gives the bits of the plain one: the loops
     /// only run side by side, and `mul_add` is fused on both.
     #[test]
     fn vector_and_scalar_builds_agree_bit_for_bit() {

@@ -10,8 +10,8 @@
 //! - [`rasterize`] (§6.1): any resolution and window of the plane (a [`GridSpec`]), primitives
 //!   binned by the rows their support covers, bands in parallel, f32 sums in primitive order, so
 //!   the bytes are the same for any thread count. The loops along rows are dispatched through
-//!   `pulp` (a maintained safe SIMD crate: runtime CPU detection without `unsafe` here) to AVX2
-//!   where the CPU has it, with the same bytes as the plain build. Each primitive's support is chosen so its
+//!   `pulp` (a maintained safe SIMD crate: runtime CPU detection without `unsafe` here) to AVX-512
+//!   or AVX2 where the CPU has it, with the same bytes as the plain build. Each primitive's support is chosen so its
 //!   truncated tail is below `tolerance·|a|` (the paper's fixed 3σ leaves a 1.1 % step for
 //!   `β = 2` and far more for small `β`). [`rasterize_exact`] is the untruncated f64 reference.
 //!

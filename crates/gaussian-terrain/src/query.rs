@@ -9,8 +9,8 @@
 //! points), each sorted by x. Bands of strips run in parallel; a band walks the hierarchy once
 //! for its box, and each support, in a fixed order, adds itself to the stretch of each strip its
 //! ellipse covers (a search from where the stretch would start were the points evenly spread),
-//! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX2
-//! through `pulp` where the CPU has it). A point is held relative to the corner of its square
+//! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX-512
+//! or AVX2 through `pulp` where the CPU has it). A point is held relative to the corner of its square
 //! of a coarse lattice, so its arithmetic depends on the point and the support alone, and each
 //! point sums the supports over it in that order: a single query is a batch of one (whose
 //! supports go straight to the kernel's own inside test, with no stretch to find), and a batch
@@ -904,7 +904,7 @@ struct Sums {
 }
 
 /// One band's work as a `pulp` operation: dispatched to the widest vector instructions the CPU
-/// has (AVX2 where present), so the loops along a stretch use them. The vector build gives the
+/// has (AVX-512 or AVX2 where present), so the loops along a stretch use them. The vector build gives the
 /// bits of the plain one (no implicit fusing, explicit `mul_add`s fused on both).
 struct BandWork<'a> {
     items: &'a [Item],
@@ -932,7 +932,7 @@ impl pulp::WithSimd for BandWork<'_> {
             // inside test is what decides; the x ranges and searches would cost more than it.
             let corner = strip.runs[0].corner;
             for &k in candidates {
-                add_stretch(Local::new(&items[k as usize], corner), strip, sums, (0, 1));
+                add_stretch(Local::new(&items[k as usize], corner), strip, sums, (0, 1), S::F32_LANES);
             }
             return;
         }
@@ -955,7 +955,7 @@ impl pulp::WithSimd for BandWork<'_> {
                         Some((corner, c)) if corner == run.corner => c,
                         _ => seen.insert((run.corner, Local::new(item, run.corner))).1,
                     };
-                    add_stretch(c, strip, sums, (i, e));
+                    add_stretch(c, strip, sums, (i, e), S::F32_LANES);
                     i = e;
                 }
             }
@@ -964,21 +964,22 @@ impl pulp::WithSimd for BandWork<'_> {
 }
 
 /// Adds the Gaussian `c` over the points `i..e` of `strip` (in one anchor square) to `sums`:
-/// with gradients when `sums` has them, the logarithm skipped for β = 2.
+/// with gradients when `sums` has them, the logarithm skipped for β = 2, in vectors of `lanes`
+/// points (the dispatched register's f32 count).
 #[allow(
     clippy::inline_always,
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
 )]
 #[inline(always)]
-fn add_stretch(c: Local, strip: &Strip, sums: &mut Sums, (i, e): (usize, usize)) {
+fn add_stretch(c: Local, strip: &Strip, sums: &mut Sums, (i, e): (usize, usize), lanes: usize) {
     let exponent = c.half_beta - 1.0;
     let lower = move |s: f32| exp2_signed(exponent * log2(s));
     let q = (&strip.qx[..], &strip.qy[..], strip.row);
     match (sums.gx.is_empty(), c.half_beta == 1.0) {
-        (false, true) => add_terms(c, q, sums, (i, e), |_| 1.0),
-        (false, false) => add_terms(c, q, sums, (i, e), lower),
-        (true, true) => add_values(c, q, &mut sums.h, (i, e), |_| 1.0),
-        (true, false) => add_values(c, q, &mut sums.h, (i, e), lower),
+        (false, true) => add_terms(c, q, sums, (i, e, lanes), |_| 1.0),
+        (false, false) => add_terms(c, q, sums, (i, e, lanes), lower),
+        (true, true) => add_values(c, q, &mut sums.h, (i, e, lanes), |_| 1.0),
+        (true, false) => add_values(c, q, &mut sums.h, (i, e, lanes), lower),
     }
 }
 
@@ -1016,18 +1017,15 @@ impl Local {
     }
 }
 
-/// Samples evaluated side by side: one AVX2 register of f32.
-const LANES: usize = 8;
-
-/// The whole vectors of [`LANES`] lanes that cover the stretch `a..e` of `n` points (widened
+/// The whole vectors of `lanes` lanes that cover the stretch `a..e` of `n` points (widened
 /// within the band, so short stretches need no scalar remainder), and the stretch within them.
 #[allow(
     clippy::inline_always,
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
 )]
 #[inline(always)]
-fn widen((a, e): (usize, usize), n: usize) -> (std::ops::Range<usize>, i32, i32) {
-    let width = (e - a).next_multiple_of(LANES).min(n);
+fn widen((a, e, lanes): (usize, usize, usize), n: usize) -> (std::ops::Range<usize>, i32, i32) {
+    let width = (e - a).next_multiple_of(lanes).min(n);
     let lo = a.min(n - width);
     (lo..lo + width, (a - lo) as i32, (e - lo) as i32)
 }
@@ -1044,7 +1042,7 @@ fn add_terms(
     c: Local,
     (qx, qy, row): (&[f32], &[f32], Option<f32>),
     sums: &mut Sums,
-    lanes: (usize, usize),
+    lanes: (usize, usize, usize),
     lower: impl Fn(f32) -> f32,
 ) {
     let (range, first, last) = widen(lanes, qx.len());
@@ -1091,7 +1089,7 @@ fn add_values(
     c: Local,
     (qx, qy, row): (&[f32], &[f32], Option<f32>),
     h: &mut [f32],
-    lanes: (usize, usize),
+    lanes: (usize, usize, usize),
     lower: impl Fn(f32) -> f32,
 ) {
     let (range, first, last) = widen(lanes, qx.len());
