@@ -224,7 +224,7 @@ pub(crate) const SECTION_NOTES: &[(&str, &str)] = &[
     (
         "gaussian-terrain, vectorize",
         "The same protocol on a real DEM (`relief vectorize` of Jacksboro resampled to 1024², `--resolution \
-         1024 --primitives 10000`): 48.2 s, 9455 primitives, ℓ₁ 4.30e-3 (65.6 s before the loss kept its \
+         1024 --primitives 10000`): 43.8 s, 9455 primitives, ℓ₁ 4.30e-3 (48.2 s before the kernels used AVX-512; 65.6 s before the loss kept its \
          buffers between steps: glibc's allocator handed them back to the system every step and faulted them \
          in again, a quarter of the CPU time). Table 3 gives 2.24e-3 at 6k and 2.21e-3 at 11k primitives on \
          the paper's own DEM: our ℓ₁ at this budget is 1.4–1.9× the paper's (1.4× on the fBm DEM), in under \
