@@ -162,9 +162,9 @@ struct Member {
 }
 
 /// One band's work as a `pulp` operation: dispatched to the widest vector instructions the CPU
-/// has (AVX-512 or AVX2 where present), so the loops along rows use them. The bytes are those of the plain
-/// build: the loops only run side by side what the plain build runs one by one, Rust never fuses
-/// `a·b + c` on its own, and the explicit `mul_add`s are fused on both builds.
+/// has (AVX-512 or AVX2 where present), so the loops along rows use them. The bytes are those of
+/// the plain build: the loops only run side by side what the plain build runs one by one, Rust
+/// never fuses `a·b + c` on its own, and the explicit `mul_add`s are fused on both builds.
 struct Band<'a> {
     b: usize,
     samples: &'a mut [f32],
@@ -236,8 +236,8 @@ fn add_span(p: &Prepared, grid: &GridSpec, j: usize, row: &mut [f32], lanes: usi
 mod tests {
     use super::*;
 
-    /// The vector build (AVX-512 or AVX2 where the CPU has it) gives the bits of the plain one: the loops
-    /// only run side by side, and `mul_add` is fused on both.
+    /// The vector build (AVX-512 or AVX2 where the CPU has it) gives the bits of the plain one:
+    /// the loops only run side by side, and `mul_add` is fused on both.
     #[test]
     fn vector_and_scalar_builds_agree_bit_for_bit() {
         let primitives: Vec<Gaussian> = (0..300)

@@ -10,10 +10,11 @@
 //! - [`rasterize`] (§6.1): any resolution and window of the plane (a [`GridSpec`]), primitives
 //!   binned by the rows their support covers, bands in parallel, f32 sums in primitive order, so
 //!   the bytes are the same for any thread count. The loops along rows are dispatched through
-//!   `pulp` (a maintained safe SIMD crate: runtime CPU detection without `unsafe` here) to AVX-512
-//!   or AVX2 where the CPU has it, with the same bytes as the plain build. Each primitive's support is chosen so its
-//!   truncated tail is below `tolerance·|a|` (the paper's fixed 3σ leaves a 1.1 % step for
-//!   `β = 2` and far more for small `β`). [`rasterize_exact`] is the untruncated f64 reference.
+//!   `pulp` (a maintained safe SIMD crate: runtime CPU detection without `unsafe` here) to
+//!   AVX-512 or AVX2 where the CPU has it, with the same bytes as the plain build. Each
+//!   primitive's support is chosen so its truncated tail is below `tolerance·|a|` (the paper's
+//!   fixed 3σ leaves a 1.1 % step for `β = 2` and far more for small `β`). [`rasterize_exact`] is
+//!   the untruncated f64 reference.
 //!
 //! - [`TerrainQuery`] ([`VectorTerrain::query`]): elevation, gradient and normal at any point
 //!   with no raster, single or batched, through a bounding volume hierarchy (`obvhs`).

@@ -9,9 +9,9 @@
 //! points), each sorted by x. Bands of strips run in parallel; a band walks the hierarchy once
 //! for its box, and each support, in a fixed order, adds itself to the stretch of each strip its
 //! ellipse covers (a search from where the stretch would start were the points evenly spread),
-//! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX-512
-//! or AVX2 through `pulp` where the CPU has it). A point is held relative to the corner of its square
-//! of a coarse lattice, so its arithmetic depends on the point and the support alone, and each
+//! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX-512 or
+//! AVX2 through `pulp` where the CPU has it). A point is held relative to the corner of its
+//! square of a coarse lattice, so its arithmetic depends on the point and the support alone, and each
 //! point sums the supports over it in that order: a single query is a batch of one (whose
 //! supports go straight to the kernel's own inside test, with no stretch to find), and a batch
 //! returns exactly the single queries' values, in any order, for any thread count. Detail
@@ -904,8 +904,8 @@ struct Sums {
 }
 
 /// One band's work as a `pulp` operation: dispatched to the widest vector instructions the CPU
-/// has (AVX-512 or AVX2 where present), so the loops along a stretch use them. The vector build gives the
-/// bits of the plain one (no implicit fusing, explicit `mul_add`s fused on both).
+/// has (AVX-512 or AVX2 where present), so the loops along a stretch use them. The vector build
+/// gives the bits of the plain one (no implicit fusing, explicit `mul_add`s fused on both).
 struct BandWork<'a> {
     items: &'a [Item],
     /// The Gaussians that may reach the band, ascending.
