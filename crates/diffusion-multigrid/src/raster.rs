@@ -88,10 +88,17 @@ impl ConstraintMaps {
             roughness: vec![0.0; n],
         };
         let pieces = pieces_by_band(grid, &stations, rows);
-        maps.bands(rows).into_par_iter().zip(pieces).enumerate().for_each(|(b, (mut band, pieces))| {
-            let j0 = b * rows;
-            Canvas::paint(grid, j0, (j0 + rows).min(grid.ny()), &stations, &pieces).finish(&mut band);
-        });
+        // One canvas per worker, cleared for each band: fresh ones would cost a page fault per
+        // 4 KiB of the canvas's ~65 bytes a sample, over the whole grid.
+        let new_canvas = || Canvas::new(grid, rows);
+        maps.bands(rows).into_par_iter().zip(pieces).enumerate().for_each_init(
+            new_canvas,
+            |canvas, (b, (mut band, pieces))| {
+                let j0 = b * rows;
+                canvas.paint(j0, (j0 + rows).min(grid.ny()), &stations, &pieces);
+                canvas.finish(&mut band);
+            },
+        );
         fill_holes(&mut maps, observe)?;
         Ok(maps)
     }
@@ -187,27 +194,38 @@ const BANDS: usize = 32;
 const MIN_BAND_ROWS: usize = 16;
 
 impl Canvas {
-    /// Paints `pieces` of the curves' stations (each with whether its curve is anchored by an
-    /// elevation) on rows `j0..j1` of `grid`.
-    fn paint(grid: &GridSpec, j0: usize, j1: usize, stations: &[(Vec<Station>, bool)], pieces: &[Piece]) -> Self {
-        let n = (j1 - j0) * grid.nx();
-        let mut canvas = Canvas {
+    /// An empty canvas for bands of up to `rows` rows of `grid`.
+    fn new(grid: &GridSpec, rows: usize) -> Self {
+        let n = rows * grid.nx();
+        Canvas {
             grid: *grid,
-            j0,
-            j1,
+            j0: 0,
+            j1: 0,
             elev: vec![(0.0, 0); n],
             amp: vec![(0.0, 0); n],
             rough: vec![(0.0, 0); n],
             grad: vec![(0.0, [0.0, 0.0]); n],
             writer: vec![NONE; n],
             hole: vec![false; n],
-        };
-        let min_r = min_radius(grid);
+        }
+    }
+
+    /// Clears the canvas and paints `pieces` of the curves' stations (each with whether its curve
+    /// is anchored by an elevation) on rows `j0..j1` of the grid, at most the rows it was made for.
+    fn paint(&mut self, j0: usize, j1: usize, stations: &[(Vec<Station>, bool)], pieces: &[Piece]) {
+        let n = (j1 - j0) * self.grid.nx();
+        (self.j0, self.j1) = (j0, j1);
+        self.elev[..n].fill((0.0, 0));
+        self.amp[..n].fill((0.0, 0));
+        self.rough[..n].fill((0.0, 0));
+        self.grad[..n].fill((0.0, [0.0, 0.0]));
+        self.writer[..n].fill(NONE);
+        self.hole[..n].fill(false);
+        let min_r = min_radius(&self.grid);
         for p in pieces {
             let (curve, anchored) = &stations[p.id as usize];
-            canvas.segment(p.id, *anchored, curve[p.from as usize], curve[p.to as usize], min_r);
+            self.segment(p.id, *anchored, curve[p.from as usize], curve[p.to as usize], min_r);
         }
-        canvas
     }
 
     /// Paints one segment of a curve: the elevation band, the two slope bands, the noise.
@@ -333,7 +351,7 @@ impl Canvas {
     }
 
     /// Writes the band's rows of the maps: the means of what was painted, and each sample's kind.
-    fn finish(self, band: &mut Band<'_>) {
+    fn finish(&self, band: &mut Band<'_>) {
         let mean = |(s, c): (f64, u32)| if c == 0 { f32::NAN } else { (s / f64::from(c)) as f32 };
         for k in 0..band.kind.len() {
             let elevation = mean(self.elev[k]);
