@@ -46,6 +46,7 @@
 mod curve;
 mod error;
 mod maps;
+mod parameters;
 pub mod presets;
 mod raster;
 mod solver;

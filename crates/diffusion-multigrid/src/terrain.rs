@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 use crate::DiffusionError;
 use crate::curve::FeatureCurve;
 use crate::maps::ConstraintMaps;
+use crate::parameters::noise_parameters;
 use crate::solver::{DiffusionProblem, SolveOptions, SolveReport};
 
 /// Options of [`generate`].
@@ -150,23 +151,11 @@ pub fn generate_observed(
         value: f64::NAN,
         reason: "produced a non-finite elevation",
     })?;
-    let (nx, ny) = (grid.nx(), grid.ny());
+    let nx = grid.nx();
     let mut heightfield = smooth.clone();
-    if let Some(amplitude_problem) = DiffusionProblem::laplace(nx, ny, &maps.amplitude) {
-        // Amplitude and roughness are painted together, so they share their free samples and
-        // one hierarchy (the paper diffuses them in one shader for the same reason).
-        let roughness_problem = amplitude_problem
-            .laplace_like(&maps.roughness)
-            .or_else(|| DiffusionProblem::laplace(nx, ny, &maps.roughness));
-        let amplitude = amplitude_problem
-            .solve_observed(&options.solve, &mut |iteration| observe(Stage::Noise { field: 0, iteration }))?
-            .0;
-        let roughness = match roughness_problem {
-            Some(p) => {
-                p.solve_observed(&options.solve, &mut |iteration| observe(Stage::Noise { field: 1, iteration }))?.0
-            }
-            None => vec![0.5; grid.len()],
-        };
+    let parameters =
+        noise_parameters(&maps, &options.solve, &mut |field, iteration| observe(Stage::Noise { field, iteration }))?;
+    if let Some([amplitude, roughness]) = parameters {
         let size = grid.extent().size();
         let wavelength =
             if options.noise_wavelength > 0.0 { options.noise_wavelength } else { size.x.max(size.y) / 16.0 };
