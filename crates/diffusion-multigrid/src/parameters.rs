@@ -203,4 +203,15 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn only_grids_from_the_threshold_are_halved() {
+        let solve = SolveOptions::default();
+        for (n, halved) in [(HALF_RESOLUTION_FROM - 1, false), (HALF_RESOLUTION_FROM, true)] {
+            let m = maps(n);
+            let [amplitude, _] = noise_parameters(&m, &solve, &mut |_, _| ControlFlow::Continue(())).unwrap().unwrap();
+            let (full, _) = DiffusionProblem::laplace(n, n, &m.amplitude).unwrap().solve(&solve).unwrap();
+            assert_eq!(amplitude != full, halved, "{n}² grid");
+        }
+    }
 }
