@@ -14,9 +14,10 @@
 //!   them empty and fill them by diffusion.
 //! - [`DiffusionProblem`] (§4.2, §5.2): the per-sample relaxation `F = α·F_L + β·F_G + (1−α−β)·F_I`
 //!   as a linear system, solved either by the paper's coarse-to-fine Jacobi pyramid or by a real
-//!   multigrid (full multigrid start, V-cycles, red-black Gauss–Seidel in parallel), both to a
-//!   relative-residual tolerance with a [`SolveReport`]. Its vertex-centred coarse hierarchy has
-//!   an invariant checker, [`DiffusionProblem::check_invariants`], that the tests call.
+//!   multigrid (full multigrid start, then V-cycles, W below the finest level for the elevation;
+//!   red-black Gauss–Seidel in parallel), both to a relative-residual tolerance with a
+//!   [`SolveReport`]. Its vertex-centred coarse hierarchy has an invariant checker,
+//!   [`DiffusionProblem::check_invariants`], that the tests call.
 //!   The row kernel of the sweeps is dispatched at run time to the widest vector instructions
 //!   the CPU has through `pulp` (a maintained safe SIMD crate, so this crate keeps
 //!   `forbid(unsafe_code)`); it has no fused operation, so the bits are the same everywhere.

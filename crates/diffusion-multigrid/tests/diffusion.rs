@@ -137,7 +137,7 @@ fn both_solvers_reach_the_same_solution() {
     assert!(a.converged && b.converged, "{a:?} {b:?}");
     let worst = mg.iter().zip(&jp).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
     assert!(worst < 0.5, "solvers differ by {worst} m");
-    assert!(a.iterations < 20 && b.iterations > 100);
+    assert!(a.iterations < 20 && b.iterations > 100, "{:?}", a.history);
 }
 
 /// The curves of a fixture scene (`fixtures/scenes/NAME.json`) and its square domain's side.
