@@ -129,31 +129,27 @@ impl DiffusionProblem {
             return Err(DiffusionError::NoElevation);
         }
         let (nx, ny) = (maps.grid.nx(), maps.grid.ny());
-        let n = nx * ny;
-        let mut g = vec![[0i16; 2]; n];
-        let mut b = vec![0.0f32; n];
-        g.par_chunks_mut(nx).zip(b.par_chunks_mut(nx)).enumerate().for_each(|(j, (g, b))| {
+        let flat = Flat::filled(nx, ny, |j, g, b| {
             for i in 0..nx {
                 let k = j * nx + i;
                 let border = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
-                match maps.kind[k] {
-                    CellKind::Elevation => {
-                        g[i] = [FIXED, 0];
-                        b[i] = maps.elevation[k];
-                    }
+                (g[i], b[i]) = match maps.kind[k] {
+                    CellKind::Elevation => ([FIXED, 0], maps.elevation[k]),
                     CellKind::Gradient | CellKind::Hole if !border => {
                         // Half gradient along the normal: weights n²/2 per axis, upwind against the
                         // normal (a shorter normal leaves the rest to the Laplacian).
                         let [x, y] = maps.normal[k];
                         let len2 = (x * x + y * y).max(1.0);
-                        g[i] = [quantize(-0.5 * x * x.abs() / len2), quantize(-0.5 * y * y.abs() / len2)];
-                        b[i] = 0.5 * maps.gradient[k];
+                        (
+                            [quantize(-0.5 * x * x.abs() / len2), quantize(-0.5 * y * y.abs() / len2)],
+                            0.5 * maps.gradient[k],
+                        )
                     }
-                    _ => {}
-                }
+                    _ => ([0, 0], 0.0),
+                };
             }
         });
-        Ok(Self { coarse_cycles: ELEVATION_COARSE_CYCLES, ..Self::with_coarse(Level::new(nx, ny, &g, &b)) })
+        Ok(Self { coarse_cycles: ELEVATION_COARSE_CYCLES, ..Self::from_flat(nx, ny, &flat) })
     }
 
     /// Plain Laplace diffusion of `values` (NaN where free): what the noise amplitude and
@@ -163,8 +159,12 @@ impl DiffusionProblem {
         if nx < 2 || ny < 2 || values.len() != nx * ny || values.iter().all(|v| v.is_nan()) {
             return None;
         }
-        let g: Vec<[i16; 2]> = values.par_iter().map(|v| if v.is_nan() { [0, 0] } else { [FIXED, 0] }).collect();
-        Some(Self::with_coarse(Level::new(nx, ny, &g, &laplace_rhs(values))))
+        let flat = Flat::filled(nx, ny, |j, g, b| {
+            for ((g, b), &v) in g.iter_mut().zip(b.iter_mut()).zip(&values[j * nx..(j + 1) * nx]) {
+                (*g, *b) = if v.is_nan() { ([0, 0], 0.0) } else { ([FIXED, 0], v) };
+            }
+        });
+        Some(Self::from_flat(nx, ny, &flat))
     }
 
     /// The Laplace diffusion of other `values` with the same free samples (NaN exactly where
@@ -198,11 +198,22 @@ impl DiffusionProblem {
         Some(Self { levels, coarse_cycles: self.coarse_cycles })
     }
 
-    /// `finest` and its coarse versions, each coarsened from the one above while both its sides
-    /// have at least [`MIN_COARSENED_SIDE`] samples, up to [`MAX_LEVELS`] levels, solved by
-    /// V-cycles.
-    fn with_coarse(finest: Level) -> Self {
-        let mut levels = vec![finest];
+    /// The hierarchy of the level stored row-major in `flat`: its colour-split storage and
+    /// its first coarse version both read from `flat`, so the finest level is never copied back to
+    /// row-major order (at 2048² that copy wrote 32 MB of fresh memory).
+    fn from_flat(nx: usize, ny: usize, flat: &Flat) -> Self {
+        let finest = Level::from_flat(nx, ny, flat);
+        if finest.nx.min(finest.ny) < MIN_COARSENED_SIDE {
+            return Self::with_coarse(vec![finest]);
+        }
+        let coarse = finest.coarsen_on(flat);
+        Self::with_coarse(vec![finest, coarse])
+    }
+
+    /// `levels` (each the coarse version of the one before) and the coarse versions of the last,
+    /// each coarsened from the one above while both its sides have at least
+    /// [`MIN_COARSENED_SIDE`] samples, up to [`MAX_LEVELS`] levels, solved by V-cycles.
+    fn with_coarse(mut levels: Vec<Level>) -> Self {
         while levels.len() < MAX_LEVELS {
             let last = &levels[levels.len() - 1];
             if last.nx.min(last.ny) < MIN_COARSENED_SIDE {
@@ -632,6 +643,14 @@ impl Level {
         Self { nx, ny, w: nx.div_ceil(2), g: split_colours(nx, ny, g, [0, 0]), b: Field::from_full(nx, ny, b) }
     }
 
+    /// The level stored row-major in `flat`.
+    fn from_flat(nx: usize, ny: usize, flat: &Flat) -> Self {
+        let (stride, first) = (flat.stride, flat.stride + 1);
+        let g = split_colours_strided(nx, ny, &flat.g[first..], stride, [0, 0]);
+        let b = split_colours_strided(nx, ny, &flat.b[first..], stride, 0.0);
+        Self { nx, ny, w: nx.div_ceil(2), g, b: Field { nx, ny, w: nx.div_ceil(2), c: b } }
+    }
+
     /// A copy of the weights, with an empty right-hand side to fill.
     fn clone_weights(&self) -> Self {
         Self { nx: self.nx, ny: self.ny, w: self.w, g: self.g.clone(), b: Field::zeros(0, 0) }
@@ -670,8 +689,12 @@ impl Level {
     /// upwind weights (what cancels goes to the Laplacian, so the row still sums to 1) and doubles
     /// the gradient steps of the right-hand side (one coarse step spans two fine ones).
     fn coarsen(&self) -> Self {
+        self.coarsen_on(&self.flat())
+    }
+
+    /// [`Self::coarsen`] with this level's row-major copy `flat` at hand.
+    fn coarsen_on(&self, flat: &Flat) -> Self {
         let (cx, cy) = (self.nx.div_ceil(2), self.ny.div_ceil(2));
-        let flat = self.flat();
         let mut g = vec![[0i16; 2]; cx * cy];
         let mut b = vec![0.0f32; cx * cy];
         // The weights and the right-hand side of `coarse_rhs_on` in one pass over the neighbourhoods.
@@ -1150,13 +1173,18 @@ fn laplace_rhs(values: &[f32]) -> Vec<f32> {
 /// The row-major `nx × ny` values `v` split by colour, `c[(i + j) % 2][j·w + i/2]` with
 /// `w = ⌈nx/2⌉`, the padding slots at `pad`.
 fn split_colours<T: Copy + Send + Sync>(nx: usize, ny: usize, v: &[T], pad: T) -> [Vec<T>; 2] {
+    split_colours_strided(nx, ny, v, nx, pad)
+}
+
+/// [`split_colours`] of rows `stride` apart in `v` (row j at `v[j·stride..j·stride + nx]`).
+fn split_colours_strided<T: Copy + Send + Sync>(nx: usize, ny: usize, v: &[T], stride: usize, pad: T) -> [Vec<T>; 2] {
     let w = nx.div_ceil(2);
     let mut split = [vec![pad; w * ny], vec![pad; w * ny]];
     let [c0, c1] = &mut split;
     let row = |(j, (r0, r1)): (usize, (&mut [T], &mut [T]))| {
         // Row j's colour-0 samples sit at i ≡ j (mod 2), its colour-1 ones at the other parity.
         let (even, odd) = if j & 1 == 0 { (r0, r1) } else { (r1, r0) };
-        let mut pairs = v[j * nx..(j + 1) * nx].chunks_exact(2);
+        let mut pairs = v[j * stride..j * stride + nx].chunks_exact(2);
         for ((pair, e), o) in (&mut pairs).zip(even.iter_mut()).zip(odd.iter_mut()) {
             *e = pair[0];
             *o = pair[1];
@@ -1218,6 +1246,22 @@ impl Flat {
     fn ring(nx: usize, ny: usize) -> Self {
         let stride = nx + 2;
         Self { stride, g: vec![OFF_GRID; stride * (ny + 2)], b: vec![0.0; stride * (ny + 2)] }
+    }
+
+    /// An `nx × ny` grid's ring with its inside filled row by row: `row(j, g, b)` sets all `nx`
+    /// weights and right-hand sides of row `j` (rows in parallel on large grids).
+    fn filled(nx: usize, ny: usize, row: impl Fn(usize, &mut [[i16; 2]], &mut [f32]) + Sync) -> Self {
+        let mut flat = Self::ring(nx, ny);
+        let stride = flat.stride;
+        let inner = stride..stride * (ny + 1);
+        let fill = |(j, (g, b)): (usize, (&mut [[i16; 2]], &mut [f32]))| row(j, &mut g[1..=nx], &mut b[1..=nx]);
+        let (g, b) = (&mut flat.g[inner.clone()], &mut flat.b[inner]);
+        if nx * ny >= PARALLEL_MIN {
+            g.par_chunks_mut(stride).zip(b.par_chunks_mut(stride)).enumerate().for_each(fill);
+        } else {
+            g.chunks_mut(stride).zip(b.chunks_mut(stride)).enumerate().for_each(fill);
+        }
+        flat
     }
 
     /// The total weight (4 for `(i, j)`, 1 for each of its four neighbours on the grid) and the
@@ -1416,7 +1460,7 @@ mod tests {
 
     /// [`level`] with its coarse versions.
     fn problem(nx: usize, ny: usize) -> DiffusionProblem {
-        DiffusionProblem::with_coarse(level(nx, ny))
+        DiffusionProblem::with_coarse(vec![level(nx, ny)])
     }
 
     /// Sets the stored weights of sample `(i, j)`.
@@ -1525,7 +1569,7 @@ mod tests {
         q.levels.truncate(2);
         check(&q, Some((1, None, "not coarsened further")));
         let free = Level::new(8, 8, &[[0, 0]; 64], &[0.0; 64]);
-        check(&DiffusionProblem::with_coarse(free), Some((0, None, "no fixed sample")));
+        check(&DiffusionProblem::with_coarse(vec![free]), Some((0, None, "no fixed sample")));
     }
 
     proptest::proptest! {
@@ -1560,7 +1604,7 @@ mod tests {
             }
             let one = (next() % n as u64) as usize;
             g[one] = [FIXED, 0];
-            let p = DiffusionProblem::with_coarse(Level::new(nx, ny, &g, &b));
+            let p = DiffusionProblem::with_coarse(vec![Level::new(nx, ny, &g, &b)]);
             proptest::prop_assert_eq!(p.check_invariants(), Ok(()));
         }
     }
