@@ -135,6 +135,8 @@ impl DiffusionProblem {
                 let border = i == 0 || j == 0 || i + 1 == nx || j + 1 == ny;
                 (g[i], b[i]) = match maps.kind[k] {
                     CellKind::Elevation => ([FIXED, 0], maps.elevation[k]),
+                    // On the grid's edge an upwind neighbour may be off the grid, where the
+                    // reflecting border would read it from inside: edge samples stay Laplace.
                     CellKind::Gradient | CellKind::Hole if !border => {
                         // Half gradient along the normal: weights n²/2 per axis, upwind against the
                         // normal (a shorter normal leaves the rest to the Laplacian).

@@ -290,3 +290,17 @@ fn amplitude_scales_the_detail_and_roughness_roughens_it() {
     let rough = fine_share(&detail(40.0, 0.9).0);
     assert!(rough > 1.5 * smooth, "roughness 0.9 keeps {rough:.4} of fine detail, 0.1 keeps {smooth:.4}");
 }
+
+#[test]
+fn a_slope_band_ends_at_the_grid_edge() {
+    // A ridge 50 m from the west edge: its west slope band (30° over 200 m) runs off the grid.
+    let ridge = curve(&[[50.0, -50.0], [50.0, 1050.0]], 500.0, 0.0, Some(slope(200.0, 200.0, 30.0, 30.0)));
+    let t = generate(&[ridge], &grid(), &TerrainOptions::default()).unwrap();
+    let h = |i: usize| f64::from(t.smooth.get(i, 50).unwrap());
+    let (edge, inside) = (h(1) - h(0), h(2) - h(1));
+    // The edge samples obey Laplace, mirrored by the reflecting border: level with their inner
+    // neighbours (0.02 m) while the band still falls 3.9 m a step just inside. As gradient rows
+    // they would read their upwind neighbour from inside the grid and keep falling (3.0 m).
+    assert!(inside > 3.0, "the band falls {inside:.2} m a step inside the grid");
+    assert!(edge.abs() < 0.1 * inside, "the edge falls {edge:.2} m, {inside:.2} m just inside");
+}
