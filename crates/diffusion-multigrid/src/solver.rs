@@ -381,12 +381,18 @@ impl DiffusionProblem {
             return None;
         }
         let mut cycles = 0;
+        let mut step = None;
         while history[history.len() - 1] >= options.tolerance && cycles < max {
             let before = x.clone();
             self.vcycle(0, &mut x, &finest.b);
             cycles += 1;
             let rel = norm_after_sweep(&finest.residual_after_sweep(&x, &finest.b)) / r0;
             if rel > STALL * history[history.len() - 1] {
+                // The cycle moved x by one application of itself as a preconditioner to the
+                // residual at `before`: BiCGStab's first search direction, which it need not
+                // compute again.
+                x.update(&before, &before, |after, before, _| after - before);
+                step = Some(x);
                 x = before;
                 cycles -= 1;
                 break;
@@ -399,7 +405,7 @@ impl DiffusionProblem {
         let mut iterations = cycles;
         if history[history.len() - 1] >= options.tolerance && cycles < max {
             let (krylov, more, its) =
-                self.bicgstab(x, r0, options.tolerance, max - cycles, &mut |k| observe(cycles + k))?;
+                self.bicgstab(x, step, r0, options.tolerance, max - cycles, &mut |k| observe(cycles + k))?;
             x = krylov;
             history.extend_from_slice(&more[1..]);
             iterations += its;
@@ -424,34 +430,37 @@ impl DiffusionProblem {
     /// `BiCGStab` (van der Vorst 1992), right-preconditioned by one V-cycle per application. The
     /// system is not symmetric (the gradient rows are upwind), and a V-cycle alone can stall on
     /// gradient-dominated constraint sets; wrapped in `BiCGStab` it converges robustly. Krylov
-    /// vectors vanish on fixed samples, which therefore keep their values. Returns the solution,
-    /// the relative residual after the start and after each iteration, and the iteration count.
+    /// vectors vanish on fixed samples, which therefore keep their values. `step`, when known, is
+    /// the preconditioner applied to the residual at `x` (the first search direction). Returns the
+    /// solution, the relative residual after the start and after each iteration, and the
+    /// iteration count.
     fn bicgstab(
         &self,
         mut x: Field,
+        step: Option<Field>,
         r0: f64,
         tol: f64,
         max: usize,
         observe: &mut dyn FnMut(usize) -> ControlFlow<()>,
     ) -> Option<(Field, Vec<f64>, usize)> {
         let l = &self.levels[0];
-        let zero = Field::zeros(l.nx, l.ny);
         // A·v = v − S·v on free samples and v on fixed ones: minus the residual of v for rhs 0.
-        let apply = |v: &Field, out: &mut Field| l.residual_into(v, &zero, true, out);
-        // Every vector of the iteration lives in storage allocated once: fresh grids cost a page
-        // fault per 4 KiB on first touch, more than the arithmetic of the vector updates.
+        let apply = |v: &Field, out: &mut Field| l.residual_into(v, None, true, out);
         let mut r = Field::zeros(l.nx, l.ny);
-        l.residual_into(&x, &l.b, false, &mut r);
+        l.residual_into(&x, Some(&l.b), false, &mut r);
         let mut history = vec![norm(&r) / r0];
         if history[0] < tol {
             return Some((x, history, 0));
         }
+        // Every vector lives in storage allocated once, and as few as the iteration needs (the
+        // residual doubles as s; p is r̂ until the second iteration): fresh grids cost a page fault
+        // per 4 KiB on first touch, more than the arithmetic of the vector updates.
         let hat = r.clone();
         let (mut rho, mut alpha, mut omega) = (1.0f64, 1.0f64, 1.0f64);
-        let mut v = Field::zeros(l.nx, l.ny);
-        let mut p = Field::zeros(l.nx, l.ny);
-        let (mut y, mut z) = (Field::zeros(l.nx, l.ny), Field::zeros(l.nx, l.ny));
-        let (mut s, mut t) = (Field::zeros(l.nx, l.ny), Field::zeros(l.nx, l.ny));
+        let mut p: Option<Field> = None;
+        let mut known = step.is_some();
+        let mut y = step.unwrap_or_else(|| Field::zeros(l.nx, l.ny));
+        let (mut v, mut z, mut t) = (Field::zeros(l.nx, l.ny), Field::zeros(l.nx, l.ny), Field::zeros(l.nx, l.ny));
         let mut iterations = 0;
         while iterations < max {
             iterations += 1;
@@ -461,35 +470,40 @@ impl DiffusionProblem {
             }
             let beta = ((rho_new / rho) * (alpha / omega)) as f32;
             rho = rho_new;
-            // p = r + β·(p − ω·v)
-            let om = omega as f32;
-            p.map2(&v, |p, v| p - om * v);
-            p.map2(&r, |p, r| r + beta * p);
-            self.precondition_into(&p, &mut y);
+            if iterations > 1 {
+                // p = r + β·(p − ω·v)
+                let om = omega as f32;
+                let p = p.get_or_insert_with(|| hat.clone());
+                p.update(&v, &r, |p, v, r| r + beta * (p - om * v));
+            }
+            // The first direction is the residual at the start: r̂, preconditioned already when
+            // the caller's cycle stalled.
+            if !std::mem::take(&mut known) {
+                self.precondition_into(p.as_ref().unwrap_or(&hat), &mut y);
+            }
             apply(&y, &mut v);
             let hv = dot(&hat, &v);
             if hv == 0.0 {
                 break;
             }
             alpha = rho / hv;
-            s.copy_from(&r);
             let a = alpha as f32;
-            s.map2(&v, |s, v| s - a * v);
-            if norm(&s) / r0 < tol {
-                x.map2(&y, |x, y| x + a * y);
-                l.residual_into(&x, &l.b, false, &mut r);
+            // s = r − α·v, in r's storage.
+            let ss = r.update(&v, &v, |r, v, _| r - a * v);
+            if ss.sqrt() / r0 < tol {
+                x.update(&y, &y, |x, y, _| x + a * y);
+                l.residual_into(&x, Some(&l.b), false, &mut r);
                 history.push(norm(&r) / r0);
                 break;
             }
-            self.precondition_into(&s, &mut z);
+            self.precondition_into(&r, &mut z);
             apply(&z, &mut t);
-            let tt = dot(&t, &t);
-            omega = if tt > 0.0 { dot(&t, &s) / tt } else { 0.0 };
+            let (tt, ts) = dots(&t, &r);
+            omega = if tt > 0.0 { ts / tt } else { 0.0 };
             let om = omega as f32;
-            x.map2(&y, |x, y| x + a * y);
-            x.map2(&z, |x, z| x + om * z);
+            x.update(&y, &z, |x, y, z| x + a * y + om * z);
             // The true residual, not the recurrence: f32 recurrences drift.
-            l.residual_into(&x, &l.b, false, &mut r);
+            l.residual_into(&x, Some(&l.b), false, &mut r);
             history.push(norm(&r) / r0);
             if history[history.len() - 1] < tol {
                 break;
@@ -867,15 +881,18 @@ impl Level {
     /// The residual of colour `c`: update value minus current value (0 on fixed samples).
     fn residual_colour(&self, c: usize, x: &Field, rhs: &Field) -> Vec<f32> {
         let mut out = vec![0.0f32; x.c[c].len()];
-        self.residual_colour_into(c, x, rhs, false, &mut out);
+        self.residual_colour_into(c, x, Some(rhs), false, &mut out);
         out
     }
 
-    /// [`Self::residual_colour`] into `out`, negated with `negate` (exactly: a sign flip).
-    fn residual_colour_into(&self, c: usize, x: &Field, rhs: &Field, negate: bool, out: &mut [f32]) {
+    /// [`Self::residual_colour`] into `out` (for a zero right-hand side when `rhs` is `None`),
+    /// negated with `negate` (exactly: a sign flip).
+    fn residual_colour_into(&self, c: usize, x: &Field, rhs: Option<&Field>, negate: bool, out: &mut [f32]) {
         let w = self.w;
+        let zeros = vec![0.0; if rhs.is_some() { 0 } else { w }];
         let row = |(j, row): (usize, &mut [f32])| {
-            let (r, xs) = (&rhs.c[c][j * w..(j + 1) * w], &x.c[c][j * w..(j + 1) * w]);
+            let r = rhs.map_or(&zeros[..], |rhs| &rhs.c[c][j * w..(j + 1) * w]);
+            let xs = &x.c[c][j * w..(j + 1) * w];
             self.stencil_row(c, j, &x.c[1 - c], r, row);
             for (o, &v) in row.iter_mut().zip(xs) {
                 *o -= v;
@@ -899,7 +916,7 @@ impl Level {
     }
 
     /// [`Self::residual`] (negated with `negate`) into `out`, a field of this level's size.
-    fn residual_into(&self, x: &Field, rhs: &Field, negate: bool, out: &mut Field) {
+    fn residual_into(&self, x: &Field, rhs: Option<&Field>, negate: bool, out: &mut Field) {
         for (c, out) in out.c.iter_mut().enumerate() {
             self.residual_colour_into(c, x, rhs, negate, out);
         }
@@ -1162,6 +1179,28 @@ fn norm(a: &Field) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// (⟨t, t⟩, ⟨t, s⟩) in one pass, each summed as [`dot`] sums.
+fn dots(t: &Field, s: &Field) -> (f64, f64) {
+    let chunk = |(t, s): (&[f32], &[f32])| -> (f64, f64) {
+        t.iter().zip(s).fold((0.0, 0.0), |(tt, ts), (&t, &s)| {
+            let t = f64::from(t);
+            (tt + t * t, ts + t * f64::from(s))
+        })
+    };
+    let mut sums = (0.0, 0.0);
+    for c in 0..2 {
+        let (t, s) = (&t.c[c], &s.c[c]);
+        let parts: Vec<(f64, f64)> = if 2 * t.len() >= PARALLEL_MIN {
+            t.par_chunks(CHUNK).zip(s.par_chunks(CHUNK)).map(chunk).collect()
+        } else {
+            t.chunks(CHUNK).zip(s.chunks(CHUNK)).map(chunk).collect()
+        };
+        let (tt, ts) = parts.iter().fold((0.0, 0.0), |(a, b), &(c, d)| (a + c, b + d));
+        sums = (sums.0 + tt, sums.1 + ts);
+    }
+    sums
+}
+
 /// ‖r0‖₂ of a colour-0 residual (the whole residual right after a sweep).
 fn norm_after_sweep(r0: &[f32]) -> f64 {
     dot_slices(r0, r0).sqrt()
@@ -1324,32 +1363,33 @@ impl Field {
         self.c.iter_mut().for_each(|c| c.fill(v));
     }
 
-    /// `self = other`, in `self`'s storage (the same size).
-    fn copy_from(&mut self, other: &Field) {
-        for (a, b) in self.c.iter_mut().zip(&other.c) {
-            a.copy_from_slice(b);
+    /// `self = f(self, a, b)` sample by sample; returns Σ of the new values squared, summed chunk
+    /// by chunk in order (the same for any thread count).
+    fn update(&mut self, a: &Field, b: &Field, f: impl Fn(f32, f32, f32) -> f32 + Sync) -> f64 {
+        let parallel = self.nx * self.ny >= PARALLEL_MIN;
+        let mut sum = 0.0;
+        for c in 0..2 {
+            let chunk = |((x, a), b): ((&mut [f32], &[f32]), &[f32])| -> f64 {
+                let mut squares = 0.0;
+                for ((x, &a), &b) in x.iter_mut().zip(a).zip(b) {
+                    *x = f(*x, a, b);
+                    squares += f64::from(*x) * f64::from(*x);
+                }
+                squares
+            };
+            let (x, a, b) = (&mut self.c[c], &a.c[c], &b.c[c]);
+            let parts: Vec<f64> = if parallel {
+                x.par_chunks_mut(CHUNK).zip(a.par_chunks(CHUNK)).zip(b.par_chunks(CHUNK)).map(chunk).collect()
+            } else {
+                x.chunks_mut(CHUNK).zip(a.chunks(CHUNK)).zip(b.chunks(CHUNK)).map(chunk).collect()
+            };
+            sum += parts.iter().sum::<f64>();
         }
+        sum
     }
 
     fn from_full(nx: usize, ny: usize, v: &[f32]) -> Self {
         Self { nx, ny, w: nx.div_ceil(2), c: split_colours(nx, ny, v, 0.0) }
-    }
-
-    /// `self = f(self, other)` sample by sample.
-    fn map2(&mut self, other: &Field, f: impl Fn(f32, f32) -> f32 + Sync) {
-        let parallel = self.nx * self.ny >= PARALLEL_MIN;
-        for (a, b) in self.c.iter_mut().zip(&other.c) {
-            let chunk = |(a, b): (&mut [f32], &[f32])| {
-                for (x, &y) in a.iter_mut().zip(b) {
-                    *x = f(*x, y);
-                }
-            };
-            if parallel {
-                a.par_chunks_mut(CHUNK).zip(b.par_chunks(CHUNK)).for_each(chunk);
-            } else {
-                a.chunks_mut(CHUNK).zip(b.chunks(CHUNK)).for_each(chunk);
-            }
-        }
     }
 
     #[inline]
@@ -1837,5 +1877,50 @@ mod tests {
         // both in 2 iterations.
         let ((w_error, _), (v_error, _)) = (error(&w), error(&v));
         assert!(w_error < 0.3 * v_error, "W {w_error} m against V {v_error} m");
+    }
+
+    #[test]
+    fn a_stalled_cycle_is_bicgstabs_first_direction() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/scenes/mountain-ridges.json");
+        let scene: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let curves: Vec<crate::FeatureCurve> =
+            serde_json::from_value(scene["generator"]["diffusion"]["curves"].clone()).unwrap();
+        let side = scene["domain"]["max"][0].as_f64().unwrap();
+        let n = 65;
+        let grid =
+            relief_heightfield::GridSpec::new(n, n, glam::DVec2::ZERO, glam::DVec2::splat(side / (n - 1) as f64))
+                .unwrap();
+        let p = DiffusionProblem::elevation(&ConstraintMaps::rasterize(&curves, &grid).unwrap()).unwrap();
+        let finest = &p.levels[0];
+        let start = finest.start();
+        let mut cycled = start.clone();
+        p.vcycle(0, &mut cycled, &finest.b);
+        let mut step = cycled.clone();
+        step.update(&start, &start, |after, before, _| after - before);
+        let r0 = p.reference_norm();
+        let run = |step: Option<Field>, iterations: usize| {
+            let mut go = |_| ControlFlow::Continue(());
+            let (x, history, _) = p.bicgstab(start.clone(), step, r0, 1e-12, iterations, &mut go).unwrap();
+            (x.to_full(), history)
+        };
+        // Told the cycle's step, BiCGStab takes the same path as when it preconditions the start's
+        // residual itself (to rounding), one cycle cheaper.
+        for iterations in [1, 3] {
+            let ((told, told_history), (fresh, fresh_history)) =
+                (run(Some(step.clone()), iterations), run(None, iterations));
+            let last = |h: &[f64]| h[h.len() - 1];
+            assert!(told_history.len() == iterations + 1 && fresh_history.len() == iterations + 1);
+            assert!(last(&told_history) < 0.5 * told_history[0], "{told_history:?}");
+            let gap = (last(&told_history) / last(&fresh_history) - 1.0).abs();
+            assert!(gap < 1e-2, "{told_history:?} against {fresh_history:?}");
+            let worst = told.iter().zip(&fresh).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+            assert!(worst < 1e-2, "{worst} m apart");
+        }
+        // Any other first direction takes another path.
+        let mut wrong = cycled.clone();
+        wrong.update(&start, &start, |after, before, _| after + before);
+        let (_, wrong_history) = run(Some(wrong), 1);
+        let (_, fresh_history) = run(None, 1);
+        assert!((wrong_history[1] / fresh_history[1] - 1.0).abs() > 0.1, "{wrong_history:?}");
     }
 }
