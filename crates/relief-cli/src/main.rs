@@ -10,11 +10,12 @@
 //! and prints its error; [`cli`] holds the clap types and value parsers; [`commands`] one module
 //! per command family (`scenes`: demo, generate, diffuse, schema; `dem`: contours, convert, info,
 //! preview; `analyze`; `vector`: vectorize, rasterize); [`ui`] the spinners, timings and budgeted
-//! reads every command shares.
-#![forbid(unsafe_code)]
+//! reads every command shares; [`memory`] the allocator's set-up.
+#![deny(unsafe_code)]
 
 mod cli;
 mod commands;
+mod memory;
 mod ui;
 mod writes;
 
@@ -28,6 +29,7 @@ use crate::commands::{analyze, dem, prominence, scenes, serve, shell, vector};
 use crate::ui::{Ui, Verbosity};
 
 fn main() -> ExitCode {
+    memory::keep_freed_memory();
     // Usage errors exit here, with clap's code 2.
     let cli = Cli::from_env();
     match run(&cli) {
