@@ -608,8 +608,22 @@ const QUANTUM: f32 = 1.0 / 65536.0;
 /// The first stored weight of a fixed sample.
 const FIXED: i16 = i16::MIN;
 
+/// `w` in [`QUANTUM`]s, rounded half away from zero and clamped to ±32767 (NaN: 0): what
+/// `(w / QUANTUM).round().clamp(-32767.0, 32767.0) as i16` gives, without the call into libm that
+/// x86-64's baseline makes of `round` (a fortieth of a 2048² generation).
 fn quantize(w: f32) -> i16 {
-    (w / QUANTUM).round().clamp(-32767.0, 32767.0) as i16
+    let v = (w / QUANTUM).clamp(-32767.0, 32767.0);
+    // Within ±2¹⁵ the truncation and the fraction are exact.
+    let t = v as i32;
+    let fraction = v - t as f32;
+    let rounded = if fraction >= 0.5 {
+        t + 1
+    } else if fraction <= -0.5 {
+        t - 1
+    } else {
+        t
+    };
+    rounded as i16
 }
 
 /// One row of a sweep, residual or Jacobi step as a `pulp` operation (see [`Level::stencil_row`]).
@@ -1877,6 +1891,24 @@ mod tests {
         // both in 2 iterations.
         let ((w_error, _), (v_error, _)) = (error(&w), error(&v));
         assert!(w_error < 0.3 * v_error, "W {w_error} m against V {v_error} m");
+    }
+
+    #[test]
+    fn quantize_rounds_as_std_round_does() {
+        let plain = |w: f32| (w / QUANTUM).round().clamp(-32767.0, 32767.0) as i16;
+        let edges = [0.0, -0.0, 0.5, -0.5, 1.0, f32::MAX, f32::MIN, f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
+        let halves = (-40_000..40_000).map(|k| (k as f32 + 0.5) * QUANTUM);
+        let near = (-40_000..40_000).flat_map(|k| {
+            let q = k as f32 * QUANTUM;
+            [q, f32::from_bits(q.to_bits() + 1), f32::from_bits(q.to_bits().saturating_sub(1))]
+        });
+        for w in edges.into_iter().chain(halves).chain(near) {
+            assert_eq!(quantize(w), plain(w), "{w:e}");
+        }
+        for k in 0..200_000u32 {
+            let w = f32::from_bits(k.wrapping_mul(0x9e37_79b9));
+            assert_eq!(quantize(w), plain(w), "{w:e}");
+        }
     }
 
     #[test]

@@ -26,6 +26,21 @@ fn gradient(i: i64, j: i64, seed: u64) -> DVec2 {
     DVec2::new(angle.cos(), angle.sin())
 }
 
+/// `x.floor()`, bit for bit (signed zeros and NaN included), without the call into libm that
+/// x86-64's baseline instruction set (no SSE4.1 rounding) makes of `f64::floor`: a tenth of the
+/// noise's time went there.
+#[inline]
+fn floor(x: f64) -> f64 {
+    // 2⁵²: every f64 of this size or more is an integer; NaN is its own floor too.
+    const ALL_INTEGERS: f64 = 4_503_599_627_370_496.0;
+    if x.abs() >= ALL_INTEGERS || x.is_nan() {
+        return x;
+    }
+    let t = x as i64 as f64;
+    // Truncation rounds negative fractions up; zero keeps the argument's sign.
+    if t > x { t - 1.0 } else { t.copysign(x) }
+}
+
 #[inline]
 fn fade(t: f64) -> f64 {
     t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
@@ -40,7 +55,7 @@ pub fn gradient_noise(p: DVec2, seed: u64) -> f64 {
 /// Gradient noise at `p` with the lattice gradients from `gradient(i, j)`.
 #[inline]
 fn noise_with(p: DVec2, gradient: impl Fn(i64, i64) -> DVec2) -> f64 {
-    let cell = p.floor();
+    let cell = DVec2::new(floor(p.x), floor(p.y));
     let (i, j) = (cell.x as i64, cell.y as i64);
     let f = p - cell;
     let corners = [gradient(i, j), gradient(i + 1, j), gradient(i, j + 1), gradient(i + 1, j + 1)];
@@ -126,7 +141,7 @@ impl NoiseLattice {
     /// }
     /// ```
     pub fn row(&self, y: f64) -> NoiseRow<'_> {
-        let cell = y.floor();
+        let cell = floor(y);
         let (j, fy) = (cell as i64, y - cell);
         let b = j.wrapping_sub(self.j0);
         // Where both lattice rows of the line are stored, the offset of the first.
@@ -163,7 +178,7 @@ impl NoiseRow<'_> {
     /// The lattice's noise at `(x, y)`, `y` the line's ordinate.
     #[inline]
     pub fn sample(&self, x: f64) -> f64 {
-        let cell = x.floor();
+        let cell = floor(x);
         let i = cell as i64;
         let f = DVec2::new(x - cell, self.fy);
         let (lattice, j) = (self.lattice, self.j);
@@ -277,6 +292,47 @@ mod tests {
         assert!(NoiseLattice::new(DVec2::ZERO, DVec2::splat(1e4), 1).is_none(), "10⁸ points");
         let one = NoiseLattice::new(DVec2::splat(0.5), DVec2::splat(0.5), 1).unwrap();
         assert_eq!(one.gradients.len(), 4, "one cell: its four corners");
+    }
+
+    #[test]
+    fn floor_is_std_floor_bit_for_bit() {
+        let edges = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            1.5,
+            -1.5,
+            2.0 - f64::EPSILON,
+            -(2.0 - f64::EPSILON),
+            1e-300,
+            -1e-300,
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            9.3e18,
+            -9.3e18,
+            1e300,
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        let mut state = 7u64;
+        let random = std::iter::repeat_with(|| {
+            state = mix(state);
+            f64::from_bits(state)
+        });
+        for x in edges.into_iter().chain(random.take(100_000)) {
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x:e}");
+        }
+        for k in -5000..5000 {
+            let x = f64::from(k) * 0.013;
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x:e}");
+        }
     }
 
     #[test]
