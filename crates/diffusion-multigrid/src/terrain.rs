@@ -161,17 +161,20 @@ pub fn generate_observed(
             if options.noise_wavelength > 0.0 { options.noise_wavelength } else { size.x.max(size.y) / 16.0 };
         let detail = Detail::new(wavelength, options.noise_octaves, options.seed, grid);
         let samples = heightfield.samples_mut();
-        samples.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-            let line = detail.row(grid.position(0, j).y);
-            for (i, h) in row.iter_mut().enumerate() {
-                let k = j * nx + i;
-                let a = f64::from(amplitude[k].max(0.0));
-                if a > 0.0 {
-                    let r = f64::from(roughness[k].clamp(0.0, 1.0));
-                    *h += (a * line.sample(grid.position(i, j).x, r)) as f32;
+        samples.par_chunks_mut(nx).enumerate().for_each_init(
+            || RowNoise::new(nx),
+            |scratch, (j, row)| {
+                let line = detail.row(grid.position(0, j).y);
+                let k = j * nx..(j + 1) * nx;
+                let noise = line.samples(|i| grid.position(i, j).x, &roughness[k.clone()], scratch);
+                for ((h, &a), &n) in row.iter_mut().zip(&amplitude[k]).zip(noise) {
+                    let a = f64::from(a.max(0.0));
+                    if a > 0.0 {
+                        *h += (a * n) as f32;
+                    }
                 }
-            }
-        });
+            },
+        );
     }
     Ok(FeatureTerrain { heightfield, smooth, report, maps })
 }
@@ -245,22 +248,55 @@ struct DetailRow<'a> {
 }
 
 impl DetailRow<'_> {
-    /// Σₖ 2^(−k(1−R))·S(2ᵏ p / wavelength) at abscissa `x` (world units), without the amplitude.
-    fn sample(&self, x: f64, roughness: f64) -> f64 {
-        let qx = x / self.wavelength;
-        // 2^(−k(1−R)) as powers of one factor: one `powf` per sample rather than per octave.
-        let step = 2f64.powf(-(1.0 - roughness));
-        let mut weight = 1.0;
-        let mut sum = 0.0;
-        for (k, octave) in (0..).zip(&self.octaves) {
-            let x = qx * Detail::frequency(k);
-            let s = match octave {
-                Octave::Stored(row) => row.sample(x),
-                Octave::Hashed { y, seed } => gradient_noise(DVec2::new(x, *y), *seed),
-            };
-            sum += weight * s;
-            weight *= step;
+    /// Σₖ 2^(−k(1−R))·S(2ᵏ p / wavelength) without the amplitude, at abscissae `x(i)` (world
+    /// units) with roughness `roughness[i]` clamped to [0, 1], for every `i` of `roughness`;
+    /// octave by octave, in `scratch`'s storage.
+    fn samples<'s>(&self, x: impl Fn(usize) -> f64, roughness: &[f32], scratch: &'s mut RowNoise) -> &'s [f64] {
+        let n = roughness.len();
+        let RowNoise { qx, step, weight, sum, xs, noise } = scratch;
+        for (i, &r) in roughness.iter().enumerate() {
+            qx[i] = x(i) / self.wavelength;
+            // 2^(−k(1−R)) as powers of one factor: one `powf` per sample rather than per octave.
+            step[i] = 2f64.powf(-(1.0 - f64::from(r.clamp(0.0, 1.0))));
         }
-        sum
+        weight[..n].fill(1.0);
+        sum[..n].fill(0.0);
+        for (k, octave) in (0..).zip(&self.octaves) {
+            let f = Detail::frequency(k);
+            for (x, &q) in xs[..n].iter_mut().zip(&qx[..n]) {
+                *x = q * f;
+            }
+            match octave {
+                Octave::Stored(row) => row.samples(&xs[..n], &mut noise[..n]),
+                Octave::Hashed { y, seed } => {
+                    for (s, &x) in noise[..n].iter_mut().zip(&xs[..n]) {
+                        *s = gradient_noise(DVec2::new(x, *y), *seed);
+                    }
+                }
+            }
+            for ((sum, weight), (&s, &step)) in sum[..n].iter_mut().zip(&mut weight[..n]).zip(noise.iter().zip(&*step))
+            {
+                *sum += *weight * s;
+                *weight *= step;
+            }
+        }
+        &sum[..n]
+    }
+}
+
+/// The per-sample storage [`DetailRow::samples`] works in, for rows of up to `len` samples.
+struct RowNoise {
+    qx: Vec<f64>,
+    step: Vec<f64>,
+    weight: Vec<f64>,
+    sum: Vec<f64>,
+    xs: Vec<f64>,
+    noise: Vec<f64>,
+}
+
+impl RowNoise {
+    fn new(len: usize) -> Self {
+        let v = || vec![0.0; len];
+        Self { qx: v(), step: v(), weight: v(), sum: v(), xs: v(), noise: v() }
     }
 }
