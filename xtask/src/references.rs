@@ -147,7 +147,21 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      The criterion rows below were re-measured after these changes and a set-up that builds the finest\n\
      level row-major once (same bits; `mountain-ridges` set-up 75–90 → 67–77 ms), on the AMD EPYC:\n\
      `generate/2048` 1.24 s (2.61 s on 11-26, Intel), `generate/512` 119 ms against the paper's 168 ms,\n\
-     `multigrid/4096` 1.27 s (4.68 s).",
+     `multigrid/4096` 1.27 s (4.68 s).\n\
+     \n\
+     Later still on 2026-11-28: a cycle that stalls hands BiCGStab its step as the first search direction\n\
+     (the same vector as preconditioning the start's residual: one cycle fewer), BiCGStab keeps six\n\
+     grids instead of nine with fused vector updates (fresh grids page-fault on first touch), the detail\n\
+     noise runs octave by octave along a row with one lattice lookup per run of samples in a cell,\n\
+     `floor` and the weight quantization no longer call libm (same bits), and the CLI tells glibc to keep\n\
+     freed grids for reuse (`mallopt`: 223 k → 77 k page faults in a 2048² `diffuse`). `relief -v\n\
+     diffuse` at 2048², diffusion step, three runs each of the session's first commit (ef071ff) and its\n\
+     last, alternated: `mountain-ridges` 886–1155 → 522–596 ms (under issue #26's 0.6 s),\n\
+     `volcanic-island-48` 1.25–1.30 → 0.96–1.09 s, `mountain` 1.98–2.16 → 1.67–1.69 s, `lake` 1.61–1.79\n\
+     → 1.31–1.33 s, `desert` 832–941 → 578–623 ms, `canyon-step-3` 1.22–1.43 → 0.99–1.06 s. The criterion\n\
+     rows below (in process, glibc's default allocator) were re-measured: `multigrid/2048` 272 → 140 ms,\n\
+     `generate/2048` 1.24 → 1.06 s, `generate/512` 119 → 107 ms. The terrains moved by 1.5 cm at most\n\
+     (1024²).",
     ),
     (
         "gaussian_terrain",

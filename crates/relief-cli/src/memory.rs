@@ -10,7 +10,9 @@
 //! 1 GiB of free top only. Measured on the 2-core VM with `relief -v diffuse
 //! fixtures/scenes/mountain-ridges.json --resolution 2048`, six runs each, alternated: the
 //! diffusion stage took 717–793 ms with glibc's defaults and 573–769 ms with these settings.
-//! The price is that a process keeps its peak heap until it exits, which a command reaches anyway.
+//! The price is memory: a process keeps its freed heap until it exits, and a block freed in one size
+//! serves a later one only where it fits, so the peak can rise (`relief prominence` of the resampled
+//! Jacksboro DEM, 6.85 M cells: 99 → 110 MiB resident at its peak, `docs/benchmarks.md`).
 //!
 //! This is the one `unsafe` call in the workspace: glibc's `mallopt` has no safe binding. Other
 //! platforms and C libraries keep their allocator's defaults.
