@@ -1911,18 +1911,99 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_stalled_cycle_is_bicgstabs_first_direction() {
+    /// The elevation problem of the `mountain-ridges` scene at n², its slope rows dominating.
+    fn ridges_problem(n: usize) -> DiffusionProblem {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/scenes/mountain-ridges.json");
         let scene: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
         let curves: Vec<crate::FeatureCurve> =
             serde_json::from_value(scene["generator"]["diffusion"]["curves"].clone()).unwrap();
         let side = scene["domain"]["max"][0].as_f64().unwrap();
-        let n = 65;
         let grid =
             relief_heightfield::GridSpec::new(n, n, glam::DVec2::ZERO, glam::DVec2::splat(side / (n - 1) as f64))
                 .unwrap();
-        let p = DiffusionProblem::elevation(&ConstraintMaps::rasterize(&curves, &grid).unwrap()).unwrap();
+        DiffusionProblem::elevation(&ConstraintMaps::rasterize(&curves, &grid).unwrap()).unwrap()
+    }
+
+    /// Preconditioned `BiCGStab` as van der Vorst writes it, in f64 vectors over the problem's own
+    /// operator and V-cycle: the relative residual after each of `iterations` iterations, and
+    /// ‖s‖ / r₀ with the residual x + α·y would leave, iteration by iteration.
+    fn textbook_bicgstab(p: &DiffusionProblem, iterations: usize) -> (Vec<f64>, Vec<(f64, f64)>) {
+        let l = &p.levels[0];
+        let (nx, ny) = (l.nx, l.ny);
+        let narrow = |v: &[f64]| Field::from_full(nx, ny, &v.iter().map(|&a| a as f32).collect::<Vec<_>>());
+        let wide = |f: &Field| f.to_full().into_iter().map(f64::from).collect::<Vec<f64>>();
+        let with = |v: &[f64], op: &dyn Fn(&Field, &mut Field)| {
+            let mut out = Field::zeros(nx, ny);
+            op(&narrow(v), &mut out);
+            wide(&out)
+        };
+        let apply = |v: &[f64]| with(v, &|v, out| l.residual_into(v, None, true, out));
+        let precondition = |v: &[f64]| with(v, &|v, out| p.precondition_into(v, out));
+        let residual = |x: &[f64]| with(x, &|x, out| l.residual_into(x, Some(&l.b), false, out));
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
+        let axpy = |a: &[f64], k: f64, b: &[f64]| a.iter().zip(b).map(|(a, b)| a + k * b).collect::<Vec<f64>>();
+        let r0 = p.reference_norm();
+        let mut x = wide(&l.start());
+        let mut r = residual(&x);
+        let hat = r.clone();
+        let (mut rho, mut alpha, mut omega) = (1.0, 1.0, 1.0);
+        let (mut v, mut d) = (vec![0.0; r.len()], vec![0.0; r.len()]);
+        let (mut history, mut halves) = (vec![dot(&r, &r).sqrt() / r0], Vec::new());
+        for _ in 0..iterations {
+            let rho_new = dot(&hat, &r);
+            let beta = rho_new / rho * (alpha / omega);
+            rho = rho_new;
+            d = axpy(&r, beta, &axpy(&d, -omega, &v));
+            let y = precondition(&d);
+            v = apply(&y);
+            alpha = rho / dot(&hat, &v);
+            let s = axpy(&r, -alpha, &v);
+            let half = axpy(&x, alpha, &y);
+            halves.push((dot(&s, &s).sqrt() / r0, dot(&residual(&half), &residual(&half)).sqrt() / r0));
+            let z = precondition(&s);
+            let t = apply(&z);
+            omega = dot(&t, &s) / dot(&t, &t);
+            x = axpy(&half, omega, &z);
+            r = residual(&x);
+            history.push(dot(&r, &r).sqrt() / r0);
+        }
+        (history, halves)
+    }
+
+    #[test]
+    fn bicgstab_takes_the_textbook_path() {
+        let p = ridges_problem(65);
+        // Three iterations reach 8e-5; beyond, f32 rounding parts the two by more than 1e-3.
+        let iterations = 3;
+        let (expected, halves) = textbook_bicgstab(&p, iterations);
+        let start = p.levels[0].start();
+        let r0 = p.reference_norm();
+        let mut go = |_| ControlFlow::Continue(());
+        let (_, history, done) = p.bicgstab(start.clone(), None, r0, 1e-12, iterations, &mut go).unwrap();
+        assert_eq!(done, iterations);
+        let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-3;
+        assert!(history.len() == expected.len(), "{history:?} against {expected:?}");
+        for (got, want) in history.iter().zip(&expected) {
+            assert!(close(*got, *want), "{history:?} against {expected:?}");
+        }
+        // Stopped by ‖s‖ below the tolerance in the second iteration, it keeps x + α·y.
+        let (s, kept) = halves[1];
+        let tol = 1.1 * s;
+        assert!(tol < expected[1] && tol < halves[0].0, "{expected:?}, {halves:?}");
+        let (_, history, done) = p.bicgstab(start.clone(), None, r0, tol, iterations, &mut go).unwrap();
+        assert_eq!(done, 2, "{history:?}");
+        assert!(history.len() == 3 && close(history[2], kept), "{history:?} against {kept}");
+        // Stopped by the residual after the second iteration's full step.
+        let tol = 1.1 * expected[2];
+        assert!(tol < halves[1].0 && tol < expected[1] && tol < halves[0].0, "{expected:?}, {halves:?}");
+        let (_, history, done) = p.bicgstab(start, None, r0, tol, iterations, &mut go).unwrap();
+        assert_eq!(done, 2, "{history:?}");
+        assert!(history.len() == 3 && close(history[2], expected[2]), "{history:?} against {expected:?}");
+    }
+
+    #[test]
+    fn a_stalled_cycle_is_bicgstabs_first_direction() {
+        let p = ridges_problem(65);
         let finest = &p.levels[0];
         let start = finest.start();
         let mut cycled = start.clone();
