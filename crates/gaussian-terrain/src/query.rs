@@ -359,13 +359,7 @@ impl TerrainQuery {
         if !self.layers.is_empty() {
             return self.batch(points, false).into_iter().map(|s| s.elevation).collect();
         }
-        let mut out: Vec<f64> = points.par_iter().map(|&p| self.beyond(p).elevation).collect();
-        for (strip, sums) in self.gaussian_sums(points, false) {
-            for (n, &k) in strip.members.iter().enumerate() {
-                out[k as usize] = self.ground(&sums, n).elevation;
-            }
-        }
-        out
+        self.gather(points, false, |s| s.elevation)
     }
 
     /// The elevations and gradients at `points`, in parallel: the same values as
@@ -380,25 +374,41 @@ impl TerrainQuery {
         if points.len() > MAX_BATCH {
             return points.chunks(MAX_BATCH).flat_map(|chunk| self.batch(chunk, gradients)).collect();
         }
-        let mut out: Vec<Sample> = points.par_iter().map(|&p| self.beyond(p)).collect();
-        for (strip, sums) in self.gaussian_sums(points, gradients) {
-            for (n, &k) in strip.members.iter().enumerate() {
-                out[k as usize] = self.ground(&sums, n);
-            }
-        }
+        let mut out = self.gather(points, gradients, |s| s);
         if !self.layers.is_empty() {
             self.add_details(points, gradients, &mut out);
         }
         out
     }
 
-    /// The Gaussians' sums at the finite points, strip by strip: bands of strips in parallel.
-    fn gaussian_sums(&self, points: &[DVec2], gradients: bool) -> Vec<(Strip, Sums)> {
-        let strips = self.strips(points);
+    /// The Gaussians' samples at every point, `f` applied to each: the points beyond the anchor
+    /// lattice at the base ([`Self::beyond`]). When the strips hold every point in the caller's
+    /// order (a grid in row order), they are written strip by strip in parallel.
+    fn gather<T: Send>(&self, points: &[DVec2], gradients: bool, f: impl Fn(Sample) -> T + Sync) -> Vec<T> {
+        let (sums, in_order) = self.gaussian_sums(points, gradients);
+        if in_order {
+            return sums
+                .par_iter()
+                .flat_map_iter(|(strip, sums)| (0..strip.members.len()).map(|n| f(self.ground(sums, n))))
+                .collect();
+        }
+        let mut out: Vec<T> = points.par_iter().map(|&p| f(self.beyond(p))).collect();
+        for (strip, sums) in sums {
+            for (n, &k) in strip.members.iter().enumerate() {
+                out[k as usize] = f(self.ground(&sums, n));
+            }
+        }
+        out
+    }
+
+    /// The Gaussians' sums at the finite points, strip by strip (bands of strips in parallel),
+    /// and whether the strips hold every point in the caller's order.
+    fn gaussian_sums(&self, points: &[DVec2], gradients: bool) -> (Vec<(Strip, Sums)>, bool) {
+        let (strips, in_order) = self.strips(points);
         let slopes = self.slopes(gradients);
         let sums: Vec<Vec<Sums>> =
             bands(&strips).into_par_iter().map(|band| self.band_sums(&strips[band], slopes)).collect();
-        strips.into_iter().zip(sums.into_iter().flatten()).collect()
+        (strips.into_iter().zip(sums.into_iter().flatten()).collect(), in_order)
     }
 
     /// Whether the Gaussians' gradients are needed: when asked for, or when a detail layer's
@@ -455,42 +465,74 @@ impl TerrainQuery {
     }
 
     /// The points within the anchor lattice's range (the others are [`Self::beyond`]) sorted
-    /// into strips (see [`Strip`]).
-    fn strips(&self, points: &[DVec2]) -> Vec<Strip> {
-        // The lattice row grows with y, so an order by (y, x) is one by row too.
-        let by_y = |a: &u32, b: &u32| {
-            let (p, q) = (points[*a as usize], points[*b as usize]);
-            p.y.total_cmp(&q.y).then(p.x.total_cmp(&q.x))
-        };
-        let mut order: Vec<u32> = Vec::with_capacity(points.len());
-        let mut sorted = true;
-        for (k, p) in points.iter().enumerate() {
-            if self.anchor_of(*p).is_some() {
-                sorted &= order.last().is_none_or(|last| by_y(last, &(k as u32)).is_le());
-                order.push(k as u32);
-            }
+    /// into strips (see [`Strip`]), and whether the strips hold every point in the order given.
+    fn strips(&self, points: &[DVec2]) -> (Vec<Strip>, bool) {
+        let order = self.order(points);
+        let len = order.as_ref().map_or(points.len(), Vec::len);
+        if len == 0 {
+            return (Vec::new(), points.is_empty());
         }
-        if !sorted {
-            order = self.sort_by_y(&order, points);
-        }
-        let row = |k: u32| self.anchor_of(points[k as usize]).map_or(0, |c| c.1);
+        let index = |k: usize| order.as_ref().map_or(k as u32, |order| order[k]);
+        let point = |k: usize| points[index(k) as usize];
+        let row = |k: usize| self.anchor_of(point(k)).map_or(0, |c| c.1);
+        // A strip ends only where y changes, and there it ends when full or in another anchor row.
         let mut cuts = Vec::new();
-        let (mut start, mut start_row) = (0, order.first().map_or(0, |&k| row(k)));
-        for k in 1..=order.len() {
-            let cut = k == order.len() || {
-                let (first, last, p) =
-                    (points[order[start] as usize], points[order[k - 1] as usize], points[order[k] as usize]);
+        let (mut start, mut start_row) = (0, row(0));
+        let mut change = |k: usize| {
+            let cut = k == len || {
+                let (first, last, p) = (point(start), point(k - 1), point(k));
                 let row_of_many = first.y == last.y && k - start >= MIN_ROW;
-                let full = row_of_many || p.y - first.y > self.cell * STRIP_THICKNESS;
-                p.y != last.y && (full || row(order[k]) != start_row)
+                row_of_many || p.y - first.y > self.cell * STRIP_THICKNESS || row(k) != start_row
             };
             if cut {
                 cuts.push(start..k);
                 start = k;
-                start_row = order.get(k).map_or(0, |&k| row(k));
+                start_row = if k < len { row(k) } else { 0 };
+            }
+        };
+        if order.is_none() {
+            // Points in the order given, likely grid rows: the few changes of y found in parallel.
+            let changes: Vec<usize> = (1..len)
+                .into_par_iter()
+                .step_by(SCAN_CHUNK)
+                .flat_map_iter(|a| (a..(a + SCAN_CHUNK).min(len)).filter(|&k| points[k].y != points[k - 1].y))
+                .collect();
+            changes.into_iter().for_each(&mut change);
+        } else {
+            (1..len).filter(|&k| point(k).y != point(k - 1).y).for_each(&mut change);
+        }
+        change(len);
+        let strips: Vec<Strip> =
+            cuts.into_par_iter().map(|range| self.strip(range.map(index).collect(), points)).collect();
+        // In the order given unless a strip of several y values sorted its points by x.
+        let in_order = order.is_none() && strips.par_iter().all(|s| s.members.is_sorted());
+        (strips, in_order)
+    }
+
+    /// The indices of the points within the anchor lattice's range, ordered by y (ties in any
+    /// order: a strip sorts its own points by x): `None` when that is every point in the order
+    /// given (a grid in row order), which is checked in parallel.
+    fn order(&self, points: &[DVec2]) -> Option<Vec<u32>> {
+        // The lattice row grows with y, so an order by y is one by row too; −0 and +0 are one y.
+        let le = |p: DVec2, q: DVec2| p.y <= q.y;
+        let given = points.par_chunks(SCAN_CHUNK).enumerate().all(|(c, chunk)| {
+            let joined = c == 0 || le(points[c * SCAN_CHUNK - 1], chunk[0]);
+            joined
+                && chunk.windows(2).all(|pair| le(pair[0], pair[1]))
+                && chunk.iter().all(|&p| self.anchor_of(p).is_some())
+        });
+        if given {
+            return None;
+        }
+        let mut order: Vec<u32> = Vec::with_capacity(points.len());
+        let mut sorted = true;
+        for (k, p) in points.iter().enumerate() {
+            if self.anchor_of(*p).is_some() {
+                sorted &= order.last().is_none_or(|&last| le(points[last as usize], *p));
+                order.push(k as u32);
             }
         }
-        cuts.into_par_iter().map(|range| self.strip(order[range].to_vec(), points)).collect()
+        Some(if sorted { order } else { self.sort_by_y(&order, points) })
     }
 
     /// `order` sorted by y (ties in any order: a strip sorts its own points by x): a counting
@@ -537,7 +579,7 @@ impl TerrainQuery {
     fn strip(&self, mut members: Vec<u32>, points: &[DVec2]) -> Strip {
         let (y0, y1) = (points[members[0] as usize].y, points[members[members.len() - 1] as usize].y);
         let x = |k: u32| points[k as usize].x;
-        if !members.is_sorted_by(|a, b| x(*a).total_cmp(&x(*b)).is_le()) {
+        if !members.is_sorted_by(|a, b| x(*a) <= x(*b)) {
             sort_by_key(&mut members, |k| sortable(x(k)));
         }
         let n = members.len();
@@ -554,25 +596,26 @@ impl TerrainQuery {
             runs: Vec::new(),
             members: Vec::new(),
         };
-        let mut column = None;
-        for (i, &k) in members.iter().enumerate() {
-            let p = points[k as usize];
-            let cell = self.anchor_of(p).expect("points in the lattice only");
-            if column != Some(cell) {
-                if let Some(run) = strip.runs.last_mut() {
-                    run.end = i as u32;
+        // The strip is in one anchor row and sorted by x, so each anchor square's points follow
+        // each other: a search finds where each square's run ends.
+        let square = |k: u32| self.anchor_of(points[k as usize]).expect("points in the lattice only");
+        let mut i = 0;
+        while i < n {
+            let cell = square(members[i]);
+            let end = i + 1 + members[i + 1..].partition_point(|&k| square(k) == cell);
+            let corner = self.anchor(cell);
+            strip.runs.push(Run { end: end as u32, corner });
+            for &k in &members[i..end] {
+                let (p, q) = (points[k as usize], points[k as usize] - corner);
+                strip.x.push(p.x);
+                strip.qx.push(q.x as f32);
+                if y0 == y1 {
+                    strip.row = Some(q.y as f32);
+                } else {
+                    strip.qy.push(q.y as f32);
                 }
-                strip.runs.push(Run { end: n as u32, corner: self.anchor(cell) });
-                column = Some(cell);
             }
-            let q = p - strip.runs[strip.runs.len() - 1].corner;
-            strip.x.push(p.x);
-            strip.qx.push(q.x as f32);
-            if y0 == y1 {
-                strip.row = Some(q.y as f32);
-            } else {
-                strip.qy.push(q.y as f32);
-            }
+            i = end;
         }
         let last = strip.x[n - 1];
         strip.per_x = if last > strip.x0 { (n - 1) as f64 / (last - strip.x0) } else { 0.0 };
@@ -769,6 +812,9 @@ fn sortable(v: f64) -> u64 {
 /// Most points a batch takes at once (point indices are u32, a stretch's lanes i32): larger
 /// batches go in chunks, each point's value the same.
 const MAX_BATCH: usize = i32::MAX as usize;
+
+/// Points per parallel task of the scans over a whole batch.
+const SCAN_CHUNK: usize = 8192;
 
 /// Fewest points of one y value that make a strip of their own (a grid row).
 const MIN_ROW: usize = 64;
@@ -1095,25 +1141,26 @@ fn add_values(
     let (range, first, last) = widen(lanes, qx.len());
     let n = range.len();
     let (qx, h) = (&qx[range.clone()][..n], &mut h[range.clone()][..n]);
+    // Whether (x, y) is inside the support, and the value there.
     let value = |x: f32, y: f32| {
         let s = x * x + y * y;
-        (s <= c.r2).then(|| c.amplitude * exp_neg(-0.5 * (s * lower(s))))
+        (s <= c.r2, c.amplitude * exp_neg(-0.5 * (s * lower(s))))
     };
     if let Some(row) = row {
         // One y for the whole stretch: the brackets once.
         let (ax, ay) = (row.mul_add(c.uy, c.kx), row.mul_add(c.vy, c.ky));
         for j in 0..n {
             let k = j as i32;
-            let g = value(qx[j].mul_add(c.ux, ax), qx[j].mul_add(c.vx, ay));
-            h[j] = if k >= first && k < last { h[j] + g.unwrap_or(0.0) } else { h[j] };
+            let (inside, g) = value(qx[j].mul_add(c.ux, ax), qx[j].mul_add(c.vx, ay));
+            h[j] = if inside && k >= first && k < last { h[j] + g } else { h[j] };
         }
     } else {
         let qy = &qy[range][..n];
         for j in 0..n {
             let k = j as i32;
-            let g =
+            let (inside, g) =
                 value(qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, c.kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, c.ky)));
-            h[j] = if k >= first && k < last { h[j] + g.unwrap_or(0.0) } else { h[j] };
+            h[j] = if inside && k >= first && k < last { h[j] + g } else { h[j] };
         }
     }
 }
@@ -1168,13 +1215,13 @@ mod tests {
         let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::new(50.0, 50.0), 10.0, 1.0)]);
         let query = terrain.query().unwrap();
         let row: Vec<DVec2> = (0..700).map(|i| DVec2::new(-3.7 + f64::from(i) * 0.1437, 20.0)).collect();
-        let strips = query.strips(&row);
+        let strips = query.strips(&row).0;
         assert_eq!(strips.len(), 1);
         let strip = &strips[0];
         assert!(strip.even && strip.y0 == strip.y1);
         assert!(strip.x.iter().enumerate().all(|(k, &x)| strip.rank(x) == k));
         let uneven: Vec<DVec2> = (0..700).map(|i| DVec2::new(f64::from(i * i) * 1e-3, 20.0)).collect();
-        let other = &query.strips(&uneven)[0];
+        let other = &query.strips(&uneven).0[0];
         assert!(!other.even);
         for (x0, x1) in [(-10.0, -5.0), (0.0, 0.0), (1.0, 7.3), (12.34, 80.0), (99.0, 120.0), (-1.0, 200.0)] {
             let (i, j) = strip.stretch(x0, x1);
@@ -1204,7 +1251,8 @@ mod tests {
         let (thick, rows) = (query.cell * STRIP_THICKNESS, 60);
         let grid: Vec<DVec2> =
             (0..100 * rows).map(|k| DVec2::new(f64::from(k % 100) * 10.0, f64::from(k / 100) * thick * 0.1)).collect();
-        let strips = query.strips(&grid);
+        let (strips, in_order) = query.strips(&grid);
+        assert!(in_order, "a grid in row order is written strip by strip");
         assert_eq!(strips.len(), rows as usize);
         assert!(strips.iter().all(|s| s.even && s.y0 == s.y1 && s.members.len() == 100));
         let mut state = 7_u64;
@@ -1213,13 +1261,17 @@ mod tests {
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
         let scattered: Vec<DVec2> = (0..5_000).map(|_| DVec2::new(next() * 1000.0, next() * 1000.0)).collect();
-        let strips = query.strips(&scattered);
+        let (strips, in_order) = query.strips(&scattered);
+        assert!(!in_order);
         let anchor_row = |k: u32| query.anchor_of(scattered[k as usize]).unwrap().1;
         let mut seen = vec![false; scattered.len()];
         for (n, s) in strips.iter().enumerate() {
             assert!(s.y1 - s.y0 <= thick && s.x.is_sorted());
             assert!(s.members.iter().all(|&k| anchor_row(k) == anchor_row(s.members[0])));
-            for &k in &s.members {
+            // Each point is held from its own anchor square's corner.
+            for (i, &k) in s.members.iter().enumerate() {
+                let run = s.runs[s.runs.partition_point(|run| run.end as usize <= i)];
+                assert_eq!(run.corner, query.anchor(query.anchor_of(scattered[k as usize]).unwrap()));
                 assert!(!std::mem::replace(&mut seen[k as usize], true));
                 assert!((scattered[k as usize].y - s.y0) * (scattered[k as usize].y - s.y1) <= 0.0);
             }

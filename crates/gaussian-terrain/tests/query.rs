@@ -114,6 +114,37 @@ fn batched_queries_are_the_single_ones_for_any_thread_count() {
     assert_eq!(one_samples, four_samples);
     assert!(one_samples.iter().zip(&single).all(|(s, h)| s.elevation == *h));
     assert!(single.iter().any(|h| *h != 0.0));
+    // Grid rows with a point that is not finite: the others as before.
+    let mut holed = points.clone();
+    holed[100] = DVec2::NAN;
+    let elevations = query.elevations(&holed);
+    assert!(elevations[100].is_nan());
+    assert!(elevations.iter().zip(&single).enumerate().all(|(k, (a, b))| k == 100 || a == b));
+}
+
+/// Points in another order than rows of growing y: a grid from its top row down (image order),
+/// a profile along a path that runs east and south, and two blocks each in row order, the second
+/// lower, meeting where the parallel order check splits its work (at point 8 192).
+#[test]
+fn batches_out_of_row_order_are_the_single_queries() {
+    let terrain = random_terrain(3_000, 1000.0, 16.0, 5);
+    let query = terrain.query().unwrap();
+    let rows = |ys: std::ops::Range<i32>, width: usize| -> Vec<DVec2> {
+        ys.flat_map(|j| (0..width).map(move |i| DVec2::new(i as f64 * 990.0 / width as f64, f64::from(j)))).collect()
+    };
+    let mut top_down = rows(0..80, 100);
+    top_down.reverse();
+    top_down.chunks_mut(100).for_each(<[DVec2]>::reverse);
+    let mut blocks = rows(600..682, 100);
+    blocks.truncate(8_192);
+    blocks.extend(rows(100..150, 100));
+    let profile: Vec<DVec2> =
+        (0..5_000).map(|k| DVec2::new(f64::from(k) * 0.19, 990.0 - f64::from(k) * 0.17)).collect();
+    for points in [top_down, profile, blocks] {
+        let single: Vec<f64> = points.iter().map(|&p| query.elevation(p)).collect();
+        assert_eq!(query.elevations(&points), single);
+        assert!(single.iter().any(|h| *h != 0.0));
+    }
 }
 
 #[test]
@@ -317,6 +348,12 @@ fn scattered_points_in_any_order_are_the_single_queries() {
         points[..2_000].iter().zip(&elevations).map(|(&p, h)| (h - terrain.height_at(p)).abs()).fold(0.0, f64::max);
     assert!(worst < bound, "worst {worst}, bound {bound}");
     assert!(elevations.iter().filter(|h| **h != 0.0).count() > 15_000);
+    // Sorted by y, then x: in the order strips are cut, yet a strip of several y values holds
+    // its points by x, not in the order given.
+    let mut sorted = points[..20_000].to_vec();
+    sorted.sort_by(|a, b| a.y.total_cmp(&b.y).then(a.x.total_cmp(&b.x)));
+    let single: Vec<f64> = sorted.iter().map(|&p| query.elevation(p)).collect();
+    assert_eq!(query.elevations(&sorted), single);
     // Few points far apart in y (sorted whole, not by slabs), and y = ±0 with x out of order.
     let sparse = [
         DVec2::new(500.0, 4e7),
