@@ -263,7 +263,8 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      (1.60–1.72× → 1.31–1.44× the rasterizer's 39–45 ms in the same runs), samples 104–117 →\n\
      95–103 ms; 1M scattered points (best of 20: 113–121 against 112–124 ms) and single queries\n\
      (1.5 µs) unchanged; every output bit the same (hashed). The query rows and the 1024²/60k\n\
-     rasterizer rows below are that day's criterion run: elevations 1.27× the rasterizer. What is\n\
+     rasterizer rows below are that day's criterion run, on an Intel Xeon VM (the 11-28 rows ran on an\n\
+     AMD EPYC): elevations 1.27× the rasterizer. What is\n\
      left is in the kernels' stretches: the x range of a support over a strip (two square roots\n\
      where the rasterizer's row needs one), ranks, anchor cuts, a load per point where the\n\
      rasterizer steps its coordinates, and an inside test on every lane.",
