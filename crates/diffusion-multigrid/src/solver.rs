@@ -1941,14 +1941,15 @@ mod tests {
         let precondition = |v: &[f64]| with(v, &|v, out| p.precondition_into(v, out));
         let residual = |x: &[f64]| with(x, &|x, out| l.residual_into(x, Some(&l.b), false, out));
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
-        let axpy = |a: &[f64], k: f64, b: &[f64]| a.iter().zip(b).map(|(a, b)| a + k * b).collect::<Vec<f64>>();
         let r0 = p.reference_norm();
+        let relative = |v: &[f64]| dot(v, v).sqrt() / r0;
+        let axpy = |a: &[f64], k: f64, b: &[f64]| a.iter().zip(b).map(|(a, b)| a + k * b).collect::<Vec<f64>>();
         let mut x = wide(&l.start());
         let mut r = residual(&x);
         let hat = r.clone();
         let (mut rho, mut alpha, mut omega) = (1.0, 1.0, 1.0);
         let (mut v, mut d) = (vec![0.0; r.len()], vec![0.0; r.len()]);
-        let (mut history, mut halves) = (vec![dot(&r, &r).sqrt() / r0], Vec::new());
+        let (mut history, mut halves) = (vec![relative(&r)], Vec::new());
         for _ in 0..iterations {
             let rho_new = dot(&hat, &r);
             let beta = rho_new / rho * (alpha / omega);
@@ -1959,13 +1960,13 @@ mod tests {
             alpha = rho / dot(&hat, &v);
             let s = axpy(&r, -alpha, &v);
             let half = axpy(&x, alpha, &y);
-            halves.push((dot(&s, &s).sqrt() / r0, dot(&residual(&half), &residual(&half)).sqrt() / r0));
+            halves.push((relative(&s), relative(&residual(&half))));
             let z = precondition(&s);
             let t = apply(&z);
             omega = dot(&t, &s) / dot(&t, &t);
             x = axpy(&half, omega, &z);
             r = residual(&x);
-            history.push(dot(&r, &r).sqrt() / r0);
+            history.push(relative(&r));
         }
         (history, halves)
     }
