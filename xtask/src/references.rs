@@ -161,7 +161,25 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      → 1.31–1.33 s, `desert` 832–941 → 578–623 ms, `canyon-step-3` 1.22–1.43 → 0.99–1.06 s. The criterion\n\
      rows below (in process, glibc's default allocator) were re-measured: `multigrid/2048` 272 → 140 ms,\n\
      `generate/2048` 1.24 → 1.06 s, `generate/512` 119 → 107 ms. The terrains moved by 1.5 cm at most\n\
-     (1024²).",
+     (1024²).\n\
+     \n\
+     2026-12-01: hole windows that share samples are solved as one, their bounding box, when that box\n\
+     has no more samples than they have in all (`raster::merge_overlapping`). On `mountain` the 76\n\
+     windows covered 7.35 M samples, 2.7 times their union, and become one window (the whole 4.19 M-sample\n\
+     grid); `volcanic-island-48`'s 149 windows (2.74 M samples) become 2 boxes of 2.03 M, `lake`'s 4.67 M\n\
+     become 7 boxes of 2.81 M; on `canyon-step-3` at 2048² the box would be larger, so its windows stay. The fills\n\
+     also come closer to the paper's diffusion over the whole map: the smooth terrain (no noise) against\n\
+     one hole diffusion over the whole grid differed by 15.9 m mean and 1 725 m worst on `mountain` (a\n\
+     gash beside the summit, visible in the gallery before this change), 7.3 / 575 m on `lake` and 0.50 /\n\
+     294 m on `volcanic-island-48`; merged, 0 / 0 m, 0.13 / 15 m and 0.018 / 5.4 m. Rasterization (painting\n\
+     and holes) at 2048², best of 6 alternated twice (Intel Xeon): `mountain` 704–726 → 601–611 ms,\n\
+     `volcanic-island-48` 358–361 → 274–282 ms, `lake` 490–509 → 384–386 ms. Whole 2048² generations\n\
+     (`generate_timing` with `WHOLE_ONLY=1`, best of 3, the commit before and this one alternated twice,\n\
+     AMD EPYC): `volcanic-island-48` 1.03–1.12 → 0.97–1.01 s, `mountain` 1.72–1.96 → 1.63–1.71 s (its\n\
+     elevation solve 8 → 7 iterations), `lake` 1.56–1.67 → 1.53–1.61 s, `mountain-ridges` unchanged\n\
+     (0.64–0.74 s both). The criterion rows below were re-measured the same day (AMD EPYC):\n\
+     `generate/512` 107 → 91 ms, `generate/1024` 362 → 301 ms, `generate/2048` 1.06 → 1.08 s (within\n\
+     this VM's spread between sessions; still 1.6× the paper's 675 ms).",
     ),
     (
         "gaussian_terrain",

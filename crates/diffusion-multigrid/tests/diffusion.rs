@@ -337,19 +337,17 @@ fn crossing_slope_bands_leave_no_pit_below_the_ridge_feet() {
     }
 }
 
-/// A noisy ridge crossed by five cracks at 129²: more hole windows than one batch fills, an
-/// elevation solve and the two noise solves.
+/// Three ridges (one noisy) crossed by three cracks at 129²: nine crossings far enough apart
+/// that their hole windows stay apart (more than one batch fills), an elevation solve and the two
+/// noise solves.
 fn observed_scene() -> (Vec<FeatureCurve>, GridSpec) {
-    let mut curves = vec![
-        presets::with_noise(
-            presets::ridge(&[DVec2::new(100.0, 500.0), DVec2::new(900.0, 500.0)], 200.0, 600.0, 200.0, 30.0, 200.0),
-            40.0,
-            0.7,
-        ),
-        presets::hill(&[DVec2::new(0.0, 0.0), DVec2::new(1000.0, 0.0)], 0.0, 0.0),
-    ];
-    for x in [200.0, 350.0, 500.0, 650.0, 800.0] {
-        curves.push(presets::crack(&[DVec2::new(x, 100.0), DVec2::new(x, 900.0)], 20.0, 60.0));
+    let mut curves = Vec::new();
+    for y in [200.0, 500.0, 800.0] {
+        curves.push(presets::ridge(&[DVec2::new(50.0, y), DVec2::new(950.0, y)], 200.0, 400.0, 200.0, 30.0, 40.0));
+    }
+    curves[0] = presets::with_noise(curves[0].clone(), 40.0, 0.7);
+    for x in [200.0, 500.0, 800.0] {
+        curves.push(presets::crack(&[DVec2::new(x, 50.0), DVec2::new(x, 950.0)], 20.0, 30.0));
     }
     (curves, grid(129, 1000.0))
 }
