@@ -626,22 +626,24 @@ mod tests {
         let merged = merge_overlapping(vec![
             // A chain: the first shares samples with the second, the second with the third, the
             // first not with the third; their box (26 × 5) is smaller than they are (150).
-            window(0, 20, 10, 5),
+            window(2, 20, 10, 5),
             // Apart from everything.
             window(40, 40, 10, 10),
-            window(8, 20, 10, 5),
+            window(10, 20, 10, 5),
             // One sample shared at a corner: the box (19 × 19) would be larger than both (200).
             window(30, 0, 10, 10),
             window(39, 9, 10, 10),
-            window(16, 20, 10, 5),
+            window(18, 20, 10, 5),
             // Side by side without a shared sample: apart.
             window(0, 50, 5, 5),
             window(5, 50, 5, 5),
         ]);
         assert_eq!(
             boxes(&merged),
-            [[0, 20, 26, 5], [40, 40, 10, 10], [30, 0, 10, 10], [39, 9, 10, 10], [0, 50, 5, 5], [5, 50, 5, 5]]
+            [[2, 20, 26, 5], [40, 40, 10, 10], [30, 0, 10, 10], [39, 9, 10, 10], [0, 50, 5, 5], [5, 50, 5, 5]]
         );
+        // Windows on the first rows only.
+        assert_eq!(boxes(&merge_overlapping(vec![window(0, 0, 4, 3), window(2, 0, 4, 3)])), [[0, 0, 6, 3]]);
         assert!(merge_overlapping(Vec::new()).is_empty());
     }
 
