@@ -40,16 +40,21 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      \n\
      Table 2's other terrains, as fixture scenes with the paper's curve counts (whole `generate`, best of\n\
      5 at 512² and 1024² and of 3 at 2048², `examples/generate_timing.rs` with `WHOLE_ONLY=1`, 2 cores,\n\
-     2026-11-26; the paper's GPU figures beside ours):\n\
+     re-measured 2026-12-01 on an AMD EPYC with every change below; the first figures, of 2026-11-26 on an\n\
+     Intel Xeon, in brackets; the paper's GPU figures beside ours):\n\
      \n\
      | scene (curves) | 512² ours / paper | 1024² ours / paper | 2048² ours / paper |\n\
      |---|---:|---:|---:|\n\
-     | `mountain` (59) | 228 / 187 ms | 913 / 270 ms | 4.29 / 0.670 s |\n\
-     | `lake` (45) | 190 / 185 ms | 794 / 261 ms | 3.55 / 0.690 s |\n\
-     | `canyon-step-3` (74) | 162 / 216 ms | 553 / 339 ms | 2.30 / 0.811 s |\n\
-     | `desert` (26) | 143 / 171 ms | 453 / 253 ms | 1.77 / 0.635 s |\n\
+     | `volcanic-island-48` (48) | 78 / 168 ms | 264 / 275 ms | 0.94 / 0.675 s |\n\
+     | `mountain` (59) | 114 (228) / 187 ms | 435 (913) / 270 ms | 1.71 (4.29) / 0.670 s |\n\
+     | `lake` (45) | 102 (190) / 185 ms | 395 (794) / 261 ms | 1.48 (3.55) / 0.690 s |\n\
+     | `canyon-step-3` (74) | 112 (162) / 216 ms | 332 (553) / 339 ms | 1.22 (2.30) / 0.811 s |\n\
+     | `desert` (26) | 75 (143) / 171 ms | 222 (453) / 253 ms | 0.82 (1.77) / 0.635 s |\n\
      \n\
-     At 512² we match or beat the paper's GPU; from 1024² we are 1.6–6.4× slower. At 2048² the mountain\n\
+     Now we beat the paper's GPU at 512² on every scene (0.44–0.61×) and at 1024² on the volcanic island,\n\
+     the canyon and the desert (0.88–0.98×); at 1024² the mountain and the lake are 1.5–1.6× and at 2048²\n\
+     every scene 1.3–2.6× slower. On 11-26 we matched or beat it at 512² only and were 1.6–6.4× slower from\n\
+     1024²: at 2048² the mountain\n\
      spends 1.1 s filling the holes where slope bands cross (27 % of its samples are holes, solved on\n\
      windows covering 1.75× the grid) and 2.1 s in the elevation solve (15 iterations: the V-cycle\n\
      stalls on its crossing slope bands and BiCGStab takes over). With the paper's own solver at its\n\
