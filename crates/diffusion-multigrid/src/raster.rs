@@ -474,13 +474,12 @@ fn merge_overlapping(windows: Vec<Window>) -> Vec<Window> {
         *area += w.w * w.h;
         members.push(k);
     }
-    let mut windows: Vec<Option<Window>> = windows.into_iter().map(Some).collect();
     let mut merged = Vec::with_capacity(sets.len());
     for ([i0, j0, i1, j1], area, members) in sets {
         if members.len() > 1 && (i1 - i0) * (j1 - j0) <= area {
             merged.push(Window { i0, j0, w: i1 - i0, h: j1 - j0, nx });
         } else {
-            merged.extend(members.iter().filter_map(|&k| windows[k].take()));
+            merged.extend(members.iter().map(|&k| windows[k]));
         }
     }
     merged
@@ -526,6 +525,7 @@ fn hole_group_bounds(maps: &ConstraintMaps, start: usize, seen: &mut [bool], sta
 }
 
 /// The crop of the grid one group of holes is filled on.
+#[derive(Clone, Copy)]
 struct Window {
     /// Column of the crop's first sample in the full grid.
     i0: usize,
