@@ -662,7 +662,7 @@ fn keep(g: &Gaussian, options: &VectorizeOptions, pixels: &GridSpec, tolerance: 
 }
 
 /// Lanes of the backward pass's partial sums.
-const LANES: usize = 8;
+const LANES: usize = 16;
 
 /// Per-primitive results of the backward pass.
 struct Back {
@@ -727,44 +727,79 @@ impl pulp::WithSimd for Sums<'_> {
         let hb = p.half_beta;
         for j in j0..=j1 {
             let Some(Span { i0, i1, x: lx, y: ly, sx, sy }) = p.span(pixels, j) else { continue };
-            let row = j * nx;
-            let (dl, err) = (&dl[row + i0..=row + i1], &err[row + i0..=row + i1]);
-            // Eight lanes of partial sums so that the loop vectorizes (a single f32
-            // accumulator is a serial dependency the compiler must keep in order).
+            // Whole vectors of LANES samples widened within the row (the rasterizer's spans):
+            // read in place, the lanes outside the span masked out.
+            let width = (i1 - i0 + 1).next_multiple_of(LANES).min(nx);
+            let lo = i0.min(nx - width);
+            let (first, last) = ((i0 - lo) as i32, (i1 - lo) as i32);
+            let row = j * nx + lo;
+            let (dl, err) = (&dl[row..row + width], &err[row..row + width]);
+            // LANES partial sums so that the loop vectorizes (a single f32 accumulator is a
+            // serial dependency the compiler must keep in order).
             let mut lanes = [[0.0f32; LANES]; 9];
-            let mut k0 = 0;
-            while k0 < dl.len() {
-                let n = LANES.min(dl.len() - k0);
+            let (whole, rest) = (dl.chunks_exact(LANES), err.chunks_exact(LANES));
+            let (dl_tail, err_tail) = (whole.remainder(), rest.remainder());
+            for (c, (gv, ev)) in whole.zip(rest).enumerate() {
+                let (gv, ev) = (gv.try_into().expect("whole vector"), ev.try_into().expect("whole vector"));
+                add_lanes(&mut lanes, (c * LANES) as i32 - first, (gv, ev), (lx, ly, sx, sy, hb), (first, last));
+            }
+            if !dl_tail.is_empty() {
+                // A row narrower than a vector: its tail padded with zeros.
                 let (mut gv, mut ev) = ([0.0f32; LANES], [0.0f32; LANES]);
-                gv[..n].copy_from_slice(&dl[k0..k0 + n]);
-                ev[..n].copy_from_slice(&err[k0..k0 + n]);
-                for l in 0..LANES {
-                    let t = (k0 + l) as i32 as f32;
-                    let (x, y) = (lx + t * sx, ly + t * sy);
-                    let r = (x * x + y * y).max(1e-20);
-                    let l2 = log2(r);
-                    let q = exp2_signed(hb * l2);
-                    // Lanes past the span carry gv = ev = 0 but must not count in Σe.
-                    let e = exp_neg(-0.5 * q) * f32::from(u8::from(l < n));
-                    let ge = gv[l] * e;
-                    let w = ge * q / r;
-                    lanes[0][l] += ge;
-                    lanes[1][l] += w * x;
-                    lanes[2][l] += w * y;
-                    lanes[3][l] += w * x * x;
-                    lanes[4][l] += w * y * y;
-                    lanes[5][l] += w * x * y;
-                    lanes[6][l] += ge * q * l2;
-                    lanes[7][l] += e * ev[l];
-                    lanes[8][l] += e;
-                }
-                k0 += LANES;
+                gv[..dl_tail.len()].copy_from_slice(dl_tail);
+                ev[..err_tail.len()].copy_from_slice(err_tail);
+                add_lanes(
+                    &mut lanes,
+                    (width - dl_tail.len()) as i32 - first,
+                    (&gv, &ev),
+                    (lx, ly, sx, sy, hb),
+                    (first, last),
+                );
             }
             for (a, l) in acc.iter_mut().zip(lanes) {
                 *a += f64::from(l.iter().sum::<f32>());
             }
         }
         acc
+    }
+}
+
+/// Adds one vector of [`LANES`] samples to a row's partial sums (see [`Sums`]): `t0` is the
+/// first lane's step from the span's start, `gv` and `ev` the samples' loss gradient and error,
+/// `(lx, ly, sx, sy)` the span's local coordinates and step, `hb` the exponent β/2; lanes whose
+/// step is outside `0..=last − first` add nothing.
+#[allow(
+    clippy::inline_always,
+    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
+fn add_lanes(
+    lanes: &mut [[f32; LANES]; 9],
+    t0: i32,
+    (gv, ev): (&[f32; LANES], &[f32; LANES]),
+    (lx, ly, sx, sy, hb): (f32, f32, f32, f32, f32),
+    (first, last): (i32, i32),
+) {
+    for l in 0..LANES {
+        let step = t0 + l as i32;
+        let t = step as f32;
+        let (x, y) = (lx + t * sx, ly + t * sy);
+        let r = (x * x + y * y).max(1e-20);
+        let l2 = log2(r);
+        let q = exp2_signed(hb * l2);
+        let inside = step >= 0 && step <= last - first;
+        let e = if inside { exp_neg(-0.5 * q) } else { 0.0 };
+        let ge = gv[l] * e;
+        let w = ge * q / r;
+        lanes[0][l] += ge;
+        lanes[1][l] += w * x;
+        lanes[2][l] += w * y;
+        lanes[3][l] += w * x * x;
+        lanes[4][l] += w * y * y;
+        lanes[5][l] += w * x * y;
+        lanes[6][l] += ge * q * l2;
+        lanes[7][l] += e * ev[l];
+        lanes[8][l] += e;
     }
 }
 
@@ -923,6 +958,42 @@ mod tests {
                     "primitive {index}, parameter {k}: analytic {an}, finite {fd}"
                 );
             }
+        }
+    }
+
+    /// The backward pass sums over each primitive's support only: lanes of a vector that fall
+    /// before or after a row's span (a support at the row's end, a row that is not a whole
+    /// number of vectors) add nothing, however large the gradient and error there, and the
+    /// fall-off-weighted error is that of the support.
+    #[test]
+    fn backward_sums_over_the_support_only() {
+        let (nx, ny) = (70, 12);
+        let pixels = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).expect("grid");
+        let prims = [
+            Gaussian { center: [20.3, 5.2], sigma: [3.0, 2.0], theta: 0.4, amplitude: 1.0, beta: 2.5 },
+            Gaussian { center: [64.6, 6.1], sigma: [2.5, 3.0], theta: -0.7, amplitude: -0.5, beta: 1.4 },
+        ];
+        let tolerance = 1e-3;
+        let position = |k: usize| DVec2::new((k % nx) as f64, (k / nx) as f64);
+        let far = |k: usize| {
+            prims.iter().all(|g| g.distance_squared(position(k)) > 2.0 * g.support_radius(tolerance).powi(2))
+        };
+        // A huge gradient and error far outside both supports; inside, the error is the column.
+        let dl: Vec<f32> = (0..nx * ny).map(|k| if far(k) { 1e6 } else { 0.0 }).collect();
+        let err: Vec<f32> = (0..nx * ny).map(|k| if far(k) { 1e6 } else { (k % nx) as f32 }).collect();
+        let back = backward(&prims, &pixels, &dl, &err, tolerance);
+        for (g, b) in prims.iter().zip(&back) {
+            assert!(b.grad.iter().all(|&d| d == 0.0), "{:?}", b.grad);
+            let r2 = g.support_radius(tolerance).powi(2);
+            let (mut weighted, mut total) = (0.0, 0.0);
+            for (k, &e) in err.iter().enumerate() {
+                let s = g.distance_squared(position(k));
+                if s <= r2 {
+                    let fall = (-0.5 * s.powf(0.5 * g.beta)).exp();
+                    (weighted, total) = (weighted + fall * f64::from(e), total + fall);
+                }
+            }
+            assert!((b.error - weighted / total).abs() < 1e-3 * b.error, "{} against {}", b.error, weighted / total);
         }
     }
 }
