@@ -312,13 +312,20 @@ pub(crate) const SECTION_NOTES: &[(&str, &str)] = &[
     (
         "gaussian-terrain, vectorize",
         "The same protocol on a real DEM (`relief vectorize` of Jacksboro resampled to 1024², `--resolution \
-         1024 --primitives 10000`): 43.8 s, 9455 primitives, ℓ₁ 4.30e-3 (48.2 s before the kernels used AVX-512; 65.6 s before the loss kept its \
+         1024 --primitives 10000`), re-measured 2026-12-01 after the backward pass read whole 16-lane vectors \
+         in place (it copied 8 samples at a time into stack arrays): 32.1 s, 9453 primitives, ℓ₁ 4.29e-3 \
+         (42.4 s before, the same ℓ₁; 48.2 s before the kernels used AVX-512; 65.6 s before the loss kept its \
          buffers between steps: glibc's allocator handed them back to the system every step and faulted them \
-         in again, a quarter of the CPU time). Table 3 gives 2.24e-3 at 6k and 2.21e-3 at 11k primitives on \
-         the paper's own DEM: our ℓ₁ at this budget is 1.4–1.9× the paper's (1.4× on the fBm DEM), in under \
-         the 60 s target. Before this change the backward pass called the software `fmaf` (its fast \
-         transcendentals' `mul_add`s ran outside pulp's FMA context): the same 1024² fit took about 4 × \
-         longer, the 512² rows 61.7 and 68.4 s.",
+         in again, a quarter of the CPU time). The time saved buys steps: `--iterations 350` reaches ℓ₁ \
+         3.39e-3 with 9979 primitives in 56.6 s, inside the 60 s target. Table 3 gives 2.24e-3 at 6k and \
+         2.21e-3 at 11k primitives on the paper's own DEM: our ℓ₁ at this budget is 1.5–1.9× the paper's \
+         (1.4× on the fBm DEM). Tried and dropped (the same DEM and protocol): a fit that starts on a 512² \
+         grid and ends on the 1024² one (its primitives scaled over, Adam restarted) reached 3.56e-3 in \
+         39.1 s (300 + 150 steps), better than 1024² alone for that time, but 3.49e-3 in 56.3 s (400 + 200), \
+         no better than 350 steps at 1024²; half the step size on the fine grid, 3.66e-3. Before the \
+         backward pass ran as a pulp operation it called the software `fmaf` (its fast transcendentals' \
+         `mul_add`s ran outside pulp's FMA context): the same 1024² fit took about 4 × longer, the 512² rows \
+         61.7 and 68.4 s.",
     ),
     (
         "gaussian-terrain, vectorize",
