@@ -416,17 +416,25 @@ fn fit(
         if let Some(stopped_by) = stop_reason(&state, options, progress) {
             return Fit { params, iterations: iteration, loss: terms, stopped_by };
         }
-        let err: Vec<f32> = approx.iter().zip(target).map(|(a, b)| (a - b).abs()).collect();
-        let back = backward(&prims, pixels, &grad, &err, FIT_TOLERANCE);
+        // Densification after this step ranks by the error under each primitive: only then is
+        // it summed.
+        let next = iteration + 1;
+        let densifying =
+            options.densify_every > 0 && next % options.densify_every == 0 && next * 5 <= options.iterations * 4;
+        let err: Vec<f32> = if densifying && options.densify == Densify::Error {
+            approx.iter().zip(target).map(|(a, b)| (a - b).abs()).collect()
+        } else {
+            Vec::new()
+        };
+        let back = backward(&prims, pixels, &grad, (!err.is_empty()).then_some(&err[..]), FIT_TOLERANCE);
         // Learning rate decays exponentially to a tenth over the budget.
         let decay = 0.1f64.powf(iteration as f64 / options.iterations.max(1) as f64);
         params.par_iter_mut().zip(&back).for_each(|(p, b)| {
             p.positional += b.grad[0].hypot(b.grad[1]);
             p.adam(&b.grad, decay, max_ln_sigma);
         });
-        iteration += 1;
-        let late = iteration * 5 > options.iterations * 4;
-        if options.densify_every > 0 && iteration % options.densify_every == 0 && !late {
+        iteration = next;
+        if densifying {
             densify(&mut params, &back, options, pixels);
         }
     }
@@ -668,13 +676,15 @@ const LANES: usize = 16;
 struct Back {
     /// ∂ℓ/∂(cx, cy, ln σx, ln σy, θ, a, ln β).
     grad: [f64; 7],
-    /// Mean absolute error under the primitive, weighted by its fall-off.
+    /// Mean absolute error under the primitive, weighted by its fall-off (0 when the backward
+    /// pass was given no error map).
     error: f64,
 }
 
 /// The loss gradient of every primitive from the per-sample gradient `dl` (module `loss`):
-/// `∂ℓ/∂θₖ = Σ_p dl(p)·∂g/∂θₖ(p)` over the support, primitives in parallel.
-fn backward(prims: &[Gaussian], pixels: &GridSpec, dl: &[f32], err: &[f32], tolerance: f64) -> Vec<Back> {
+/// `∂ℓ/∂θₖ = Σ_p dl(p)·∂g/∂θₖ(p)` over the support, primitives in parallel; with the
+/// per-sample error `err`, also each primitive's fall-off-weighted error (densification's rank).
+fn backward(prims: &[Gaussian], pixels: &GridSpec, dl: &[f32], err: Option<&[f32]>, tolerance: f64) -> Vec<Back> {
     let arch = pulp::Arch::new();
     prims
         .par_iter()
@@ -708,7 +718,7 @@ struct Sums<'a> {
     p: &'a Prepared,
     pixels: &'a GridSpec,
     dl: &'a [f32],
-    err: &'a [f32],
+    err: Option<&'a [f32]>,
 }
 
 impl pulp::WithSimd for Sums<'_> {
@@ -721,59 +731,69 @@ impl pulp::WithSimd for Sums<'_> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> [f64; 9] {
         let Sums { p, pixels, dl, err } = self;
-        let nx = pixels.nx();
-        let mut acc = [0.0f64; 9];
-        let Some((j0, j1)) = p.rows(pixels) else { return acc };
-        let hb = p.half_beta;
-        for j in j0..=j1 {
-            let Some(Span { i0, i1, x: lx, y: ly, sx, sy }) = p.span(pixels, j) else { continue };
-            // Whole vectors of LANES samples widened within the row (the rasterizer's spans):
-            // read in place, the lanes outside the span masked out.
-            let width = (i1 - i0 + 1).next_multiple_of(LANES).min(nx);
-            let lo = i0.min(nx - width);
-            let (first, last) = ((i0 - lo) as i32, (i1 - lo) as i32);
-            let row = j * nx + lo;
-            let (dl, err) = (&dl[row..row + width], &err[row..row + width]);
-            // LANES partial sums so that the loop vectorizes (a single f32 accumulator is a
-            // serial dependency the compiler must keep in order).
-            let mut lanes = [[0.0f32; LANES]; 9];
-            let (whole, rest) = (dl.chunks_exact(LANES), err.chunks_exact(LANES));
-            let (dl_tail, err_tail) = (whole.remainder(), rest.remainder());
-            for (c, (gv, ev)) in whole.zip(rest).enumerate() {
-                let (gv, ev) = (gv.try_into().expect("whole vector"), ev.try_into().expect("whole vector"));
-                add_lanes(&mut lanes, (c * LANES) as i32 - first, (gv, ev), (lx, ly, sx, sy, hb), (first, last));
-            }
-            if !dl_tail.is_empty() {
-                // A row narrower than a vector: its tail padded with zeros.
-                let (mut gv, mut ev) = ([0.0f32; LANES], [0.0f32; LANES]);
-                gv[..dl_tail.len()].copy_from_slice(dl_tail);
-                ev[..err_tail.len()].copy_from_slice(err_tail);
-                add_lanes(
-                    &mut lanes,
-                    (width - dl_tail.len()) as i32 - first,
-                    (&gv, &ev),
-                    (lx, ly, sx, sy, hb),
-                    (first, last),
-                );
-            }
-            for (a, l) in acc.iter_mut().zip(lanes) {
-                *a += f64::from(l.iter().sum::<f32>());
-            }
+        // Without an error map the error sums are skipped (`dl` stands in for the map, unread).
+        match err {
+            Some(err) => support_sums::<true>(p, pixels, dl, err),
+            None => support_sums::<false>(p, pixels, dl, dl),
         }
-        acc
     }
 }
 
-/// Adds one vector of [`LANES`] samples to a row's partial sums (see [`Sums`]): `t0` is the
-/// first lane's step from the span's start, `gv` and `ev` the samples' loss gradient and error,
-/// `(lx, ly, sx, sy)` the span's local coordinates and step, `hb` the exponent β/2; lanes whose
-/// step is outside `0..=last − first` add nothing.
+/// [`Sums`] over the support of `p`, the error sums only when `ERROR`.
 #[allow(
     clippy::inline_always,
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
 )]
 #[inline(always)]
-fn add_lanes(
+fn support_sums<const ERROR: bool>(p: &Prepared, pixels: &GridSpec, dl: &[f32], err: &[f32]) -> [f64; 9] {
+    let nx = pixels.nx();
+    let mut acc = [0.0f64; 9];
+    let Some((j0, j1)) = p.rows(pixels) else { return acc };
+    let hb = p.half_beta;
+    for j in j0..=j1 {
+        let Some(Span { i0, i1, x: lx, y: ly, sx, sy }) = p.span(pixels, j) else { continue };
+        // Whole vectors of LANES samples widened within the row (the rasterizer's spans): read
+        // in place, the lanes outside the span masked out.
+        let width = (i1 - i0 + 1).next_multiple_of(LANES).min(nx);
+        let lo = i0.min(nx - width);
+        let (first, last) = ((i0 - lo) as i32, (i1 - lo) as i32);
+        let row = j * nx + lo;
+        let (dl, err) = (&dl[row..row + width], &err[row..row + width]);
+        // LANES partial sums so that the loop vectorizes (a single f32 accumulator is a serial
+        // dependency the compiler must keep in order).
+        let mut lanes = [[0.0f32; LANES]; 9];
+        let (whole, rest) = (dl.chunks_exact(LANES), err.chunks_exact(LANES));
+        let (dl_tail, err_tail) = (whole.remainder(), rest.remainder());
+        let span = (lx, ly, sx, sy, hb);
+        for (c, (gv, ev)) in whole.zip(rest).enumerate() {
+            let (gv, ev) = (gv.try_into().expect("whole vector"), ev.try_into().expect("whole vector"));
+            add_lanes::<ERROR>(&mut lanes, (c * LANES) as i32 - first, (gv, ev), span, (first, last));
+        }
+        if !dl_tail.is_empty() {
+            // A row narrower than a vector: its tail padded with zeros.
+            let (mut gv, mut ev) = ([0.0f32; LANES], [0.0f32; LANES]);
+            gv[..dl_tail.len()].copy_from_slice(dl_tail);
+            ev[..err_tail.len()].copy_from_slice(err_tail);
+            let t0 = (width - dl_tail.len()) as i32 - first;
+            add_lanes::<ERROR>(&mut lanes, t0, (&gv, &ev), span, (first, last));
+        }
+        for (a, l) in acc.iter_mut().zip(lanes) {
+            *a += f64::from(l.iter().sum::<f32>());
+        }
+    }
+    acc
+}
+
+/// Adds one vector of [`LANES`] samples to a row's partial sums (see [`Sums`]): `t0` is the
+/// first lane's step from the span's start, `gv` and `ev` the samples' loss gradient and error,
+/// `(lx, ly, sx, sy)` the span's local coordinates and step, `hb` the exponent β/2; lanes whose
+/// step is outside `0..=last − first` add nothing. The error sums only when `ERROR`.
+#[allow(
+    clippy::inline_always,
+    reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+)]
+#[inline(always)]
+fn add_lanes<const ERROR: bool>(
     lanes: &mut [[f32; LANES]; 9],
     t0: i32,
     (gv, ev): (&[f32; LANES], &[f32; LANES]),
@@ -798,8 +818,10 @@ fn add_lanes(
         lanes[4][l] += w * y * y;
         lanes[5][l] += w * x * y;
         lanes[6][l] += ge * q * l2;
-        lanes[7][l] += e * ev[l];
-        lanes[8][l] += e;
+        if ERROR {
+            lanes[7][l] += e * ev[l];
+            lanes[8][l] += e;
+        }
     }
 }
 
@@ -939,7 +961,7 @@ mod tests {
         let x = raster_samples(&prims, &pixels, 1e-12);
         let (_, dl) = loss(&x, &target, 40, 36, &weights, true);
         let err = vec![0.0; x.len()];
-        let back = backward(&prims, &pixels, &dl, &err, 1e-12);
+        let back = backward(&prims, &pixels, &dl, Some(&err), 1e-12);
         let options = VectorizeOptions::default();
         for (index, g) in prims.iter().enumerate() {
             let p = Param::new(DVec2::from(g.center), g.sigma, g.theta, g.amplitude, g.beta, &options);
@@ -981,7 +1003,7 @@ mod tests {
         // A huge gradient and error far outside both supports; inside, the error is the column.
         let dl: Vec<f32> = (0..nx * ny).map(|k| if far(k) { 1e6 } else { 0.0 }).collect();
         let err: Vec<f32> = (0..nx * ny).map(|k| if far(k) { 1e6 } else { (k % nx) as f32 }).collect();
-        let back = backward(&prims, &pixels, &dl, &err, tolerance);
+        let back = backward(&prims, &pixels, &dl, Some(&err), tolerance);
         for (g, b) in prims.iter().zip(&back) {
             assert!(b.grad.iter().all(|&d| d == 0.0), "{:?}", b.grad);
             let r2 = g.support_radius(tolerance).powi(2);
@@ -994,6 +1016,11 @@ mod tests {
                 }
             }
             assert!((b.error - weighted / total).abs() < 1e-3 * b.error, "{} against {}", b.error, weighted / total);
+        }
+        // Without the error map, the same gradients and no error.
+        let without = backward(&prims, &pixels, &dl, None, tolerance);
+        for (b, w) in back.iter().zip(&without) {
+            assert_eq!((b.grad, w.error), (w.grad, 0.0));
         }
     }
 }
