@@ -11,7 +11,8 @@
 //! - `luxembourg`: SRTM elevations of Luxembourg, 95 × 90, its no-data outside the border filled
 //!   with its lowest elevation.
 //!
-//! `cargo xtask bench` runs it; each line is one fit. `DEMS=salish,luxembourg` picks DEMs.
+//! `cargo xtask bench` runs it; each line is one fit. `DEMS=salish,luxembourg` picks DEMs, `SEED=3`
+//! the seed of the initial placement (default 0).
 //!
 //! Usage: `cargo run --release -p relief --example vectorize_fidelity -- [DENSITY] [VARIANT…]`:
 //! `DENSITY` primitives per 1000 DEM samples (default 10, the paper's 10 000 at 1024²);
@@ -77,7 +78,11 @@ fn dems(dir: &Path) -> Result<Vec<(&'static str, Heightfield)>, Box<dyn std::err
 }
 
 fn options(variant: &str, primitives: usize) -> Result<VectorizeOptions, String> {
-    let ours = VectorizeOptions { primitives, ..VectorizeOptions::default() };
+    let seed = match std::env::var("SEED") {
+        Ok(s) => s.parse().map_err(|_| format!("SEED={s}: not an unsigned integer"))?,
+        Err(_) => 0,
+    };
+    let ours = VectorizeOptions { primitives, seed, ..VectorizeOptions::default() };
     Ok(match variant {
         "ours" => ours,
         "paper" => {
