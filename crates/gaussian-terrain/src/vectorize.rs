@@ -1086,4 +1086,40 @@ mod tests {
             kept.iter().map(|k| all.iter().position(|p| p.x == k.x).expect("a kept primitive")).collect();
         assert!(positions.is_sorted(), "{positions:?}");
     }
+
+    /// The backward pass visits exactly the rasterizer's samples: weighting each sample by the
+    /// inverse of the primitive's rasterized value makes its amplitude gradient `Σ dl·g` count
+    /// them, so a span cut short or run long by one sample shows (spans of every length mod 16,
+    /// a row that is not a whole number of vectors).
+    #[test]
+    fn backward_visits_the_rasterizers_samples() {
+        let (nx, ny) = (70, 40);
+        let pixels = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).expect("grid");
+        for (k, sigma) in [3.0, 5.5, 9.0, 14.0].into_iter().enumerate() {
+            let g = Gaussian {
+                center: [35.2, 19.7],
+                sigma: [sigma, 0.6 * sigma],
+                theta: 0.3 * k as f64,
+                amplitude: 1.0,
+                beta: 1.7,
+            };
+            let raster = raster_samples(&[g], &pixels, FIT_TOLERANCE);
+            let dl: Vec<f32> = raster.iter().map(|&v| if v > 0.0 { 1.0 / v } else { 0.0 }).collect();
+            let count = raster.iter().filter(|&&v| v > 0.0).count() as f64;
+            let back = backward(&[g], &pixels, &dl, None, FIT_TOLERANCE);
+            assert!((back[0].grad[5] - count).abs() < 1e-3 * count, "{} against {count} samples", back[0].grad[5]);
+        }
+    }
+
+    /// The cut ranks by volume |a|·σx·σy: a negative primitive counts by its magnitude, and a
+    /// tall narrow one against a low wide one by the product.
+    #[test]
+    fn the_budget_keeps_the_largest_volumes() {
+        let options = VectorizeOptions::default();
+        let param = |amplitude: f64, sigma: f64| Param::new(DVec2::ZERO, [sigma, sigma], 0.0, amplitude, 2.0, &options);
+        // Volumes 10, 9 and 16.
+        let params = vec![param(10.0, 1.0), param(1.0, 3.0), param(-4.0, 2.0)];
+        let kept: Vec<f64> = within_budget(params, 2).iter().map(|p| p.gaussian().amplitude).collect();
+        assert_eq!(kept, [10.0, -4.0]);
+    }
 }
