@@ -802,7 +802,8 @@ fn support_sums<const ERROR: bool>(p: &Prepared, pixels: &GridSpec, dl: &[f32], 
             add_lanes::<ERROR>(&mut lanes, (c * LANES) as i32 - first, (gv, ev), span, (first, last));
         }
         if !dl_tail.is_empty() {
-            // A row narrower than a vector: its tail padded with zeros.
+            // A span widened to the whole row, which is not a whole number of vectors: the tail
+            // padded with zeros.
             let (mut gv, mut ev) = ([0.0f32; LANES], [0.0f32; LANES]);
             gv[..dl_tail.len()].copy_from_slice(dl_tail);
             ev[..err_tail.len()].copy_from_slice(err_tail);
