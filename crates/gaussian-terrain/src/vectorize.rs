@@ -429,12 +429,9 @@ fn fit(
         let next = iteration + 1;
         let densifying =
             options.densify_every > 0 && next % options.densify_every == 0 && next * 5 <= options.iterations * 4;
-        let err: Vec<f32> = if densifying && options.densify == Densify::Error {
-            approx.iter().zip(target).map(|(a, b)| (a - b).abs()).collect()
-        } else {
-            Vec::new()
-        };
-        let back = backward(&prims, pixels, &grad, (!err.is_empty()).then_some(&err[..]), FIT_TOLERANCE);
+        let err: Option<Vec<f32>> = (densifying && options.densify == Densify::Error)
+            .then(|| approx.iter().zip(target).map(|(a, b)| (a - b).abs()).collect());
+        let back = backward(&prims, pixels, &grad, err.as_deref(), FIT_TOLERANCE);
         // Learning rate decays exponentially to a tenth over the budget.
         let decay = 0.1f64.powf(iteration as f64 / options.iterations.max(1) as f64);
         params.par_iter_mut().zip(&back).for_each(|(p, b)| {
@@ -669,26 +666,22 @@ fn initialise(target: &[f32], pixels: &GridSpec, options: &VectorizeOptions) -> 
 
 /// `params` cut to the `budget` largest by volume (|a|·σx·σy), in their order: the levels'
 /// jittered grids round their counts up, which a small budget may not hold.
-fn within_budget(mut params: Vec<Param>, budget: usize) -> Vec<Param> {
+fn within_budget(params: Vec<Param>, budget: usize) -> Vec<Param> {
     if params.len() <= budget {
         return params;
     }
-    let volume = |p: &Param| {
-        let g = p.gaussian();
-        (g.amplitude * g.sigma[0] * g.sigma[1]).abs()
-    };
+    let volumes: Vec<f64> = params
+        .iter()
+        .map(|p| {
+            let g = p.gaussian();
+            (g.amplitude * g.sigma[0] * g.sigma[1]).abs()
+        })
+        .collect();
     let mut order: Vec<usize> = (0..params.len()).collect();
-    order.sort_by(|&a, &b| volume(&params[b]).total_cmp(&volume(&params[a])).then(a.cmp(&b)));
-    let mut kept = vec![false; params.len()];
-    for &k in &order[..budget] {
-        kept[k] = true;
-    }
-    let mut k = 0;
-    params.retain(|_| {
-        k += 1;
-        kept[k - 1]
-    });
-    params
+    order.sort_by(|&a, &b| volumes[b].total_cmp(&volumes[a]).then(a.cmp(&b)));
+    order.truncate(budget);
+    order.sort_unstable();
+    order.into_iter().map(|k| params[k]).collect()
 }
 
 /// Whether a primitive survives pruning (§4): 3σ above one working cell, elongation at most
