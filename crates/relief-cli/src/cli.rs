@@ -621,6 +621,11 @@ pub(crate) struct VectorizeArgs {
     /// Seed of the initial placement.
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u64,
+    /// Fill the DEM's no-data samples before the fit: `min` at its lowest elevation (a country
+    /// masked beyond its border, a sea stored as no-data: the fit's floor then holds that ground
+    /// flat), or at the elevation given. Without it a DEM with no-data is refused.
+    #[arg(long, value_name = "min|ELEVATION")]
+    pub(crate) fill_no_data: Option<relief::scene::NoDataFill>,
 }
 
 // `relief serve`.

@@ -611,6 +611,29 @@ fn vectorize_keeps_a_flat_sea_unless_plain() {
     assert!(lowest < -10.0, "the plain sum's lowest sample {lowest} m");
 }
 
+/// A DEM with no-data (a country masked beyond its border) is refused with the flag that fills
+/// it; `--fill-no-data min` fills at the lowest elevation, which becomes the terrain's floor.
+#[test]
+fn vectorize_fills_no_data_when_asked() {
+    let tmp = tempfile::tempdir().unwrap();
+    let json = tmp.path().join("lux.json");
+    let (dem, json_s) = ("fixtures/dem/luxembourg.tif", json.to_str().unwrap());
+    let run = |fill: &[&str], code: i32| {
+        let mut args = vec!["vectorize", dem, "--primitives", "40", "--iterations", "5", "-o", json_s];
+        args.extend(fill);
+        if code == 0 { ok(&args) } else { fails(&args, code) }
+    };
+    let err = run(&[], 1);
+    assert!(err.contains("3942 no-data samples") && err.contains("--fill-no-data min"), "{err}");
+    let err = run(&["--fill-no-data", "max"], 2);
+    assert!(err.contains("max: give `min` or a finite elevation"), "{err}");
+    let out = run(&["--fill-no-data", "min"], 0);
+    assert!(out.contains("3942 no-data samples filled at 141"), "{out}");
+    let terrain: relief::gaussian_terrain::VectorTerrain =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(terrain.floor, Some(141.0));
+}
+
 #[test]
 fn gis_flags_label_crs_pick_bands_and_channels_and_convert_keeps_the_crs() {
     let info = ok(&["info", "fixtures/gdal/tn-ftus.tif"]);

@@ -290,6 +290,54 @@ fn a_scene_vectorizes_a_dem_with_details_and_the_range_choice() {
     assert!(fine < 0.01 * coarse && fine < 1.0, "details: {fine} m against {coarse} m without");
 }
 
+/// A DEM with no-data (Luxembourg, masked beyond its border as SRTM extracts are) is refused
+/// by a scene unless `fill_no_data` says how to fill it; `"min"` fills at the lowest elevation,
+/// which becomes the terrain's floor, so the border rasterizes flat; an elevation fills
+/// at that elevation; anything else is refused with what the field takes.
+#[test]
+fn a_scene_fills_a_dems_no_data_when_asked() {
+    let dem = root().join("fixtures/dem/luxembourg.tif");
+    let truth = relief::io::read(&dem).unwrap();
+    let (lo, hi) = truth.min_max().unwrap();
+    let (nx, ny) = (truth.nx(), truth.ny());
+    let scene = |fill: Option<serde_json::Value>| {
+        let mut source = serde_json::json!({ "kind": "dem", "path": dem, "primitives": 86, "iterations": 200 });
+        if let Some(fill) = fill {
+            source["fill_no_data"] = fill;
+        }
+        let json = serde_json::json!({
+            "version": 1,
+            "generator": { "gaussian": { "source": source } },
+            "reconstruction": { "resolution": [nx, ny] },
+        });
+        let scene = Scene::from_json(&json.to_string()).map_err(|e| e.to_string())?;
+        generate(&scene, root().as_path(), &mut Quiet).map_err(|e| e.to_string())
+    };
+    let err = scene(None).err().unwrap();
+    assert!(err.contains("generator.gaussian.source.fill_no_data") && err.contains("3942 no-data"), "{err}");
+    let err = scene(Some(serde_json::json!("max"))).err().unwrap();
+    assert!(err.contains("max: give `min`"), "{err}");
+    let err = scene(Some(serde_json::json!(true))).err().unwrap();
+    assert!(err.contains("true: give \"min\""), "{err}");
+    let filled = scene(Some(serde_json::json!("min"))).unwrap();
+    assert_eq!(filled.vector.as_ref().unwrap().terrain.floor, Some(f64::from(lo)));
+    // The samples that were no-data, away from the border (5 × 5 of them), stay at the floor.
+    let no_data = |i: usize, j: usize| truth.value(i, j).is_nan();
+    let open: Vec<(usize, usize)> = (2..ny - 2)
+        .flat_map(|j| (2..nx - 2).map(move |i| (i, j)))
+        .filter(|&(i, j)| (j - 2..=j + 2).all(|jj| (i - 2..=i + 2).all(|ii| no_data(ii, jj))))
+        .collect();
+    assert!(open.len() > 1000, "{} open no-data samples", open.len());
+    let relief = f64::from(hi - lo);
+    let worst = open.iter().map(|&(i, j)| f64::from(filled.heightfield.value(i, j) - lo)).fold(0.0, f64::max);
+    assert!(worst <= 0.005 * relief, "{worst} m above the floor");
+    // At an elevation above the lowest there is no floor: the fill is the terrain's there.
+    let high = scene(Some(serde_json::json!(300.0))).unwrap();
+    assert_eq!(high.vector.as_ref().unwrap().terrain.floor, None);
+    let mean: f64 = open.iter().map(|&(i, j)| f64::from(high.heightfield.value(i, j))).sum::<f64>() / open.len() as f64;
+    assert!((mean - 300.0).abs() < 10.0, "the open fill at {mean} m, filled at 300 m");
+}
+
 /// The fixture scene applies every tool and is deterministic.
 #[test]
 fn gaussian_scenes_generate_deterministically() {

@@ -6,7 +6,7 @@ use std::time::Duration;
 use anyhow::{Context as _, Result, bail};
 use glam::DVec2;
 use relief::gaussian_terrain::{VectorTerrain, VectorizeOptions};
-use relief::heightfield::{Extent, GridSpec};
+use relief::heightfield::{Extent, GridSpec, Heightfield};
 
 use crate::cli::{RasterizeArgs, VectorizeArgs};
 use crate::ui::Ui;
@@ -19,7 +19,8 @@ pub(crate) fn vectorize(args: &VectorizeArgs, ui: &mut Ui) -> Result<()> {
     ui.budget().primitives(options.primitives as u64, "--primitives")?;
     let side = options.resolution as u64;
     ui.budget().cells(side.saturating_mul(side), "--resolution")?;
-    let heightfield = ui.read(&args.dem)?;
+    let mut heightfield = ui.read(&args.dem)?;
+    fill_no_data(&mut heightfield, args, ui)?;
     let bar = ui.bar(options.iterations as u64, "vectorize {bar:30} {pos}/{len} {msg} {elapsed}");
     let fit = relief::gaussian_terrain::vectorize(&heightfield, &options, |p| {
         bar.set_position(p.iteration as u64);
@@ -46,6 +47,26 @@ pub(crate) fn vectorize(args: &VectorizeArgs, ui: &mut Ui) -> Result<()> {
         }
     ));
     ui.say(format_args!("  {}", args.output.display()));
+    Ok(())
+}
+
+/// Fills the DEM's no-data samples as `--fill-no-data` says, and says how many; without the
+/// flag, a DEM with no-data is refused with the flag's name (the library's error names a
+/// function a command-line user cannot call).
+fn fill_no_data(dem: &mut Heightfield, args: &VectorizeArgs, ui: &Ui) -> Result<()> {
+    let count = dem.no_data_count();
+    if count == 0 {
+        return Ok(());
+    }
+    let Some(fill) = args.fill_no_data else {
+        bail!(
+            "{}: {count} no-data samples; pass --fill-no-data min to fill them at the lowest elevation \
+             (a masked border or sea then stays flat) or --fill-no-data ELEVATION",
+            args.dem.display()
+        );
+    };
+    let value = fill.fill(dem).map_err(|e| anyhow::anyhow!("--fill-no-data: {e}"))?;
+    ui.say(format_args!("{}: {count} no-data samples filled at {value}", args.dem.display()));
     Ok(())
 }
 

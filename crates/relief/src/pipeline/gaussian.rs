@@ -12,8 +12,8 @@ use crate::gaussian_terrain::{
     Atlas, Landform, RasterOptions, Skeleton, SkeletonOptions, ToolContext, ToolError, VectorTerrain, VectorizeOptions,
     rasterize, vectorize,
 };
-use crate::heightfield::GridSpec;
-use crate::scene::{GaussianGenerator, GaussianSource, Scene};
+use crate::heightfield::{GridSpec, Heightfield};
+use crate::scene::{GaussianGenerator, GaussianSource, NoDataFill, Scene};
 use crate::vector::crest_skeleton;
 use crate::{ReliefError, ReliefError as E};
 
@@ -66,8 +66,8 @@ fn load_source(
     match source {
         GaussianSource::Primitives(terrain) => Ok(terrain.clone()),
         GaussianSource::Terrain { path } => env.read_json(path, &format!("{at}.path")),
-        GaussianSource::Dem { path, primitives, iterations, resolution, keep_range, details } => {
-            let dem = env.read(path).map_err(|e| E::at(format!("{at}.path"), e))?;
+        GaussianSource::Dem { path, primitives, iterations, resolution, keep_range, details, fill_no_data } => {
+            let dem = read_dem(env, path, *fill_no_data, at)?;
             let options = VectorizeOptions {
                 primitives: *primitives,
                 iterations: *iterations,
@@ -87,6 +87,26 @@ fn load_source(
             Ok(fitted.terrain)
         }
     }
+}
+
+/// The DEM at `path` with its no-data filled as `fill` says; refused, naming `fill_no_data`,
+/// when it has no-data and no fill.
+fn read_dem(env: &Env<'_>, path: &Path, fill: Option<NoDataFill>, at: &str) -> Result<Heightfield, ReliefError> {
+    let mut dem = env.read(path).map_err(|e| E::at(format!("{at}.path"), e))?;
+    let count = dem.no_data_count();
+    match fill {
+        _ if count == 0 => {}
+        Some(fill) => {
+            fill.fill(&mut dem).map_err(|e| E::at(format!("{at}.fill_no_data"), e))?;
+        }
+        None => {
+            let why = format!(
+                "the DEM has {count} no-data samples: set `fill_no_data` to \"min\" (its lowest elevation) or an elevation"
+            );
+            return Err(E::at(format!("{at}.fill_no_data"), why));
+        }
+    }
+    Ok(dem)
 }
 
 /// Applies the generator's tools in order, checking the primitive budget after each (a stamp at

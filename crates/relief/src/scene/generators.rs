@@ -489,7 +489,79 @@ pub enum GaussianSource {
         /// [`crate::gaussian_terrain::VectorizeOptions::detail_spacing`].
         #[serde(default, skip_serializing_if = "Option::is_none")]
         details: Option<f64>,
+        /// Fill the DEM's no-data samples before the fit: `"min"` at its lowest elevation (a
+        /// country masked beyond its border, a sea stored as no-data; the fit's floor then holds
+        /// that ground flat) or at an elevation. Default none: a DEM with no-data is refused.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        fill_no_data: Option<NoDataFill>,
     },
+}
+
+/// What a DEM's no-data samples are filled with: `"min"` or an elevation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
+pub enum NoDataFill {
+    /// This elevation.
+    Elevation(f64),
+    /// `"min"`: the DEM's lowest elevation.
+    Lowest(Lowest),
+}
+
+/// The word `"min"` of [`NoDataFill::Lowest`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Lowest {
+    /// The lowest elevation.
+    Min,
+}
+
+impl NoDataFill {
+    /// Fills `dem`'s no-data samples; the elevation used.
+    ///
+    /// # Errors
+    /// Why nothing can fill them: every sample is no-data (`"min"` has no lowest to take), or
+    /// the elevation is not a finite `f32`.
+    pub fn fill(self, dem: &mut crate::heightfield::Heightfield) -> Result<f32, String> {
+        let value = match self {
+            Self::Elevation(v) if (v as f32).is_finite() => v as f32,
+            Self::Elevation(v) => return Err(format!("{v} is beyond the elevations a heightfield holds (f32)")),
+            Self::Lowest(Lowest::Min) => {
+                dem.min_max().ok_or("every sample is no-data: there is no lowest elevation")?.0
+            }
+        };
+        dem.fill_no_data(value).map_err(|e| e.to_string())?;
+        Ok(value)
+    }
+}
+
+impl<'de> Deserialize<'de> for NoDataFill {
+    /// A number, or the word `"min"`; anything else is refused with what the field takes (an
+    /// untagged enum's own error names no value).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error as _;
+        match serde_json::Value::deserialize(d)? {
+            serde_json::Value::Number(n) => {
+                n.as_f64().map(Self::Elevation).ok_or_else(|| D::Error::custom("an elevation out of range"))
+            }
+            serde_json::Value::String(word) => word.parse().map_err(D::Error::custom),
+            other => Err(D::Error::custom(format!("{other}: give \"min\" or an elevation"))),
+        }
+    }
+}
+
+impl std::str::FromStr for NoDataFill {
+    type Err = String;
+
+    /// `min`, or an elevation.
+    fn from_str(text: &str) -> Result<Self, String> {
+        if text.eq_ignore_ascii_case("min") {
+            return Ok(Self::Lowest(Lowest::Min));
+        }
+        match text.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(Self::Elevation(v)),
+            _ => Err(format!("{text}: give `min` or a finite elevation")),
+        }
+    }
 }
 
 #[allow(clippy::trivially_copy_pass_by_ref, reason = "serde's skip_serializing_if passes a reference")]

@@ -28,8 +28,8 @@ use crate::warp::{PathWarp, SlopeModulation};
 
 pub use generators::{
     Border, CoastlineImage, ContourInput, ContoursGenerator, DiffusionGenerator, GaussianGenerator, GaussianSource,
-    Generator, IslandGenerator, LabelImage, LabelLevelSpec, LabelValue, LandTone, Multilevel, OrometryGenerator,
-    OrometrySource, OrometryTypes, Probability,
+    Generator, IslandGenerator, LabelImage, LabelLevelSpec, LabelValue, LandTone, Lowest, Multilevel, NoDataFill,
+    OrometryGenerator, OrometrySource, OrometryTypes, Probability,
 };
 pub use histogram::HistogramSource;
 pub use inputs::InputOptions;
