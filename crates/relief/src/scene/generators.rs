@@ -663,3 +663,42 @@ pub enum OrometrySource {
 fn summit_prominence() -> f64 {
     30.0
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::heightfield::{GridSpec, Heightfield};
+
+    fn dem() -> Heightfield {
+        let grid = GridSpec::new(2, 2, glam::DVec2::ZERO, glam::DVec2::ONE).unwrap();
+        Heightfield::from_samples(grid, vec![f32::NAN, 5.0, 7.0, f32::NAN]).unwrap()
+    }
+
+    /// `min` (any case) or a finite number; infinities and words are refused with what is taken.
+    #[test]
+    fn no_data_fills_parse() {
+        assert_eq!("MIN".parse(), Ok(NoDataFill::Lowest(Lowest::Min)));
+        assert_eq!("-3.5".parse(), Ok(NoDataFill::Elevation(-3.5)));
+        for bad in ["inf", "NaN", "max", ""] {
+            let err = bad.parse::<NoDataFill>().unwrap_err();
+            assert!(err.contains("give `min` or a finite elevation"), "{bad}: {err}");
+        }
+    }
+
+    /// `min` fills at the lowest valid sample, an elevation at itself; an elevation beyond f32
+    /// and a DEM with no valid sample are refused.
+    #[test]
+    fn no_data_fills_fill() {
+        let mut d = dem();
+        assert_eq!(NoDataFill::Lowest(Lowest::Min).fill(&mut d), Ok(5.0));
+        assert_eq!(d.samples(), [5.0, 5.0, 7.0, 5.0]);
+        let mut d = dem();
+        assert_eq!(NoDataFill::Elevation(-2.0).fill(&mut d), Ok(-2.0));
+        assert_eq!(d.samples(), [-2.0, 5.0, 7.0, -2.0]);
+        let err = NoDataFill::Elevation(1e39).fill(&mut dem()).unwrap_err();
+        assert!(err.contains("beyond the elevations a heightfield holds"), "{err}");
+        let grid = GridSpec::new(2, 1, glam::DVec2::ZERO, glam::DVec2::ONE).unwrap();
+        let mut empty = Heightfield::from_samples(grid, vec![f32::NAN; 2]).unwrap();
+        assert!(NoDataFill::Lowest(Lowest::Min).fill(&mut empty).unwrap_err().contains("every sample is no-data"));
+    }
+}
