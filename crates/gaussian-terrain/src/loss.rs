@@ -62,17 +62,19 @@ const TAPS: usize = 2 * RADIUS + 1;
 fn filter_valid(f: &[f32], nx: usize, ny: usize, rows: &mut Vec<f32>, out: &mut Vec<f32>) {
     let w = 1.0 / TAPS as f32;
     let (ox, oy) = (nx - 2 * RADIUS, ny - 2 * RADIUS);
-    zeroed(rows, ox * ny);
+    sized(rows, ox * ny);
     rows.par_chunks_mut(ox).enumerate().for_each(|(j, out)| {
         let src = &f[j * nx..(j + 1) * nx];
+        out.fill(0.0);
         for k in 0..TAPS {
             for (o, s) in out.iter_mut().zip(&src[k..]) {
                 *o += w * s;
             }
         }
     });
-    zeroed(out, ox * oy);
+    sized(out, ox * oy);
     out.par_chunks_mut(ox).enumerate().for_each(|(j, o)| {
+        o.fill(0.0);
         for k in 0..TAPS {
             let src = &rows[(j + k) * ox..(j + k + 1) * ox];
             for (a, b) in o.iter_mut().zip(src) {
@@ -88,8 +90,9 @@ fn filter_adjoint(g: &[f32], nx: usize, ny: usize, rows: &mut Vec<f32>, out: &mu
     let w = 1.0 / TAPS as f32;
     let (ox, oy) = (nx - 2 * RADIUS, ny - 2 * RADIUS);
     // Columns first (adjoint of the second pass), then rows.
-    zeroed(rows, ox * ny);
+    sized(rows, ox * ny);
     rows.par_chunks_mut(ox).enumerate().for_each(|(j, out)| {
+        out.fill(0.0);
         for k in 0..TAPS {
             // Output row j0 = j − k contributed to input row j.
             if let Some(j0) = j.checked_sub(k).filter(|&j0| j0 < oy) {
@@ -99,9 +102,10 @@ fn filter_adjoint(g: &[f32], nx: usize, ny: usize, rows: &mut Vec<f32>, out: &mu
             }
         }
     });
-    zeroed(out, nx * ny);
+    sized(out, nx * ny);
     out.par_chunks_mut(nx).enumerate().for_each(|(j, o)| {
         let src = &rows[j * ox..(j + 1) * ox];
+        o.fill(0.0);
         for k in 0..TAPS {
             for (a, s) in o[k..].iter_mut().zip(src) {
                 *a += w * s;
@@ -110,16 +114,25 @@ fn filter_adjoint(g: &[f32], nx: usize, ny: usize, rows: &mut Vec<f32>, out: &mu
     });
 }
 
-/// `v` as `len` zeros, reusing its allocation.
-fn zeroed<T: Copy + Default>(v: &mut Vec<T>, len: usize) {
-    v.clear();
+/// `v` resized to `len`, reusing its allocation: its values are stale, for a caller that
+/// writes every one (in parallel, where a fresh `vec![0; len]` or a `clear` and `resize` would
+/// write them once more on one thread).
+fn sized<T: Copy + Default>(v: &mut Vec<T>, len: usize) {
     v.resize(len, T::default());
 }
 
+/// Samples per parallel task in the loss's sample-wise passes (a fixed split, so a
+/// sum over the tasks adds the same partial sums in the same order for any thread count).
+const TASK: usize = 1 << 14;
+
 /// `out[k] = a[k]·b[k]`, reusing `out`'s allocation.
 fn product(a: &[f32], b: &[f32], out: &mut Vec<f32>) {
-    out.clear();
-    out.extend(a.iter().zip(b).map(|(p, q)| p * q));
+    sized(out, a.len());
+    out.par_chunks_mut(TASK).zip(a.par_chunks(TASK).zip(b.par_chunks(TASK))).for_each(|(o, (a, b))| {
+        for (o, (p, q)) in o.iter_mut().zip(a.iter().zip(b)) {
+            *o = p * q;
+        }
+    });
 }
 
 /// The loss of `x` (the approximation) against `y` (the target), both `nx × ny` row-major, and
@@ -191,15 +204,30 @@ impl<'a> Loss<'a> {
         let n = (nx * ny) as f64;
         let want_gradient = grad.is_some();
         let sc = &mut self.scratch;
-        sc.e.clear();
-        sc.e.extend(x.iter().zip(y).map(|(a, b)| f64::from(*a) - f64::from(*b)));
-        zeroed(&mut sc.grad, if want_gradient { nx * ny } else { 0 });
+        sized(&mut sc.e, nx * ny);
+        let parts: Vec<f64> =
+            sc.e.par_chunks_mut(TASK)
+                .zip(x.par_chunks(TASK).zip(y.par_chunks(TASK)))
+                .map(|(e, (x, y))| {
+                    let mut sum = 0.0;
+                    for (e, (a, b)) in e.iter_mut().zip(x.iter().zip(y)) {
+                        *e = f64::from(*a) - f64::from(*b);
+                        sum += e.abs();
+                    }
+                    sum
+                })
+                .collect();
+        let l1 = parts.iter().sum::<f64>() / n;
         let e = &sc.e;
-
-        let l1 = e.iter().map(|v| v.abs()).sum::<f64>() / n;
+        sized(&mut sc.grad, if want_gradient { nx * ny } else { 0 });
         if want_gradient {
+            // Written as `0 + …`, the bits a zeroed gradient would have after the addition.
             let k = weights.l1 / n;
-            sc.grad.iter_mut().zip(e).for_each(|(g, e)| *g += k * e.signum() * f64::from(u8::from(*e != 0.0)));
+            sc.grad.par_chunks_mut(TASK).zip(e.par_chunks(TASK)).for_each(|(g, e)| {
+                for (g, e) in g.iter_mut().zip(e) {
+                    *g = 0.0 + k * e.signum() * f64::from(u8::from(*e != 0.0));
+                }
+            });
         }
 
         // Slope differences per 1/100 of the longer side; rows in parallel, each writing only
@@ -242,8 +270,12 @@ impl<'a> Loss<'a> {
         let ssim = if has_ssim(nx, ny) { self.ssim_term(x, weights, want_gradient) } else { 0.0 };
         let total = weights.l1 * l1 + weights.gradient * gradient + weights.ssim() * ssim;
         if let Some(out) = grad {
-            out.clear();
-            out.extend(self.scratch.grad.iter().map(|&v| v as f32));
+            sized(out, nx * ny);
+            out.par_chunks_mut(TASK).zip(self.scratch.grad.par_chunks(TASK)).for_each(|(o, g)| {
+                for (o, g) in o.iter_mut().zip(g) {
+                    *o = *g as f32;
+                }
+            });
         }
         LossTerms { l1, gradient, ssim, total }
     }
@@ -260,35 +292,45 @@ impl<'a> Loss<'a> {
         product(x, y, &mut sc.product);
         filter_valid(&sc.product, nx, ny, &mut sc.rows, &mut sc.exy);
         let (mx, exx, exy) = (&sc.mx, &sc.exx, &sc.exy);
-        let count = mx.len() as f64;
-        let mut sum = 0.0;
-        zeroed(&mut sc.dm, mx.len());
-        zeroed(&mut sc.dp, mx.len());
-        zeroed(&mut sc.dq, mx.len());
-        for k in 0..mx.len() {
-            let (ux, uy) = (f64::from(mx[k]), f64::from(my[k]));
-            let a1 = 2.0 * ux * uy + C1;
-            let a2 = 2.0 * (f64::from(exy[k]) - ux * uy) + C2;
-            let b1 = ux * ux + uy * uy + C1;
-            let b2 = (f64::from(exx[k]) - ux * ux) + (f64::from(eyy[k]) - uy * uy) + C2;
-            let s = a1 * a2 / (b1 * b2);
-            sum += s;
-            // d(1 − S)/d(μx, E[x²], E[xy]) per window, over the window count.
-            let f = -weights.ssim() / count;
-            sc.dm[k] = (f * s * (2.0 * uy / a1 - 2.0 * uy / a2 - 2.0 * ux / b1 + 2.0 * ux / b2)) as f32;
-            sc.dp[k] = (f * (-s / b2)) as f32;
-            sc.dq[k] = (f * (2.0 * s / a2)) as f32;
+        let windows = mx.len();
+        let count = windows as f64;
+        for d in [&mut sc.dm, &mut sc.dp, &mut sc.dq] {
+            sized(d, windows);
         }
+        // d(1 − S)/d(μx, E[x²], E[xy]) per window, over the window count.
+        let f = -weights.ssim() / count;
+        let parts: Vec<f64> = (sc.dm.par_chunks_mut(TASK).zip(sc.dp.par_chunks_mut(TASK)))
+            .zip(sc.dq.par_chunks_mut(TASK))
+            .enumerate()
+            .map(|(t, ((dm, dp), dq))| {
+                let mut sum = 0.0;
+                for (j, k) in (t * TASK..).take(dm.len()).enumerate() {
+                    let (ux, uy) = (f64::from(mx[k]), f64::from(my[k]));
+                    let a1 = 2.0 * ux * uy + C1;
+                    let a2 = 2.0 * (f64::from(exy[k]) - ux * uy) + C2;
+                    let b1 = ux * ux + uy * uy + C1;
+                    let b2 = (f64::from(exx[k]) - ux * ux) + (f64::from(eyy[k]) - uy * uy) + C2;
+                    let s = a1 * a2 / (b1 * b2);
+                    sum += s;
+                    dm[j] = (f * s * (2.0 * uy / a1 - 2.0 * uy / a2 - 2.0 * ux / b1 + 2.0 * ux / b2)) as f32;
+                    dp[j] = (f * (-s / b2)) as f32;
+                    dq[j] = (f * (2.0 * s / a2)) as f32;
+                }
+                sum
+            })
+            .collect();
         if want_gradient {
             filter_adjoint(&sc.dm, nx, ny, &mut sc.rows, &mut sc.gm);
             filter_adjoint(&sc.dp, nx, ny, &mut sc.rows, &mut sc.gp);
             filter_adjoint(&sc.dq, nx, ny, &mut sc.rows, &mut sc.gq);
             let (gm, gp, gq) = (&sc.gm, &sc.gp, &sc.gq);
-            for k in 0..nx * ny {
-                sc.grad[k] += f64::from(gm[k] + 2.0 * x[k] * gp[k] + y[k] * gq[k]);
-            }
+            sc.grad.par_chunks_mut(TASK).enumerate().for_each(|(t, g)| {
+                for (g, k) in g.iter_mut().zip(t * TASK..) {
+                    *g += f64::from(gm[k] + 2.0 * x[k] * gp[k] + y[k] * gq[k]);
+                }
+            });
         }
-        1.0 - sum / count
+        1.0 - parts.iter().sum::<f64>() / count
     }
 }
 
