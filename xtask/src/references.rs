@@ -323,7 +323,10 @@ pub(crate) const SECTION_NOTES: &[(&str, &str)] = &[
          steps 30.2 s, 9992 primitives, ℓ₁ 3.84e-3; 350 steps 53.4 s, 9995 primitives, ℓ₁ 3.31e-3, inside \
          the 60 s target (the fBm rows above: 3.17e-3 → 2.93e-3). With all flat ground weighing 32 in the \
          last fifth of the steps (below; this DEM has a reservoir), 200 steps 32.7 s, 9991 primitives, ℓ₁ \
-         3.87e-3; 350 steps 56.7 s, 9995 primitives, ℓ₁ 3.33e-3. Measured on the way, at 200 steps: a 95 % \
+         3.87e-3; 350 steps 56.7 s, 9995 primitives, ℓ₁ 3.33e-3. With the loss's sample-wise passes in \
+         parallel (its errors, SSIM windows, products and sums had run on one thread; the same bytes), 200 \
+         steps alternated with the former build 32.5–32.7 → 29.2–31.1 s, 350 steps 55.7 s (the fBm rows \
+         above, re-run with it: 10.4, 11.3 and 32.8 s against 11.9, 11.6 and 33.8 s). Measured on the way, at 200 steps: a 95 % \
          share alone 3.87e-3, with the larger steps 3.74e-3, but on budgets of a few hundred the levels' grids \
          round their counts up to the whole budget and densification had no room left (it could exceed \
          it: the initialisation is now cut to the budget, keeping its most voluminous primitives); step \
