@@ -402,14 +402,9 @@ fn fit(
     loop {
         let prims: Vec<Gaussian> = params.iter().map(Param::gaussian).collect();
         let mut approx = raster_samples(&prims, pixels, FIT_TOLERANCE);
-        let below: Vec<bool> = if floored { approx.iter().map(|&a| a < 0.0).collect() } else { Vec::new() };
-        for (a, _) in approx.iter_mut().zip(&below).filter(|(_, b)| **b) {
-            *a = 0.0;
-        }
+        let below: Vec<bool> = if floored { raise_to_floor(&mut approx) } else { Vec::new() };
         let terms = objective.evaluate(&approx, &options.weights, Some(&mut grad));
-        for (g, _) in grad.iter_mut().zip(&below).filter(|(_, b)| **b) {
-            *g = 0.0;
-        }
+        grad.par_iter_mut().zip(&below).filter(|(_, b)| **b).for_each(|(g, _)| *g = 0.0);
         if options.keep_range {
             penalize_out_of_range(&approx, &mut grad);
             let settling = iteration * 5 >= options.iterations * 4;
@@ -450,6 +445,21 @@ fn fit(
     }
 }
 
+/// Raises the samples of `approx` below the floor (0, the DEM's minimum) to it, and says which
+/// were raised.
+fn raise_to_floor(approx: &mut [f32]) -> Vec<bool> {
+    approx
+        .par_iter_mut()
+        .map(|a| {
+            let below = *a < 0.0;
+            if below {
+                *a = 0.0;
+            }
+            below
+        })
+        .collect()
+}
+
 /// Weight of the range penalty, against ℓ₁'s `α₁` = 0.5: an excess beyond the DEM's range costs
 /// five times what the same error inside it does.
 const RANGE_WEIGHT: f64 = 8.0;
@@ -460,13 +470,13 @@ const RANGE_WEIGHT: f64 = 8.0;
 /// hollow below the lowest valley) to lower its error next to it.
 fn penalize_out_of_range(approx: &[f32], grad: &mut [f32]) {
     let k = (RANGE_WEIGHT / approx.len() as f64) as f32;
-    for (g, &a) in grad.iter_mut().zip(approx) {
+    grad.par_iter_mut().zip(approx).for_each(|(g, &a)| {
         if a > 2.0 {
             *g += k;
         } else if a < 0.0 {
             *g -= k;
         }
-    }
+    });
 }
 
 /// The samples of `target` whose 3 × 3 neighbourhood is exactly flat (sea, lakes, filled
