@@ -373,6 +373,9 @@ mod tests {
         assert_eq!(t.gradient, 0.0);
         assert!(t.ssim.abs() < 1e-12, "{}", t.ssim);
         assert!(t.total.abs() < 1e-12);
+        // ℓ₁ has no slope at an exact sample: its gradient is 0 there, not a sign.
+        let (_, g) = loss(&y, &y, 20, 17, &LossWeights { l1: 1.0, gradient: 0.0 }, true);
+        assert!(g.iter().all(|&v| v == 0.0), "{:?}", g.iter().find(|v| **v != 0.0));
     }
 
     #[test]
@@ -393,6 +396,33 @@ mod tests {
             let an = f64::from(g[k]);
             // The SSIM windows are summed in f32.
             assert!((fd - an).abs() <= 1e-2 * an.abs().max(1e-3), "sample {k}: analytic {an}, finite {fd}");
+        }
+    }
+
+    /// A grid of more than two parallel tasks: every task's samples and windows get their own
+    /// errors and gradient (a task reading another's would fail the differences past the
+    /// first), and ℓ₁ is the mean over them all.
+    #[test]
+    fn every_task_gets_its_own_samples() {
+        let (nx, ny) = (200, 200);
+        assert!(nx * ny > 2 * TASK && (nx - 6) * (ny - 6) > 2 * TASK);
+        let y = field(nx, ny, 0.3);
+        let x: Vec<f32> = field(nx, ny, 1.1).iter().map(|v| v + 3.0).collect();
+        // No slope term: its kinks (slopes of the error crossing 0) would blur the differences.
+        let weights = LossWeights { l1: 0.3, gradient: 0.0 };
+        let (terms, g) = loss(&x, &y, nx, ny, &weights, true);
+        let n = (nx * ny) as f64;
+        let direct: f64 = x.iter().zip(&y).map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs()).sum::<f64>() / n;
+        assert!((terms.l1 - direct).abs() <= 1e-12 * direct, "ℓ₁ {} against {direct}", terms.l1);
+        for k in [TASK + 5, TASK + 3 * nx + 17, 2 * TASK + 300, nx * ny - nx * 4 - 9] {
+            let h = 1e-2f32;
+            let (mut xp, mut xm) = (x.clone(), x.clone());
+            xp[k] += h;
+            xm[k] -= h;
+            let fd = (loss(&xp, &y, nx, ny, &weights, false).0.total - loss(&xm, &y, nx, ny, &weights, false).0.total)
+                / (2.0 * f64::from(h));
+            let an = f64::from(g[k]);
+            assert!((fd - an).abs() <= 1e-2 * an.abs(), "sample {k}: analytic {an}, finite {fd}");
         }
     }
 }
