@@ -137,7 +137,9 @@ fn a_lake_on_a_floored_coast_stays_flat() {
 /// (seeds 0–5) until the last fifth of the fit weighed the floor's flat ground too; weighed
 /// earlier, it reshapes the land (ℓ₁ 0.080 from the tenth step, 0.0753 in the last fifth).
 /// With the flat weight of the rest of the fit there (4), seeds 4 and 5 at 86 primitives still
-/// left bumps of 26 % and 12 %; the settling weight (32) holds them under 0.5 %.
+/// left bumps of 26 % and 12 %; the settling weight (32) holds them under 0.5 %. Seed 31 kept one
+/// of 2.8 % until the fit held its primitives within the pruning's elongation: a thin negative
+/// primitive along the border (23:1) cancelled land primitives there and was pruned after the fit.
 #[test]
 fn a_filled_border_stays_within_the_dem_range() {
     use relief::gaussian_terrain::{RasterOptions, rasterize};
@@ -167,7 +169,7 @@ fn a_filled_border_stays_within_the_dem_range() {
     assert!(below == 0.0 && above <= 0.005, "beyond the range by {below} below, {above} above");
     assert!(bump <= 0.005, "a bump of {bump} of the relief over the open flat");
     assert!(l1 < 0.078, "ℓ₁ {l1}");
-    for seed in [4, 5] {
+    for seed in [4, 5, 31] {
         let (_, _, bump, _) = fit(&VectorizeOptions { primitives: 86, seed, ..options });
         assert!(bump <= 0.005, "seed {seed}: a bump of {bump} of the relief over the open flat");
     }
