@@ -407,8 +407,7 @@ fn fit(
     let above_floor: Vec<u32> =
         if floored { flats.iter().copied().filter(|&k| target[k as usize] > 0.0).collect() } else { flats.clone() };
     let max_ln_sigma = size.ln();
-    // A hair inside `t_e`, so that rounding cannot tip a clamped primitive over the pruning's test.
-    let max_ln_elongation = options.max_elongation.ln() - 1e-9;
+    let max_ln_elongation = max_ln_elongation(options);
     let mut iteration = 0;
     loop {
         let prims: Vec<Gaussian> = params.iter().map(Param::gaussian).collect();
@@ -720,6 +719,12 @@ fn within_budget(params: Vec<Param>, budget: usize) -> Vec<Param> {
     order.into_iter().map(|k| params[k]).collect()
 }
 
+/// The largest |ln σx − ln σy| the fit lets a primitive reach ([`Param::adam`]): the pruning's
+/// `t_e`, a hair inside, so that rounding cannot tip a clamped primitive over [`keep`]'s test.
+fn max_ln_elongation(options: &VectorizeOptions) -> f64 {
+    options.max_elongation.ln() - 1e-9
+}
+
 /// Whether a primitive survives pruning (§4): 3σ above one working cell, elongation at most
 /// `t_e`, |a| at least `t_a`, and some of its support on the working grid.
 fn keep(g: &Gaussian, options: &VectorizeOptions, pixels: &GridSpec, tolerance: f64) -> bool {
@@ -993,30 +998,39 @@ mod tests {
         assert!(!lies_flat_at_minimum(&one, 0.0));
     }
 
-    /// Steps that stretch a primitive along x and thin it along y stop at the pruning's
-    /// elongation, with its area that of the unclamped step, and the primitive stays kept.
+    /// Steps that stretch a primitive along one axis and thin it along the other leave it as an
+    /// unclamped Adam would until the pruning's elongation, then stop there with the area of the
+    /// unclamped step and the same long axis, and the primitive stays kept.
     #[test]
     fn adam_holds_the_elongation_the_pruning_keeps() {
         let options = VectorizeOptions::default();
         let pixels = GridSpec::new(200, 200, DVec2::ZERO, DVec2::ONE).expect("grid");
-        let max_ln_elongation = options.max_elongation.ln() - 1e-9;
-        let mut p = Param::new(DVec2::splat(100.0), [3.0, 3.0], 0.3, 0.5, 2.0, &options);
-        let mut grad = [0.0; 7];
-        (grad[2], grad[3]) = (-1.0, 1.0);
-        let mut clamped = 0;
-        for _ in 0..400 {
-            let area = p.x[2] + p.x[3];
-            p.adam(&grad, 1.0, 200f64.ln(), max_ln_elongation);
-            let [sx, sy] = p.gaussian().sigma;
-            assert!(sx / sy <= options.max_elongation, "elongation {}", sx / sy);
-            if sx / sy > 0.99 * options.max_elongation {
-                clamped += 1;
-                // Both axes moved by the same step, in opposite senses: ln σx + ln σy unchanged.
-                assert!((p.x[2] + p.x[3] - area).abs() < 1e-12, "area changed");
+        let limit = max_ln_elongation(&options);
+        for long in [2, 3] {
+            let mut p = Param::new(DVec2::splat(100.0), [3.0, 3.0], 0.3, 0.5, 2.0, &options);
+            let mut free = p;
+            let mut grad = [0.0; 7];
+            (grad[long], grad[5 - long]) = (-1.0, 1.0);
+            let mut clamped = 0;
+            for _ in 0..400 {
+                let area = p.x[2] + p.x[3];
+                p.adam(&grad, 1.0, 200f64.ln(), limit);
+                free.adam(&grad, 1.0, 200f64.ln(), f64::INFINITY);
+                let [sx, sy] = p.gaussian().sigma;
+                let (big, small) = if long == 2 { (sx, sy) } else { (sy, sx) };
+                assert!(big / small <= options.max_elongation, "elongation {}", big / small);
+                if (free.x[2] - free.x[3]).abs() <= limit {
+                    assert_eq!(p.x, free.x, "clamped below the limit");
+                } else {
+                    clamped += 1;
+                    assert!(big / small > 0.999 * options.max_elongation, "elongation {}", big / small);
+                    // Both axes moved by the same step, in opposite senses: ln σx + ln σy unchanged.
+                    assert!((p.x[2] + p.x[3] - area).abs() < 1e-12, "area changed");
+                }
             }
+            assert!(clamped > 100, "the clamp held {clamped} steps");
+            assert!(keep(&p.gaussian(), &options, &pixels, FIT_TOLERANCE));
         }
-        assert!(clamped > 100, "the clamp held {clamped} steps");
-        assert!(keep(&p.gaussian(), &options, &pixels, FIT_TOLERANCE));
     }
 
     #[test]
