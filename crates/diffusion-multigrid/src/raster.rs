@@ -8,6 +8,7 @@ use std::ops::ControlFlow;
 use glam::DVec2;
 use rayon::prelude::*;
 use relief_heightfield::GridSpec;
+use relief_heightfield::rounding::{ceil, floor};
 
 use crate::DiffusionError;
 use crate::curve::{FeatureCurve, Station};
@@ -164,8 +165,8 @@ fn pieces_by_band(grid: &GridSpec, stations: &[(Vec<Station>, bool)], rows: usiz
             if !(j_lo.is_finite() && j_hi.is_finite()) || j_hi < -1.0 || j_lo > grid.ny() as f64 {
                 continue;
             }
-            let first = (j_lo.floor() - 1.0).max(0.0) as usize / rows;
-            let last = ((j_hi.ceil() + 1.0).min(grid.ny() as f64 - 1.0).max(0.0) as usize / rows).min(bands - 1);
+            let first = (floor(j_lo) - 1.0).max(0.0) as usize / rows;
+            let last = ((ceil(j_hi) + 1.0).min(grid.ny() as f64 - 1.0).max(0.0) as usize / rows).min(bands - 1);
             let piece = Piece { id: id as u32, from: from as u32, to: to as u32 };
             for band in &mut out[first..=last] {
                 band.push(piece);
@@ -234,17 +235,16 @@ impl Canvas {
         for side in [1.0, -1.0] {
             let (o0, o1) = (s0.left * side, s1.left * side);
             let band = [s0.p, s1.p, s1.p + o1 * r1, s0.p + o0 * r0];
-            if let (Some(e0), Some(e1)) = (s0.elevation, s1.elevation) {
-                self.quad(band, |w| {
-                    let h = w[0] * e0.h + w[1] * e1.h + w[2] * e1.h + w[3] * e0.h;
-                    Paint::Elevation(h)
-                });
-            }
-            if let (Some(n0), Some(n1)) = (s0.noise, s1.noise) {
-                self.quad(band, |w| {
-                    let a = (w[0] + w[3]) * n0.amplitude + (w[1] + w[2]) * n1.amplitude;
-                    let rr = (w[0] + w[3]) * n0.roughness + (w[1] + w[2]) * n1.roughness;
-                    Paint::Noise(a, rr)
+            // The elevation and the noise share the band: one pass paints both.
+            let (elevation, noise) = (s0.elevation.zip(s1.elevation), s0.noise.zip(s1.noise));
+            if elevation.is_some() || noise.is_some() {
+                self.quad(band, |w| Paint::Band {
+                    elevation: elevation.map(|(e0, e1)| w[0] * e0.h + w[1] * e1.h + w[2] * e1.h + w[3] * e0.h),
+                    noise: noise.map(|(n0, n1)| {
+                        let a = (w[0] + w[3]) * n0.amplitude + (w[1] + w[2]) * n1.amplitude;
+                        let rr = (w[0] + w[3]) * n0.roughness + (w[1] + w[2]) * n1.roughness;
+                        (a, rr)
+                    }),
                 });
             }
             if let (Some(g0), Some(g1)) = (s0.slope, s1.slope) {
@@ -287,7 +287,7 @@ impl Canvas {
             // work, unlike a bounding box around a long slanted band).
             let g = [self.grid.grid_coords(a), self.grid.grid_coords(b), self.grid.grid_coords(c)];
             let (ylo, yhi) = (g[0].y.min(g[1].y).min(g[2].y), g[0].y.max(g[1].y).max(g[2].y));
-            let (j0, j1) = (ylo.ceil().max(self.j0 as f64), yhi.floor().min(self.j1 as f64 - 1.0));
+            let (j0, j1) = (ceil(ylo).max(self.j0 as f64), floor(yhi).min(self.j1 as f64 - 1.0));
             if j1 < j0 {
                 continue;
             }
@@ -306,7 +306,7 @@ impl Canvas {
                         xhi = xhi.max(x2);
                     }
                 }
-                let (i0, i1) = ((xlo - 1e-9).ceil().max(0.0), (xhi + 1e-9).floor().min(self.grid.nx() as f64 - 1.0));
+                let (i0, i1) = (ceil(xlo - 1e-9).max(0.0), floor(xhi + 1e-9).min(self.grid.nx() as f64 - 1.0));
                 if i1 < i0 {
                     continue;
                 }
@@ -329,15 +329,17 @@ impl Canvas {
 
     fn apply(&mut self, k: usize, paint: Paint) {
         match paint {
-            Paint::Elevation(h) => {
-                self.elev[k].0 += h;
-                self.elev[k].1 += 1;
-            }
-            Paint::Noise(a, r) => {
-                self.amp[k].0 += a;
-                self.amp[k].1 += 1;
-                self.rough[k].0 += r;
-                self.rough[k].1 += 1;
+            Paint::Band { elevation, noise } => {
+                if let Some(h) = elevation {
+                    self.elev[k].0 += h;
+                    self.elev[k].1 += 1;
+                }
+                if let Some((a, r)) = noise {
+                    self.amp[k].0 += a;
+                    self.amp[k].1 += 1;
+                    self.rough[k].0 += r;
+                    self.rough[k].1 += 1;
+                }
             }
             Paint::Gradient(writer, g, n) => {
                 if self.writer[k] == NONE || self.writer[k] == writer {
@@ -372,10 +374,12 @@ impl Canvas {
     }
 }
 
+/// What one sample of a quad receives.
 #[derive(Clone, Copy)]
 enum Paint {
-    Elevation(f64),
-    Noise(f64, f64),
+    /// The elevation band's elevation and noise (amplitude, roughness), where the curve has them.
+    Band { elevation: Option<f64>, noise: Option<(f64, f64)> },
+    /// A slope band: its writer (curve and side), gradient step and normal.
     Gradient(u32, f32, [f32; 2]),
 }
 
@@ -568,13 +572,15 @@ struct Fill {
 impl Fill {
     /// The three solves of `window`, side by side.
     fn solve(maps: &ConstraintMaps, window: &Window) -> Self {
-        let values = |field: &dyn Fn(usize) -> f32| -> Vec<f32> {
-            (0..window.w * window.h)
-                .map(|c| {
-                    let k = window.full_index(c);
-                    if maps.kind[k] == CellKind::Gradient { field(k) } else { f32::NAN }
-                })
-                .collect()
+        let values = |field: &(dyn Fn(usize) -> f32 + Sync)| -> Vec<f32> {
+            let mut out = vec![0.0; window.w * window.h];
+            out.par_chunks_mut(window.w).enumerate().for_each(|(r, row)| {
+                let k0 = window.full_index(r * window.w);
+                for (o, k) in row.iter_mut().zip(k0..) {
+                    *o = if maps.kind[k] == CellKind::Gradient { field(k) } else { f32::NAN };
+                }
+            });
+            out
         };
         // The three fields are fixed on the same slope samples: one hierarchy serves them all.
         let Some(problem) = DiffusionProblem::laplace(window.w, window.h, &values(&|k| maps.gradient[k])) else {
@@ -582,7 +588,8 @@ impl Fill {
         };
         let options = SolveOptions { tolerance: 1e-3, ..SolveOptions::default() };
         let solve = |p: &DiffusionProblem| p.solve(&options).ok().map(|(x, _)| x);
-        let like = |field: &dyn Fn(usize) -> f32| problem.laplace_like(&values(field)).as_ref().and_then(solve);
+        let like =
+            |field: &(dyn Fn(usize) -> f32 + Sync)| problem.laplace_like(&values(field)).as_ref().and_then(solve);
         let (gradient, (x, y)) = rayon::join(
             || solve(&problem),
             || rayon::join(|| like(&|k| maps.normal[k][0]), || like(&|k| maps.normal[k][1])),
@@ -594,18 +601,25 @@ impl Fill {
     /// by the cap's square; zeros for a failed solve.
     fn write(&self, maps: &mut ConstraintMaps, window: &Window) {
         let (g, x, y) = (&self.gradient, &self.x, &self.y);
-        for c in 0..window.w * window.h {
-            let k = window.full_index(c);
-            if maps.kind[k] != CellKind::Hole {
-                continue;
+        let (nx, w) = (window.nx, window.w);
+        let rows = window.j0 * nx..(window.j0 + window.h) * nx;
+        let kind = maps.kind[rows.clone()].par_chunks(nx);
+        let gradient = maps.gradient[rows.clone()].par_chunks_mut(nx);
+        let normal = maps.normal[rows].par_chunks_mut(nx);
+        kind.zip(gradient).zip(normal).enumerate().for_each(|(r, ((kind, gradient), normal))| {
+            let span = window.i0..window.i0 + w;
+            let cells = kind[span.clone()].iter().zip(&mut gradient[span.clone()]).zip(&mut normal[span]);
+            for (c, ((kind, gradient), normal)) in (r * w..).zip(cells) {
+                if *kind != CellKind::Hole {
+                    continue;
+                }
+                let (a, b) = (x.as_ref().map_or(0.0, |x| x[c]), y.as_ref().map_or(0.0, |y| y[c]));
+                let len = a.hypot(b);
+                let keep = len.min(1.0);
+                *normal = if len > 1e-6 { [a / len * keep, b / len * keep] } else { [0.0, 0.0] };
+                *gradient = g.as_ref().map_or(0.0, |g| g[c]) * (keep * keep);
             }
-            maps.gradient[k] = g.as_ref().map_or(0.0, |g| g[c]);
-            let (a, b) = (x.as_ref().map_or(0.0, |x| x[c]), y.as_ref().map_or(0.0, |y| y[c]));
-            let len = a.hypot(b);
-            let keep = len.min(1.0);
-            maps.normal[k] = if len > 1e-6 { [a / len * keep, b / len * keep] } else { [0.0, 0.0] };
-            maps.gradient[k] *= keep * keep;
-        }
+        });
     }
 }
 

@@ -46,6 +46,7 @@ mod fill;
 mod grid;
 mod heightfield;
 pub mod noise;
+pub mod rounding;
 
 pub use crs::Crs;
 pub use distance::{DistanceScratch, distance_transform, distance_transform_seeded, distance_transform_seeded_with};

@@ -8,6 +8,8 @@
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
+use crate::rounding::floor;
+
 /// A 64-bit finaliser (`SplitMix64`'s), used to turn lattice coordinates and a seed into bits.
 #[inline]
 fn mix(mut z: u64) -> u64 {
@@ -24,21 +26,6 @@ fn gradient(i: i64, j: i64, seed: u64) -> DVec2 {
     );
     let angle = (h >> 11) as f64 * (std::f64::consts::TAU / (1u64 << 53) as f64);
     DVec2::new(angle.cos(), angle.sin())
-}
-
-/// `x.floor()`, bit for bit (signed zeros and NaN included), without the call into libm that
-/// x86-64's baseline instruction set (no SSE4.1 rounding) makes of `f64::floor`: a tenth of the
-/// noise's time went there.
-#[inline]
-fn floor(x: f64) -> f64 {
-    // 2⁵²: every f64 of this size or more is an integer; NaN is its own floor too.
-    const ALL_INTEGERS: f64 = 4_503_599_627_370_496.0;
-    if x.abs() >= ALL_INTEGERS || x.is_nan() {
-        return x;
-    }
-    let t = x as i64 as f64;
-    // Truncation rounds negative fractions up; zero keeps the argument's sign.
-    if t > x { t - 1.0 } else { t.copysign(x) }
 }
 
 #[inline]
@@ -345,47 +332,6 @@ mod tests {
         assert!(NoiseLattice::new(DVec2::ZERO, DVec2::splat(1e4), 1).is_none(), "10⁸ points");
         let one = NoiseLattice::new(DVec2::splat(0.5), DVec2::splat(0.5), 1).unwrap();
         assert_eq!(one.gradients.len(), 4, "one cell: its four corners");
-    }
-
-    #[test]
-    fn floor_is_std_floor_bit_for_bit() {
-        let edges = [
-            0.0,
-            -0.0,
-            0.5,
-            -0.5,
-            1.0,
-            -1.0,
-            1.5,
-            -1.5,
-            2.0 - f64::EPSILON,
-            -(2.0 - f64::EPSILON),
-            1e-300,
-            -1e-300,
-            4_503_599_627_370_495.5,
-            -4_503_599_627_370_495.5,
-            4_503_599_627_370_496.0,
-            9.3e18,
-            -9.3e18,
-            1e300,
-            f64::MAX,
-            f64::MIN,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-        ];
-        let mut state = 7u64;
-        let random = std::iter::repeat_with(|| {
-            state = mix(state);
-            f64::from_bits(state)
-        });
-        for x in edges.into_iter().chain(random.take(100_000)) {
-            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x:e}");
-        }
-        for k in -5000..5000 {
-            let x = f64::from(k) * 0.013;
-            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x:e}");
-        }
     }
 
     #[test]
