@@ -15,8 +15,8 @@
 //!   the WGS84 radii at each row's latitude, so slopes of an SRTM tile are true slopes.
 //!
 //! Shared grid utilities: [`distance_transform`] (exact Euclidean, O(samples)),
-//! [`fill_depressions`] (Priority-Flood+ε) and the [`noise`] module (seeded gradient noise and fBm)
-//! that the generators share.
+//! [`fill_depressions`] (Priority-Flood+ε), the [`noise`] module (seeded gradient noise and fBm)
+//! that the generators share, and [`rounding`] (`floor` and `ceil` bit for bit without libm).
 //!
 //! The types are serde types ([`Extent`] checks its corners as it deserializes, [`GridSpec`] and
 //! [`Heightfield`] their invariants); the optional `schemars` feature derives their JSON Schemas
