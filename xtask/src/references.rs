@@ -395,7 +395,7 @@ pub(crate) const SECTION_NOTES: &[(&str, &str)] = &[
         "What wins: ours. Per-parameter steps are the largest gain (ℓ₁ 1.26–1.68× lower than with one step \
          size); error-driven densification beats positional gradients by up to 11 % in ℓ₁ (at the paper's \
          density the two tie on Salish and come within 1.5 % on Salish-land, where positional gradients \
-         win by 0.3 %, and on Luxembourg, where ours wins by 1.4 %). Keeping the range lowers ℓ₁ by 6–20 % \
+         win by 0.3 %, and on Luxembourg, where ours wins by 1.5 %). Keeping the range lowers ℓ₁ by 5–21 % \
          where the sea or the filled no-data is flat, removes the rises and dips beyond the DEM's range \
          there (up to 15 % of the relief with the plain sum) and the ripples over the flat (open-flat error \
          0.00 % against 0.58–28 %); on ground that is flat above the minimum (Jacksboro's reservoir, the \
