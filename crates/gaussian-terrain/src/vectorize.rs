@@ -62,7 +62,9 @@ pub struct VectorizeOptions {
     pub weights: LossWeights,
     /// Clone / split / prune every this many steps (default 50; 0 never).
     pub densify_every: usize,
-    /// Prune primitives more elongated than this (`t_e`, default 20).
+    /// The most elongated a primitive may be (`t_e`, default 20): the paper prunes those beyond
+    /// it after the fit; here every step holds the primitives within it, so that the pruning
+    /// never removes one the others lean on.
     pub max_elongation: f64,
     /// Prune primitives whose |amplitude| is below this, in normalized units (`t_a`, default 10⁻³).
     pub min_amplitude: f64,
