@@ -378,6 +378,16 @@ mod tests {
         assert!(g.iter().all(|&v| v == 0.0), "{:?}", g.iter().find(|v| **v != 0.0));
     }
 
+    /// The central difference of the whole loss at sample `k` of `x`, with a step of 10⁻².
+    fn central_difference(x: &[f32], y: &[f32], nx: usize, ny: usize, weights: &LossWeights, k: usize) -> f64 {
+        let h = 1e-2f32;
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[k] += h;
+        xm[k] -= h;
+        let total = |x: &[f32]| loss(x, y, nx, ny, weights, false).0.total;
+        (total(&xp) - total(&xm)) / (2.0 * f64::from(h))
+    }
+
     #[test]
     fn sample_gradient_matches_finite_differences() {
         let (nx, ny) = (19, 16);
@@ -387,12 +397,7 @@ mod tests {
         let weights = LossWeights { l1: 0.3, gradient: 0.2 };
         let (_, g) = loss(&x, &y, nx, ny, &weights, true);
         for k in [0, 7, nx * 5 + 6, nx * 8 + 9, nx * ny - 1] {
-            let h = 1e-2f32;
-            let (mut xp, mut xm) = (x.clone(), x.clone());
-            xp[k] += h;
-            xm[k] -= h;
-            let fd = (loss(&xp, &y, nx, ny, &weights, false).0.total - loss(&xm, &y, nx, ny, &weights, false).0.total)
-                / (2.0 * f64::from(h));
+            let fd = central_difference(&x, &y, nx, ny, &weights, k);
             let an = f64::from(g[k]);
             // The SSIM windows are summed in f32.
             assert!((fd - an).abs() <= 1e-2 * an.abs().max(1e-3), "sample {k}: analytic {an}, finite {fd}");
@@ -415,12 +420,7 @@ mod tests {
         let direct: f64 = x.iter().zip(&y).map(|(a, b)| (f64::from(*a) - f64::from(*b)).abs()).sum::<f64>() / n;
         assert!((terms.l1 - direct).abs() <= 1e-12 * direct, "ℓ₁ {} against {direct}", terms.l1);
         for k in [TASK + 5, TASK + 3 * nx + 17, 2 * TASK + 300, nx * ny - nx * 4 - 9] {
-            let h = 1e-2f32;
-            let (mut xp, mut xm) = (x.clone(), x.clone());
-            xp[k] += h;
-            xm[k] -= h;
-            let fd = (loss(&xp, &y, nx, ny, &weights, false).0.total - loss(&xm, &y, nx, ny, &weights, false).0.total)
-                / (2.0 * f64::from(h));
+            let fd = central_difference(&x, &y, nx, ny, &weights, k);
             let an = f64::from(g[k]);
             assert!((fd - an).abs() <= 1e-2 * an.abs(), "sample {k}: analytic {an}, finite {fd}");
         }
