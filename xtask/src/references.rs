@@ -44,28 +44,32 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      \n\
      Table 2's terrains, as fixture scenes with the paper's curve counts (whole `generate`, best of\n\
      5 at 512² and 1024² and of 3 at 2048², `examples/generate_timing.rs` with `WHOLE_ONLY=1`, 2 cores,\n\
-     re-measured 2026-12-01 (evening) on an AMD EPYC, the best of three passes). Each cell gives ours with\n\
+     re-measured 2026-12-02 on an AMD EPYC, the best of three passes). Each cell gives ours with\n\
      the default multigrid / ours with the paper's own solver at its fixed budget for the elevation and\n\
      the noise parameters (`\"solver\": \"jacobi_pyramid\", \"max_iterations\": 0` in the scene, which\n\
      `generate_timing` honours; the hole fills keep their multigrid) / the paper's GPU:\n\
      \n\
      | scene (curves) | 512² (ms) | 1024² (ms) | 2048² (s) |\n\
      |---|---:|---:|---:|\n\
-     | `volcanic-island-48` (48) | 74 / 45 / 168 | 260 / 137 / 275 | 0.99 / 0.59 / 0.675 |\n\
-     | `mountain` (59) | 120 / 71 / 187 | 421 / 238 / 270 | 1.64 / 0.93 / 0.670 |\n\
-     | `lake` (45) | 101 / 56 / 185 | 335 / 171 / 261 | 1.31 / 0.68 / 0.690 |\n\
-     | `canyon-step-3` (74) | 111 / 82 / 216 | 304 / 217 / 339 | 1.04 / 0.74 / 0.811 |\n\
-     | `desert` (26) | 66 / 34 / 171 | 163 / 109 / 253 | 0.69 / 0.45 / 0.635 |\n\
+     | `volcanic-island-48` (48) | 67 / 51 / 168 | 197 / 143 / 275 | 0.71 / 0.64 / 0.675 |\n\
+     | `mountain` (59) | 93 / 69 / 187 | 306 / 220 / 270 | 1.14 / 0.94 / 0.670 |\n\
+     | `lake` (45) | 78 / 53 / 185 | 244 / 156 / 261 | 0.95 / 0.70 / 0.690 |\n\
+     | `canyon-step-3` (74) | 92 / 78 / 216 | 257 / 208 / 339 | 0.79 / 0.68 / 0.811 |\n\
+     | `desert` (26) | 51 / 38 / 171 | 152 / 102 / 253 | 0.54 / 0.41 / 0.635 |\n\
      \n\
      Like for like (the paper's algorithm and budget on 2 CPU cores against its 2010 GPU) we are faster\n\
-     on every scene at 512² (0.20–0.38×) and 1024² (0.43–0.88×), and at 2048² on all but the mountain\n\
-     (0.71–0.99×; the mountain 1.39×: a quarter of its samples are holes, and their fill covers the\n\
-     whole grid). That budget stops far from the solution: at 2048² the elevation of `volcanic-island-48`\n\
-     is 6.5 m off on average and 181 m at worst (of 1 500 m of relief), that of `mountain` 43 and 627 m,\n\
-     where the default multigrid stops 0.006 and 1.6 m, and 0.05 and 18 m, from it. With the default we\n\
-     beat the GPU at 512² everywhere (0.39–0.64×) and at 1024² on the volcanic island, the canyon and the\n\
-     desert (0.64–0.95×; the mountain and the lake 1.28–1.56×); at 2048² the desert takes 1.09× and the\n\
-     others 1.28–2.45× the GPU's time. The first figures (2026-11-26, Intel Xeon, default solver) were\n\
+     on every scene at 512² (0.22–0.37×) and 1024² (0.40–0.81×), and at 2048² on the volcanic island,\n\
+     the canyon and the desert (0.65–0.94×; the lake 1.01×, the mountain 1.40×: a quarter of its samples\n\
+     are holes, and their fill covers the whole grid). That budget stops far from the solution: at 2048²\n\
+     the elevation of `volcanic-island-48` is 2.9 m off on average and 73 m at worst (of 1 500 m of\n\
+     relief), that of `mountain` 23 and 363 m, where the default multigrid stops 0.012 and 3.2 m, and\n\
+     0.045 and 10 m, from it. With the default we beat the GPU at 512² everywhere (0.30–0.50×), at 1024²\n\
+     on all but the mountain (0.60–0.93×; the mountain 1.13×), and at 2048² on the canyon and the desert\n\
+     (0.97× and 0.85×); the volcanic island takes 1.05×, the lake 1.38× and the mountain 1.70× the GPU's\n\
+     time. The 12-01 (evening) figures, before the coarse rows below, were 74 / 260 / 990 ms\n\
+     (`volcanic-island-48`), 120 / 421 / 1640 (`mountain`), 101 / 335 / 1310 (`lake`), 111 / 304 / 1040\n\
+     (`canyon-step-3`) and 66 / 163 / 690 (`desert`) with the default, and with the paper's budget the\n\
+     volcanic island was 6.5 m off on average and 181 m at worst, the mountain 43 and 627 m. The first figures (2026-11-26, Intel Xeon, default solver) were\n\
      `mountain` 228 ms / 913 ms / 4.29 s, `lake` 190 / 794 ms / 3.55 s, `canyon-step-3` 162 / 553 ms /\n\
      2.30 s and `desert` 143 / 453 ms / 1.77 s. Then at 2048² the mountain spent 1.1 s filling the holes\n\
      where slope bands cross (27 % of its samples are holes, solved on windows covering 1.75× the grid)\n\
@@ -212,10 +216,38 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      the free fine samples whose interpolation reads a fixed coarse sample (the ring the correction\n\
      cannot reach): the full multigrid's start improved (3.3e-3 → 2.5e-3 of the initial residual on the\n\
      volcanic island) and `mountain` took 5 iterations instead of 7, but each cycle still cut the\n\
-     residual by only about half, so the stall is not the ring's alone. The criterion rows below (AMD\n\
-     EPYC, in a slow phase of this VM: `generate/2048` 1.16 s against 1.08 s earlier today) now include\n\
+     residual by only about half, so the stall is not the ring's alone. That day's criterion rows (AMD\n\
+     EPYC, in a slow phase of this VM: `generate/2048` 1.16 s against 1.08 s earlier that day) included\n\
      `generate_paper_budget`, the whole volcanic-island generation with the paper's fixed budget, to set\n\
-     against Table 2: 47, 183 and 684 ms against the GPU's 168, 275 and 675 ms.",
+     against Table 2: 47, 183 and 684 ms against the GPU's 168, 275 and 675 ms.\n\
+     \n\
+     2026-12-02: coarse rows at their own spacing. A free coarse row averaged its fine neighbourhood's\n\
+     weights and kept their mix of Laplacian ((1 − a)/4 on each neighbour) and upwind first difference\n\
+     (a). On twice the spacing the same equation's second difference shrinks 4× and its first difference\n\
+     2×, so the coarse row must weight its upwind part 2a/(1 + a) and take 4/(1 + a) times the fine\n\
+     mean right-hand side (`coarse_row` in `solver.rs`; the residual's restriction already grew each row\n\
+     by 4 − 2a, which is 4/(1 + a) for such a row). The finest slope rows are half gradient (a = ½), so\n\
+     every coarse level under-weighted the slopes and the cycles stalled on slope bands. The weights are\n\
+     now stored in units of 2⁻¹⁵ rather than 2⁻¹⁶, since coarse upwind weights grow towards 1. At 2048²\n\
+     the elevation solves went from 4 to 3 iterations (`volcanic-island-48`), 7 to 4 (`mountain`), 7 to\n\
+     4 (`lake`), 3 to 2 (`canyon-step-3`) and 2 to 2 (`desert`), all of them now plain W-cycles cutting\n\
+     the residual 0.27–0.48× each, where `BiCGStab` had taken over after a first cycle of about 0.5×;\n\
+     the full multigrid's start is 1.8e-3 of the initial residual on the volcanic island (2.6e-3\n\
+     before). Whole 2048² generations, best of 3, the commit before and this one alternated twice in a\n\
+     slow phase of this VM: `volcanic-island-48` 1.11–1.19 → 0.81–0.89 s, `mountain` 2.01–2.09 →\n\
+     1.38–1.56 s, `lake` 1.71–1.74 → 1.16–1.23 s, `canyon-step-3` 1.20–1.22 → 0.99–1.12 s, `desert`\n\
+     0.72–0.73 → 0.63–0.64 s. The paper's Jacobi pyramid solves the same coarse problems, so its fine\n\
+     levels now start closer (the errors above). Tried with the new rows: V-cycles below the top (γ = 1)\n\
+     solved faster (130–229 against 187–334 ms) but stopped up to 1.4 m (mean) and 47 m (worst) from\n\
+     the converged solution (`desert`, where W-cycles stop 0.02 and 1.1 m); one sweep before and after\n\
+     each correction instead of two took 2–9 iterations and longer; three took 1–3 iterations in about\n\
+     the same time. A 2048² generation of the volcanic island now spends (in process, best of 3,\n\
+     0.74 s): 0.30 s painting and filling holes, 0.15 s building the elevation hierarchy and its full\n\
+     multigrid start, 0.11 s in three cycles, 0.11 s on the amplitude and roughness, 0.06 s on the\n\
+     detail. The criterion rows below are this change's run (AMD EPYC): `generate` 78, 222 and 805 ms at\n\
+     512², 1024² and 2048² (85, 305 ms and 1.16 s before; the GPU's 168, 275 and 675 ms),\n\
+     `generate_paper_budget` 53, 160 and 624 ms, and the 4-curve scene's elevation solve alone\n\
+     (`multigrid`) 16, 39, 113 and 485 ms from 512² to 4096² (24, 73, 164 ms and 1.05 s).",
     ),
     (
         "gaussian_terrain",

@@ -256,8 +256,9 @@ impl DiffusionProblem {
     ///   sample's four neighbours is (so fixed data survives every level, bar isolated fixed samples
     ///   at odd (i, j): coarse levels may have no fixed sample), at a value between the
     ///   least and the greatest of those fixed values (up to f32 rounding); a free coarse sample's
-    ///   weights each lie between the least and the greatest of the free fine weights in its 3 × 3
-    ///   neighbourhood (they average them).
+    ///   weights, divided by the growth `2 − |ŵx| − |ŵy|` of its upwind part, each lie between the
+    ///   least and the greatest of the free fine weights in its 3 × 3 neighbourhood, give or take a
+    ///   quantum (they average them, then grow to the coarse spacing: `coarse_row`).
     ///
     /// # Errors
     /// [`DiffusionError::BrokenHierarchy`] naming the level, the sample where there is one, and what is broken.
