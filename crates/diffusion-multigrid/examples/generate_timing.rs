@@ -51,11 +51,11 @@ fn main() -> Result<()> {
     }
     let noise = ms(t);
     println!(
-        "{n}², {} curves: rasterize {raster:.0} ms, set-up {setup:.0} ms, solve {solve:.0} ms ({} iterations, {:.1e}) {:?}, amplitude and roughness at full resolution {noise:.0} ms",
+        "{n}², {} curves: rasterize {raster:.0} ms, set-up {setup:.0} ms, solve {solve:.0} ms ({} iterations, {:.1e}; relative residual after the start and each: {}), amplitude and roughness at full resolution {noise:.0} ms",
         curves.len(),
         report.iterations,
         report.relative_residual,
-        report.history.iter().map(|h| format!("{h:.1e}")).collect::<Vec<_>>()
+        report.history.iter().map(|h| format!("{h:.1e}")).collect::<Vec<_>>().join(", ")
     );
 
     whole(&curves, &grid, &options, runs)?;
