@@ -620,7 +620,7 @@ const QUANTUM: f32 = 1.0 / 32768.0;
 /// steps of one fine spacing) becomes 4 b̄ / (1 + ā): twice a pure upwind row's, four times a
 /// Laplace row's. Keeping the fine mix instead (ĝ = ḡ, the rule until 2026-12) under-weighted the
 /// slope on every coarser level of a slope band's fade, and the cycles stalled there: at 2048² the
-/// `mountain` and `lake` scenes took 7 iterations each, 3 with this rule.
+/// `mountain` and `lake` scenes took 7 iterations each, 4 with this rule.
 #[inline]
 fn coarse_row(m: f32, rhs: f32, dx: f32, dy: f32) -> ([i16; 2], f32) {
     let (gx, gy) = (dx / m, dy / m);
@@ -1919,10 +1919,10 @@ mod tests {
             let e = x.iter().zip(&converged).map(|(a, b)| f64::from((a - b).abs())).sum::<f64>() / x.len() as f64;
             (e, r.iterations)
         };
-        // Measured: 0.062 m (W below the top) against 0.096 m (V) mean from the converged
-        // solution (0.047 against 0.41 m while coarse rows kept the fine mix, see `coarse_row`).
+        // Measured: 0.10 m (W on the first coarse levels) against 0.63 m (V) mean from the
+        // converged solution (0.047 against 0.41 m before the coarse rows of `coarse_row`).
         let ((w_error, _), (v_error, _)) = (error(&w), error(&v));
-        assert!(w_error < 0.8 * v_error, "W {w_error} m against V {v_error} m");
+        assert!(w_error < 0.3 * v_error, "W {w_error} m against V {v_error} m");
     }
 
     /// The elevation problem of a fixture scene's curves on an `n × n` grid over its domain.
@@ -1938,14 +1938,17 @@ mod tests {
         DiffusionProblem::elevation(&ConstraintMaps::rasterize(&curves, &grid).unwrap()).unwrap()
     }
 
-    /// Coarse rows rescaled to their spacing (`coarse_row`) keep the cycles contracting on the
-    /// fades of slope bands: the `lake` scene at 129² takes 3 iterations, and took 5 (one plain
-    /// cycle, then `BiCGStab`) while coarse rows kept the fine mix of Laplacian and upwind weights.
+    /// Coarse rows rescaled to their spacing (`coarse_row`) give the full multigrid a closer start
+    /// and the cycles fewer iterations. At 129² (measured 2026-12-02): `lake` starts at 7.8e-4 of
+    /// the initial residual and takes 2 iterations, `volcanic-island-48` 1.0e-3 and 2; with coarse
+    /// rows that keep the fine mix of Laplacian and upwind weights, 2.0e-3 and 3, 3.0e-3 and 3.
     #[test]
-    fn coarse_rows_at_their_own_spacing_keep_slope_fades_converging() {
-        let (_, report) = fixture_problem("lake", 129).solve(&SolveOptions::default()).unwrap();
-        assert!(report.converged);
-        assert!(report.iterations <= 3, "{report:?}");
+    fn coarse_rows_at_their_own_spacing_start_closer_and_converge_sooner() {
+        for name in ["lake", "volcanic-island-48"] {
+            let (_, report) = fixture_problem(name, 129).solve(&SolveOptions::default()).unwrap();
+            assert!(report.converged, "{name}: {report:?}");
+            assert!(report.history[0] < 1.2e-3 && report.iterations <= 2, "{name}: {report:?}");
+        }
     }
 
     #[test]
