@@ -113,8 +113,8 @@ struct Level {
 #[derive(Debug, Clone)]
 pub struct DiffusionProblem {
     levels: Vec<Level>,
-    /// Cycles each coarse level runs on the level below for one correction (γ; see
-    /// [`ELEVATION_COARSE_CYCLES`]).
+    /// Cycles each of the first [`W_LEVELS`] coarse levels runs on the level below for one
+    /// correction (γ; see [`ELEVATION_COARSE_CYCLES`]); deeper levels run one.
     coarse_cycles: usize,
 }
 
@@ -1183,15 +1183,16 @@ const STALL: f64 = 0.7;
 const SWEEPS: usize = 2;
 
 /// Cycles each coarse level of an elevation problem runs on the level below it for one correction
-/// (γ): 2, so the cycle is a V at the finest level and a W below it. A coarse correction is fixed
-/// to zero on every coarse sample near a fixed fine one, and the upwind slope rows make the coarse
-/// problems hard, so one V-cycle per coarse level left much of their error in place; a second one
-/// there costs about an eighth of a finest-level cycle more. At 2048² (2026-11-28) the fixture
-/// scenes' elevation solves reached the tolerance with 3–40 % less sweep work (`mountain`: 15
-/// iterations → 8; `lake`: 13 → 6; `mountain-ridges`: 3 → 1) and closer to the converged solution
-/// (`mountain-ridges`: 1.65 m → 0.08 m mean, `desert` 0.40 → 0.02 m). Laplace problems (the noise
-/// parameters, the hole fills) keep V-cycles: they contract well already, and W-cycles made them
-/// 20–40 % slower. γ = 2 at the finest level too did less work on some scenes and more on others.
+/// (γ): 2, so the cycle is a V at the finest level and a W below it (down to [`W_LEVELS`]). A
+/// coarse correction is fixed to zero on every coarse sample near a fixed fine one, and the upwind
+/// slope rows make the coarse problems hard, so one V-cycle per coarse level left much of their
+/// error in place; a second one there costs about an eighth of a finest-level cycle more. At 2048²
+/// (2026-11-28) the fixture scenes' elevation solves reached the tolerance with 3–40 % less sweep
+/// work (`mountain`: 15 iterations → 8; `lake`: 13 → 6; `mountain-ridges`: 3 → 1) and closer to the
+/// converged solution (`mountain-ridges`: 1.65 m → 0.08 m mean, `desert` 0.40 → 0.02 m). Laplace
+/// problems (the noise parameters, the hole fills) keep V-cycles: they contract well already, and
+/// W-cycles made them 20–40 % slower. γ = 2 at the finest level too did less work on some scenes
+/// and more on others.
 const ELEVATION_COARSE_CYCLES: usize = 2;
 
 /// The coarse levels that run [`DiffusionProblem::coarse_cycles`] cycles on the level below them:
