@@ -277,51 +277,73 @@ impl Canvas {
     /// Paints the samples inside quad `q` (corners in order), with bilinear-like weights of the
     /// four corners from its two triangles' barycentric coordinates.
     fn quad(&mut self, q: [DVec2; 4], paint: impl Fn([f64; 4]) -> Paint) {
+        self.quad_scanned(q, paint, None);
+    }
+
+    /// [`Self::quad`], each triangle scanned by rows (`Some(false)`), by columns (`Some(true)`) or
+    /// (`None`) by whichever crosses it fewer times: the slices of a slope band between two
+    /// stations, half a cell apart, are long and thin, and a row scan across one running along the
+    /// rows finds no sample on most rows. On `volcanic-island-48` at 2048² rows alone scanned 5.65 M
+    /// lines for 2.1 M samples, the choice 4.07 M (`mountain`: 15.0 M and 12.7 M lines for
+    /// 4.9 M samples); the time saved is within this VM's noise, a few per cent of the painting.
+    /// Either scan paints the samples inside with the same weights; they can differ only on a
+    /// sample within 10⁻⁹ of a cell of an edge (the golden scenes' bits did not change).
+    fn quad_scanned(&mut self, q: [DVec2; 4], paint: impl Fn([f64; 4]) -> Paint, by_columns: Option<bool>) {
+        let (nx, j_end) = (self.grid.nx() as f64, self.j1 as f64);
         for t in [[0, 1, 2], [0, 2, 3]] {
             let (a, b, c) = (q[t[0]], q[t[1]], q[t[2]]);
             let area = (b - a).perp_dot(c - a);
             if area.abs() < 1e-12 {
                 continue;
             }
-            // Scanlines: per sample row, the span of i the triangle covers (area-proportional
-            // work, unlike a bounding box around a long slanted band).
             let g = [self.grid.grid_coords(a), self.grid.grid_coords(b), self.grid.grid_coords(c)];
-            let (ylo, yhi) = (g[0].y.min(g[1].y).min(g[2].y), g[0].y.max(g[1].y).max(g[2].y));
-            let (j0, j1) = (ceil(ylo).max(self.j0 as f64), floor(yhi).min(self.j1 as f64 - 1.0));
+            let (lo, hi) = (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]));
+            let (j0, j1) = (ceil(lo.y).max(self.j0 as f64), floor(hi.y).min(j_end - 1.0));
             if j1 < j0 {
                 continue;
             }
-            for j in j0 as usize..=j1 as usize {
-                let y = j as f64;
-                let (mut xlo, mut xhi) = (f64::INFINITY, f64::NEG_INFINITY);
-                for (p, q) in [(g[0], g[1]), (g[1], g[2]), (g[2], g[0])] {
-                    if (p.y <= y && y <= q.y) || (q.y <= y && y <= p.y) {
-                        let x = if (q.y - p.y).abs() < 1e-12 {
-                            p.x.min(q.x)
-                        } else {
-                            p.x + (y - p.y) / (q.y - p.y) * (q.x - p.x)
-                        };
-                        let x2 = if (q.y - p.y).abs() < 1e-12 { p.x.max(q.x) } else { x };
-                        xlo = xlo.min(x);
-                        xhi = xhi.max(x2);
-                    }
-                }
-                let (i0, i1) = (ceil(xlo - 1e-9).max(0.0), floor(xhi + 1e-9).min(self.grid.nx() as f64 - 1.0));
+            let mut sample = |i: usize, j: usize| {
+                let p = self.grid.position(i, j);
+                let l0 = ((b - p).perp_dot(c - p) / area).clamp(0.0, 1.0);
+                let l1 = ((c - p).perp_dot(a - p) / area).clamp(0.0, 1.0);
+                let l2 = (1.0 - l0 - l1).max(0.0);
+                // A sample on the shared diagonal is painted twice with the same values.
+                let k = (j - self.j0) * self.grid.nx() + i;
+                let mut w = [0.0; 4];
+                w[t[0]] += l0;
+                w[t[1]] += l1;
+                w[t[2]] += l2;
+                self.apply(k, paint(w));
+            };
+            // Columns cross the whole triangle, rows only the band's: fewer columns than rows here.
+            if by_columns.unwrap_or(hi.x - lo.x < j1 - j0) {
+                let (i0, i1) = (ceil(lo.x).max(0.0), floor(hi.x).min(nx - 1.0));
                 if i1 < i0 {
                     continue;
                 }
+                let across = g.map(|p| DVec2::new(p.y, p.x));
                 for i in i0 as usize..=i1 as usize {
-                    let p = self.grid.position(i, j);
-                    let l0 = ((b - p).perp_dot(c - p) / area).clamp(0.0, 1.0);
-                    let l1 = ((c - p).perp_dot(a - p) / area).clamp(0.0, 1.0);
-                    let l2 = (1.0 - l0 - l1).max(0.0);
-                    // A sample on the shared diagonal is painted twice with the same values.
-                    let k = (j - self.j0) * self.grid.nx() + i;
-                    let mut w = [0.0; 4];
-                    w[t[0]] += l0;
-                    w[t[1]] += l1;
-                    w[t[2]] += l2;
-                    self.apply(k, paint(w));
+                    let (ylo, yhi) = span(across, i as f64);
+                    let (ja, jb) = (ceil(ylo - 1e-9).max(j0), floor(yhi + 1e-9).min(j1));
+                    if jb < ja {
+                        continue;
+                    }
+                    for j in ja as usize..=jb as usize {
+                        sample(i, j);
+                    }
+                }
+            } else {
+                // Scanlines: per sample row, the span of i the triangle covers (area-proportional
+                // work, unlike a bounding box around a long slanted band).
+                for j in j0 as usize..=j1 as usize {
+                    let (xlo, xhi) = span(g, j as f64);
+                    let (i0, i1) = (ceil(xlo - 1e-9).max(0.0), floor(xhi + 1e-9).min(nx - 1.0));
+                    if i1 < i0 {
+                        continue;
+                    }
+                    for i in i0 as usize..=i1 as usize {
+                        sample(i, j);
+                    }
                 }
             }
         }
@@ -372,6 +394,23 @@ impl Canvas {
             band.roughness[k] = mean(self.rough[k]);
         }
     }
+}
+
+/// The range of x that triangle `g` (grid coordinates) covers on the line at `y`: from the
+/// edges that cross it (an edge along the line gives both its ends); empty (`lo > hi`) when none
+/// does.
+fn span(g: [DVec2; 3], y: f64) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (p, q) in [(g[0], g[1]), (g[1], g[2]), (g[2], g[0])] {
+        if (p.y <= y && y <= q.y) || (q.y <= y && y <= p.y) {
+            let along = (q.y - p.y).abs() < 1e-12;
+            let x = if along { p.x.min(q.x) } else { p.x + (y - p.y) / (q.y - p.y) * (q.x - p.x) };
+            let x2 = if along { p.x.max(q.x) } else { x };
+            lo = lo.min(x);
+            hi = hi.max(x2);
+        }
+    }
+    (lo, hi)
 }
 
 /// What one sample of a quad receives.
@@ -626,6 +665,67 @@ impl Fill {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Scanning a triangle by columns paints the same samples with the same weights as by rows:
+    /// thin slivers (a slope band's slice between two stations) and wide quads in every
+    /// direction, partly off the grid and across the band's first and last rows, on a grid of
+    /// unequal cell sides.
+    #[test]
+    fn column_scans_paint_what_row_scans_paint() {
+        let grid = GridSpec::new(61, 47, DVec2::new(-5.0, 3.0), DVec2::new(1.7, 2.3)).unwrap();
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let quads: Vec<[DVec2; 4]> = (0..400)
+            .map(|q| {
+                let centre = DVec2::new(-20.0 + 140.0 * next(), -10.0 + 130.0 * next());
+                let along = DVec2::from_angle(std::f64::consts::TAU * next());
+                let (long, wide) = if q % 2 == 0 {
+                    (2.0 + 60.0 * next(), 0.2 + next())
+                } else {
+                    (1.0 + 9.0 * next(), 1.0 + 9.0 * next())
+                };
+                let (l, w) = (along * long * 0.5, along.perp() * wide * 0.5);
+                let mut jitter = |p: DVec2| p + DVec2::new(next() - 0.5, next() - 0.5) * 0.3;
+                [jitter(centre - l - w), jitter(centre - l + w), jitter(centre + l + w), jitter(centre + l - w)]
+            })
+            .collect();
+        let paint = |by_columns: Option<bool>| {
+            let mut canvas = Canvas::new(&grid, 35);
+            (canvas.j0, canvas.j1) = (5, 40);
+            for (q, quad) in quads.iter().enumerate() {
+                if q % 3 == 0 {
+                    let paint = |w: [f64; 4]| Paint::Gradient(q as u32 % 4, w[0] as f32, [w[1] as f32, w[2] as f32]);
+                    canvas.quad_scanned(*quad, paint, by_columns);
+                } else {
+                    let paint = |w: [f64; 4]| Paint::Band {
+                        elevation: Some(w[0] + 2.0 * w[1] + 3.0 * w[2] + 4.0 * w[3]),
+                        noise: Some((w[0] - w[3], w[1] * w[2])),
+                    };
+                    canvas.quad_scanned(*quad, paint, by_columns);
+                }
+            }
+            let sums = |v: &[(f64, u32)]| v.iter().map(|(s, c)| (s.to_bits(), *c)).collect::<Vec<_>>();
+            let grad =
+                canvas.grad.iter().map(|(g, n)| [g.to_bits(), n[0].to_bits(), n[1].to_bits()]).collect::<Vec<_>>();
+            (
+                sums(&canvas.elev),
+                sums(&canvas.amp),
+                sums(&canvas.rough),
+                grad,
+                canvas.writer.clone(),
+                canvas.hole.clone(),
+            )
+        };
+        let rows = paint(Some(false));
+        let painted = rows.0.iter().filter(|(_, c)| *c > 0).count();
+        assert!(painted > 500, "{painted} samples painted");
+        assert!(rows.5.iter().any(|&h| h), "some slope quads overlap");
+        assert!(rows == paint(Some(true)), "by columns");
+        assert!(rows == paint(None), "each triangle along its longer side");
+    }
 
     fn window(i0: usize, j0: usize, w: usize, h: usize) -> Window {
         Window { i0, j0, w, h, nx: 64 }
