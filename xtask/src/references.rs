@@ -259,7 +259,33 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      elevation solve at 2048² took 215–242 against 254–259 ms (best of 10, alternated twice), its whole\n\
      generation 733–899 against 821–923 ms (best of 3, alternated three times, a noisy phase of this VM).\n\
      Running the W from the first two coarse levels only left `desert` at 2048² 0.13 m (mean) and 3.3 m\n\
-     (worst) from the converged solution, against 0.02 and 1.1 m. The criterion rows were not re-run.",
+     (worst) from the converged solution, against 0.02 and 1.1 m. The criterion rows were not re-run.\n\
+     \n\
+     On 2026-12-02 (morning) the set-up, the hole fills and the noise maps got faster, on a slower VM\n\
+     than the day before (an AMD EPYC with AVX2 only, where the volcanic island's 2048² generation at the\n\
+     evening's commit took 1.3–1.5 s against 0.69–0.9 s on the AVX-512 machine): Table 2 and the\n\
+     criterion rows below were not re-measured, and the figures here are this machine's, each build\n\
+     alternated with the evening's commit (best of N). The coarsening adds each coarse row's sums term\n\
+     by term over the whole row, straight from the colour-split storage, in the same order as before (no\n\
+     row-major copy of any level; the loops vectorize): the volcanic island's elevation set-up 108–127 →\n\
+     90–96 ms, the same bits. Laplace levels (the hole fills' and the noise maps') are coarsened from\n\
+     their fixed samples alone, and `laplace_like` shares the weights instead of copying them: a 2048²\n\
+     Laplace set-up 92–101 → 37–38 ms, `mountain`'s hole fills (three solves over the whole grid) best\n\
+     790 → 653 ms. The painting scans each triangle by rows or by columns, whichever crosses it fewer\n\
+     times (5.65 M → 4.07 M lines for 2.1 M samples on the volcanic island, 15.0 M → 12.7 M for 4.9 M on\n\
+     `mountain`; the same bits, the time saved within noise). The noise amplitude and roughness are\n\
+     solved to a relative residual of 10⁻³ (`NOISE_TOLERANCE`, as the hole fills), not the elevation's\n\
+     10⁻⁴: one cycle each instead of six, the volcanic island's two solves 184–216 → 82–99 ms; the\n\
+     terrains of `volcanic-island-48`, `mountain`, `lake` and `desert` moved by 3.3, 3.9, 2.5 and\n\
+     0.15 cm on average and 0.42, 1.26, 0.68 and 0.19 m at most. Whole 2048² generations, best of 3,\n\
+     alternated five (three) times: `volcanic-island-48` 1.31–1.44 → 1.19–1.37 s (medians 1.40 → 1.27),\n\
+     `mountain` 2.11–2.30 → 1.92–2.07 s, `lake` 1.75–1.83 → 1.64–1.82 s, `canyon-step-3` 1.54–1.68 →\n\
+     1.42–1.48 s, `desert` 0.95–1.10 → 0.80–0.90 s: 6–15 % faster. Tried and dropped: the hole fill's\n\
+     three solves one after the other rather than side by side (a first generation's page faults in the\n\
+     hole fills 98 k → 62 k on `mountain`, but its rasterization 1.10–1.20 → 1.25–1.27 s). A first\n\
+     generation of the volcanic island in a fresh process takes 166 k page faults, 100 k of them in the\n\
+     rasterization: 25 k for the maps, 33 k for the 16 painting canvases rayon's split jobs make, 40 k\n\
+     in the hole fills.",
     ),
     (
         "gaussian_terrain",
