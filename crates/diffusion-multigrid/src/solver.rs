@@ -709,17 +709,7 @@ impl Level {
                 (gc[i >> 1], bc[i >> 1]) = (g, b);
             }
         };
-        let [g0, g1] = &mut g;
-        let [b0, b1] = &mut b.c;
-        if nx * ny >= PARALLEL_MIN {
-            let rows =
-                g0.par_chunks_mut(w).zip(g1.par_chunks_mut(w)).zip(b0.par_chunks_mut(w).zip(b1.par_chunks_mut(w)));
-            rows.enumerate().for_each_init(Default::default, fill);
-        } else {
-            let rows = g0.chunks_mut(w).zip(g1.chunks_mut(w)).zip(b0.chunks_mut(w).zip(b1.chunks_mut(w)));
-            let mut scratch = Default::default();
-            rows.enumerate().for_each(|r| fill(&mut scratch, r));
-        }
+        for_each_colour_row(&mut g, &mut b, nx * ny >= PARALLEL_MIN, fill);
         Self { nx, ny, w, g: Arc::new(g), b }
     }
 
@@ -792,17 +782,7 @@ impl Level {
                 (gc[ic >> 1], bc[ic >> 1]) = (g, b);
             }
         };
-        let [g0, g1] = &mut g;
-        let [b0, b1] = &mut b.c;
-        if self.parallel() {
-            let rows =
-                g0.par_chunks_mut(cw).zip(g1.par_chunks_mut(cw)).zip(b0.par_chunks_mut(cw).zip(b1.par_chunks_mut(cw)));
-            rows.enumerate().for_each_init(CoarseSums::default, row);
-        } else {
-            let rows = g0.chunks_mut(cw).zip(g1.chunks_mut(cw)).zip(b0.chunks_mut(cw).zip(b1.chunks_mut(cw)));
-            let mut sums = CoarseSums::default();
-            rows.enumerate().for_each(|r| row(&mut sums, r));
-        }
+        for_each_colour_row(&mut g, &mut b, self.parallel(), row);
         Self { nx: cx, ny: cy, w: cw, g: Arc::new(g), b }
     }
 
@@ -1427,9 +1407,31 @@ impl CoarseSums {
     }
 }
 
-/// Row `j` of colour-split weights and right-hand side, as parallel iterators give them:
+/// Row `j` of colour-split weights and right-hand side, as [`for_each_colour_row`] gives them:
 /// `(j, ((weights of colour 0, of colour 1), (right-hand sides of colour 0, of colour 1)))`.
 type ColourRows<'a> = (usize, ((&'a mut [[i16; 2]], &'a mut [[i16; 2]]), (&'a mut [f32], &'a mut [f32])));
+
+/// Calls `row(scratch, rows)` on each row of colour-split weights `g` and right-hand side `b`:
+/// on rayon's threads when `parallel` (a scratch made for each split job), else in order with one
+/// scratch. Each row is written by one call, so the result is the same either way.
+fn for_each_colour_row<S: Default + Send>(
+    g: &mut [Vec<[i16; 2]>; 2],
+    b: &mut Field,
+    parallel: bool,
+    row: impl Fn(&mut S, ColourRows<'_>) + Sync + Send,
+) {
+    let w = b.w;
+    let [g0, g1] = g;
+    let [b0, b1] = &mut b.c;
+    if parallel {
+        let rows = g0.par_chunks_mut(w).zip(g1.par_chunks_mut(w)).zip(b0.par_chunks_mut(w).zip(b1.par_chunks_mut(w)));
+        rows.enumerate().for_each_init(S::default, row);
+    } else {
+        let rows = g0.chunks_mut(w).zip(g1.chunks_mut(w)).zip(b0.chunks_mut(w).zip(b1.chunks_mut(w)));
+        let mut scratch = S::default();
+        rows.enumerate().for_each(|r| row(&mut scratch, r));
+    }
+}
 
 /// A grid function stored by colour: `c[(i + j) % 2][j·w + i/2]`, so a sweep of one colour
 /// writes one array while reading the other.
