@@ -275,7 +275,7 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      times (5.65 M → 4.07 M lines for 2.1 M samples on the volcanic island, 15.0 M → 12.7 M for 4.9 M on\n\
      `mountain`; the same bits, the time saved within noise). The noise amplitude and roughness are\n\
      solved to a relative residual of 10⁻³ (`NOISE_TOLERANCE`, as the hole fills), not the elevation's\n\
-     10⁻⁴: one cycle each instead of six, the volcanic island's two solves 184–216 → 82–99 ms; the\n\
+     10⁻⁴: one cycle after their starts instead of six, the volcanic island's two solves 184–216 → 82–99 ms; the\n\
      terrains of `volcanic-island-48`, `mountain`, `lake` and `desert` moved by 3.3, 3.9, 2.5 and\n\
      0.15 cm on average and 0.42, 1.26, 0.68 and 0.19 m at most. Whole 2048² generations, best of 3,\n\
      alternated five (three) times: `volcanic-island-48` 1.31–1.44 → 1.19–1.37 s (medians 1.40 → 1.27),\n\

@@ -30,15 +30,16 @@ pub(crate) const HALF_RESOLUTION_FROM: usize = 256;
 /// its elevation solve's own error: at 2048², against the elevation's default tolerance (10⁻⁴)
 /// applied to the maps too, the final terrains of `volcanic-island-48`, `mountain`, `lake` and
 /// `desert` moved by 3.3, 3.9, 2.5 and 0.15 cm on average and 0.42, 1.26, 0.68 and 0.19 m at
-/// most (reliefs of 1.5, 2.2, 1.0 and 0.4 km), while the two solves took one cycle instead of
-/// six (the volcanic island's 184–216 ms → 82–99 ms, a twelfth of its generation). The hole fills
-/// are solved to the same tolerance.
+/// most (reliefs of 1.5, 2.2, 1.0 and 0.4 km), while the two solves took one cycle after their
+/// starts instead of six (the volcanic island's 184–216 ms → 82–99 ms, a twelfth of its
+/// generation). The hole fills are solved to the same tolerance.
 pub(crate) const NOISE_TOLERANCE: f64 = 1e-3;
 
 /// The diffused amplitude and roughness of `maps` (row-major, on `maps.grid`), or `None` when no
 /// sample carries an amplitude (then there is no detail to drive), solved to `solve`'s tolerance
-/// or [`NOISE_TOLERANCE`], whichever is looser. The roughness is 0.5 where no sample carries one. `observe` gets the field (0: amplitude, 1: roughness) and the solve's
-/// iteration, as [`DiffusionProblem::solve_observed`] counts them.
+/// or [`NOISE_TOLERANCE`], whichever is looser. The roughness is 0.5 where no sample carries one.
+/// `observe` gets the field (0: amplitude, 1: roughness) and the solve's iteration, as
+/// [`DiffusionProblem::solve_observed`] counts them.
 pub(crate) fn noise_parameters(
     maps: &ConstraintMaps,
     solve: &SolveOptions,
