@@ -4,6 +4,7 @@
 //! around them.
 
 use std::ops::ControlFlow;
+use std::sync::Mutex;
 
 use glam::DVec2;
 use rayon::prelude::*;
@@ -25,9 +26,14 @@ struct Canvas {
     grid: GridSpec,
     j0: usize,
     j1: usize,
-    elev: Vec<(f64, u32)>,
-    amp: Vec<(f64, u32)>,
-    rough: Vec<(f64, u32)>,
+    /// Per sample, the sum of the elevations painted and their count.
+    elev: Vec<f64>,
+    elev_count: Vec<u32>,
+    /// Per sample, the sums of the noise amplitudes and roughnesses painted (always together) and
+    /// their count.
+    amp: Vec<f64>,
+    rough: Vec<f64>,
+    noise_count: Vec<u32>,
     grad: Vec<(f32, [f32; 2])>,
     writer: Vec<u32>,
     hole: Vec<bool>,
@@ -89,17 +95,14 @@ impl ConstraintMaps {
             roughness: vec![0.0; n],
         };
         let pieces = pieces_by_band(grid, &stations, rows);
-        // One canvas per worker, cleared for each band: fresh ones would cost a page fault per
-        // 4 KiB of the canvas's ~65 bytes a sample, over the whole grid.
-        let new_canvas = || Canvas::new(grid, rows);
-        maps.bands(rows).into_par_iter().zip(pieces).enumerate().for_each_init(
-            new_canvas,
-            |canvas, (b, (mut band, pieces))| {
+        let canvases = CanvasPool::new(grid, rows);
+        maps.bands(rows).into_par_iter().zip(pieces).enumerate().for_each(|(b, (mut band, pieces))| {
+            canvases.with(|canvas| {
                 let j0 = b * rows;
                 canvas.paint(j0, (j0 + rows).min(grid.ny()), &stations, &pieces);
                 canvas.finish(&mut band);
-            },
-        );
+            });
+        });
         fill_holes(&mut maps, observe)?;
         Ok(maps)
     }
@@ -188,6 +191,35 @@ fn band_radius(s: &Station, min_r: f64) -> f64 {
     s.elevation.map_or(0.0, |e| e.r).max(min_r)
 }
 
+/// One [`Canvas`] per worker thread, made on its first band and cleared for each next one.
+/// `for_each_init` made one per job rayon split the bands into (16–20 for 32 bands on two
+/// threads), and each fresh canvas costs a page fault per 4 KiB of its 49 bytes a sample: the
+/// volcanic island's first rasterization at 2048² in a fresh process took 100 k page faults, with
+/// the pool 72 k (the CLI's allocator settings already reuse freed canvases).
+struct CanvasPool {
+    grid: GridSpec,
+    rows: usize,
+    slots: Vec<Mutex<Option<Canvas>>>,
+}
+
+impl CanvasPool {
+    /// An empty pool for bands of up to `rows` rows of `grid`, one slot per thread of the pool.
+    fn new(grid: &GridSpec, rows: usize) -> Self {
+        let slots = (0..rayon::current_num_threads().max(1)).map(|_| Mutex::new(None)).collect();
+        Self { grid: *grid, rows, slots }
+    }
+
+    /// Runs `f` on the calling thread's canvas; on a fresh one when that is busy (a thread that
+    /// took another band while waiting inside `f`) or outside the pool.
+    fn with(&self, f: impl FnOnce(&mut Canvas)) {
+        let slot = rayon::current_thread_index().and_then(|t| self.slots.get(t));
+        match slot.map(Mutex::try_lock) {
+            Some(Ok(mut canvas)) => f(canvas.get_or_insert_with(|| Canvas::new(&self.grid, self.rows))),
+            _ => f(&mut Canvas::new(&self.grid, self.rows)),
+        }
+    }
+}
+
 /// Bands of rows the painting is split into (at most), so that a few run on each core.
 const BANDS: usize = 32;
 
@@ -202,9 +234,11 @@ impl Canvas {
             grid: *grid,
             j0: 0,
             j1: 0,
-            elev: vec![(0.0, 0); n],
-            amp: vec![(0.0, 0); n],
-            rough: vec![(0.0, 0); n],
+            elev: vec![0.0; n],
+            elev_count: vec![0; n],
+            amp: vec![0.0; n],
+            rough: vec![0.0; n],
+            noise_count: vec![0; n],
             grad: vec![(0.0, [0.0, 0.0]); n],
             writer: vec![NONE; n],
             hole: vec![false; n],
@@ -216,9 +250,11 @@ impl Canvas {
     fn paint(&mut self, j0: usize, j1: usize, stations: &[(Vec<Station>, bool)], pieces: &[Piece]) {
         let n = (j1 - j0) * self.grid.nx();
         (self.j0, self.j1) = (j0, j1);
-        self.elev[..n].fill((0.0, 0));
-        self.amp[..n].fill((0.0, 0));
-        self.rough[..n].fill((0.0, 0));
+        self.elev[..n].fill(0.0);
+        self.elev_count[..n].fill(0);
+        self.amp[..n].fill(0.0);
+        self.rough[..n].fill(0.0);
+        self.noise_count[..n].fill(0);
         self.grad[..n].fill((0.0, [0.0, 0.0]));
         self.writer[..n].fill(NONE);
         self.hole[..n].fill(false);
@@ -353,14 +389,13 @@ impl Canvas {
         match paint {
             Paint::Band { elevation, noise } => {
                 if let Some(h) = elevation {
-                    self.elev[k].0 += h;
-                    self.elev[k].1 += 1;
+                    self.elev[k] += h;
+                    self.elev_count[k] += 1;
                 }
                 if let Some((a, r)) = noise {
-                    self.amp[k].0 += a;
-                    self.amp[k].1 += 1;
-                    self.rough[k].0 += r;
-                    self.rough[k].1 += 1;
+                    self.amp[k] += a;
+                    self.rough[k] += r;
+                    self.noise_count[k] += 1;
                 }
             }
             Paint::Gradient(writer, g, n) => {
@@ -376,9 +411,14 @@ impl Canvas {
 
     /// Writes the band's rows of the maps: the means of what was painted, and each sample's kind.
     fn finish(&self, band: &mut Band<'_>) {
-        let mean = |(s, c): (f64, u32)| if c == 0 { f32::NAN } else { (s / f64::from(c)) as f32 };
+        // Most samples take one value or none: no division for them (s / 1 is s, bit for bit).
+        let mean = |s: f64, c: u32| match c {
+            0 => f32::NAN,
+            1 => s as f32,
+            _ => (s / f64::from(c)) as f32,
+        };
         for k in 0..band.kind.len() {
-            let elevation = mean(self.elev[k]);
+            let elevation = mean(self.elev[k], self.elev_count[k]);
             band.elevation[k] = elevation;
             band.kind[k] = if !elevation.is_nan() {
                 CellKind::Elevation
@@ -390,8 +430,8 @@ impl Canvas {
                 CellKind::Free
             };
             (band.gradient[k], band.normal[k]) = self.grad[k];
-            band.amplitude[k] = mean(self.amp[k]);
-            band.roughness[k] = mean(self.rough[k]);
+            band.amplitude[k] = mean(self.amp[k], self.noise_count[k]);
+            band.roughness[k] = mean(self.rough[k], self.noise_count[k]);
         }
     }
 }
@@ -707,13 +747,13 @@ mod tests {
                     canvas.quad_scanned(*quad, paint, by_columns);
                 }
             }
-            let sums = |v: &[(f64, u32)]| v.iter().map(|(s, c)| (s.to_bits(), *c)).collect::<Vec<_>>();
+            let sums = |v: &[f64], c: &[u32]| v.iter().zip(c).map(|(s, c)| (s.to_bits(), *c)).collect::<Vec<_>>();
             let grad =
                 canvas.grad.iter().map(|(g, n)| [g.to_bits(), n[0].to_bits(), n[1].to_bits()]).collect::<Vec<_>>();
             (
-                sums(&canvas.elev),
-                sums(&canvas.amp),
-                sums(&canvas.rough),
+                sums(&canvas.elev, &canvas.elev_count),
+                sums(&canvas.amp, &canvas.noise_count),
+                sums(&canvas.rough, &canvas.noise_count),
                 grad,
                 canvas.writer.clone(),
                 canvas.hole.clone(),
