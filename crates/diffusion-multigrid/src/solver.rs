@@ -163,9 +163,11 @@ impl DiffusionProblem {
         if nx < 2 || ny < 2 || values.len() != nx * ny || values.iter().all(|v| v.is_nan()) {
             return None;
         }
-        let g = split_colours_map(nx, ny, values, |v| if v.is_nan() { [0, 0] } else { [FIXED, 0] }, [0, 0]);
-        let b = split_colours_map(nx, ny, values, |v| if v.is_nan() { 0.0 } else { v }, 0.0);
-        let finest = Level { nx, ny, w: nx.div_ceil(2), g: Arc::new(g), b: Field { nx, ny, w: nx.div_ceil(2), c: b } };
+        let finest = Level::filled(nx, ny, |j, g, b| {
+            for ((g, b), &v) in g.iter_mut().zip(b).zip(&values[j * nx..(j + 1) * nx]) {
+                (*g, *b) = (if v.is_nan() { [0, 0] } else { [FIXED, 0] }, laplace_rhs(v));
+            }
+        });
         Some(Self::with_coarse(vec![finest], Level::coarsen_laplace))
     }
 
@@ -191,7 +193,7 @@ impl DiffusionProblem {
         if !same {
             return None;
         }
-        let b = split_colours_map(nx, finest.ny, values, |v| if v.is_nan() { 0.0 } else { v }, 0.0);
+        let b = split_colours_map(nx, finest.ny, values, laplace_rhs, 0.0);
         let mut levels = vec![Level { b: Field { nx, ny: finest.ny, w, c: b }, ..finest.clone_weights() }];
         for coarse in &self.levels[1..] {
             let b = levels[levels.len() - 1].coarse_laplace_rhs();
@@ -702,12 +704,8 @@ impl Level {
             gs.resize(nx, [0, 0]);
             bs.resize(nx, 0.0);
             row(j, gs, bs);
-            // Row j's even samples are colour j % 2, its odd ones the other colour.
-            let (ge, go, be, bo) = if j & 1 == 0 { (g0, g1, b0, b1) } else { (g1, g0, b1, b0) };
-            for (i, (&g, &b)) in gs.iter().zip(bs.iter()).enumerate() {
-                let (gc, bc) = if i & 1 == 0 { (&mut *ge, &mut *be) } else { (&mut *go, &mut *bo) };
-                (gc[i >> 1], bc[i >> 1]) = (g, b);
-            }
+            split_row(j, gs, |g| g, g0, g1);
+            split_row(j, bs, |b| b, b0, b1);
         };
         for_each_colour_row(&mut g, &mut b, nx * ny >= PARALLEL_MIN, fill);
         Self { nx, ny, w, g: Arc::new(g), b }
@@ -1287,24 +1285,33 @@ fn split_colours_map<S: Copy + Sync, T: Copy + Send + Sync>(
     let w = nx.div_ceil(2);
     let mut split = [vec![pad; w * ny], vec![pad; w * ny]];
     let [c0, c1] = &mut split;
-    let row = |(j, (r0, r1)): (usize, (&mut [T], &mut [T]))| {
-        // Row j's colour-0 samples sit at i ≡ j (mod 2), its colour-1 ones at the other parity.
-        let (even, odd) = if j & 1 == 0 { (r0, r1) } else { (r1, r0) };
-        let mut pairs = v[j * nx..(j + 1) * nx].chunks_exact(2);
-        for ((pair, e), o) in (&mut pairs).zip(even.iter_mut()).zip(odd.iter_mut()) {
-            *e = f(pair[0]);
-            *o = f(pair[1]);
-        }
-        if let [last] = pairs.remainder() {
-            even[w - 1] = f(*last);
-        }
-    };
+    let row = |(j, (r0, r1)): (usize, (&mut [T], &mut [T]))| split_row(j, &v[j * nx..(j + 1) * nx], &f, r0, r1);
     if nx * ny >= PARALLEL_MIN {
         c0.par_chunks_mut(w).zip(c1.par_chunks_mut(w)).enumerate().for_each(row);
     } else {
         c0.chunks_mut(w).zip(c1.chunks_mut(w)).enumerate().for_each(row);
     }
     split
+}
+
+/// Row `j` of row-major values, each mapped by `f`, into its colour-0 and colour-1 rows `r0` and
+/// `r1` (`⌈len/2⌉` slots each; a padding slot is left as it is).
+fn split_row<S: Copy, T>(j: usize, row: &[S], f: impl Fn(S) -> T, r0: &mut [T], r1: &mut [T]) {
+    // Row j's colour-0 samples sit at i ≡ j (mod 2), its colour-1 ones at the other parity.
+    let (even, odd) = if j & 1 == 0 { (r0, r1) } else { (r1, r0) };
+    let mut pairs = row.chunks_exact(2);
+    for ((pair, e), o) in (&mut pairs).zip(even.iter_mut()).zip(odd.iter_mut()) {
+        *e = f(pair[0]);
+        *o = f(pair[1]);
+    }
+    if let [last] = pairs.remainder() {
+        even[row.len() / 2] = f(*last);
+    }
+}
+
+/// The right-hand side of a Laplace problem's sample: its value where given, 0 where free (NaN).
+fn laplace_rhs(v: f32) -> f32 {
+    if v.is_nan() { 0.0 } else { v }
 }
 
 /// The row-major `nx × ny` values of colour-split storage `c` (the inverse of
