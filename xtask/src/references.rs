@@ -285,7 +285,31 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      hole fills 98 k → 62 k on `mountain`, but its rasterization 1.10–1.20 → 1.25–1.27 s). A first\n\
      generation of the volcanic island in a fresh process takes 166 k page faults, 100 k of them in the\n\
      rasterization: 25 k for the maps, 33 k for the 16 painting canvases rayon's split jobs make, 40 k\n\
-     in the hole fills.",
+     in the hole fills.\n\
+     \n\
+     On 2026-12-02 (later, the same AVX2 VM) the painting's memory and the solver's norms, with the same\n\
+     bits. Painting keeps one canvas per worker thread (`CanvasPool`): `for_each_init` had made one per\n\
+     job rayon split the 32 bands into, 16–20 a generation, each faulted in afresh; the canvas keeps its\n\
+     sums and counts in separate arrays, the noise's two sums sharing one count (65 → 49 bytes a\n\
+     sample), and a sample painted once is not divided. The reference norm and each cycle's residual\n\
+     norm are summed chunk by chunk from scratch rows (`Level::residual_sq`) instead of from a stored\n\
+     residual (the volcanic island's elevation start and its three cycles about 15 ms sooner each).\n\
+     Laplace problems fill their finest level in one pass (`Level::filled`). A first 2048² rasterization\n\
+     of the volcanic island in a fresh process: 100 k → 71 k page faults; `desert`'s (painting only)\n\
+     341–368 → 228–273 ms. Whole first generations in a fresh process without the CLI's allocator\n\
+     settings (four alternated runs): `volcanic-island-48` 1.44–1.56 → 1.31–1.40 s, `mountain` 1.96–2.22\n\
+     → 1.82–2.02 s. With the CLI's settings, which already reused freed canvases, `relief -v diffuse` at\n\
+     2048² (diffusion step, alternated): `volcanic-island-48` 1.15–1.25 → 1.08–1.18 s (medians 1.18 →\n\
+     1.16), `mountain` 1.72–1.96 → 1.67–1.92 s (within noise). Tried and dropped: stations a cell\n\
+     apart instead of half a cell (painting 25–30 % faster, but the terrain 2–4× further from a\n\
+     quarter-cell painting: 99.9th percentile 0.6–1.8 m against 0.2–0.5 m, and 74 m against 18 m at\n\
+     worst below the lake's cliff); more full-multigrid cycles on the coarse levels of the Laplace\n\
+     problems (the start stays at 9.5–9.6 × 10⁻³ of the initial residual: the error left is the finest\n\
+     level's) and W-cycles for them (the same iterations, the volcanic island's hole fills 277 →\n\
+     322 ms). Faulting memory in ahead with `MADV_POPULATE_WRITE` costs 2.2 µs a page on this VM\n\
+     against 3 µs for a first touch, too little to be worth an allocator hook. A first generation\n\
+     still takes 90 k page faults with the CLI's settings (63 k of them in the rasterization: the maps\n\
+     and the hole fills' three solves, side by side).",
     ),
     (
         "gaussian_terrain",
