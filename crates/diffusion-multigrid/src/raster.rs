@@ -195,7 +195,7 @@ fn band_radius(s: &Station, min_r: f64) -> f64 {
 /// `for_each_init` made one per job rayon split the bands into (16–20 for 32 bands on two
 /// threads), and each fresh canvas costs a page fault per 4 KiB of its 49 bytes a sample: the
 /// volcanic island's first rasterization at 2048² in a fresh process took 100 k page faults, with
-/// the pool 72 k (the CLI's allocator settings already reuse freed canvases).
+/// the pool and this layout 71 k (the CLI's allocator settings already reuse freed canvases).
 struct CanvasPool {
     grid: GridSpec,
     rows: usize,
@@ -705,6 +705,24 @@ impl Fill {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A worker thread gets its own canvas back, as the last band left it; a thread outside the
+    /// pool, or one whose canvas is in use, a fresh one.
+    #[test]
+    fn each_worker_paints_on_its_own_canvas() {
+        let grid = GridSpec::new(8, 8, DVec2::ZERO, DVec2::ONE).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let canvases = pool.install(|| CanvasPool::new(&grid, 4));
+        assert_eq!(canvases.slots.len(), 2);
+        pool.install(|| {
+            canvases.with(|canvas| canvas.j0 = 7);
+            canvases.with(|canvas| {
+                assert_eq!(canvas.j0, 7, "the same canvas");
+                canvases.with(|inner| assert_eq!(inner.j0, 0, "a fresh one while it is in use"));
+            });
+        });
+        canvases.with(|canvas| assert_eq!(canvas.j0, 0, "outside the pool"));
+    }
 
     /// Scanning a triangle by columns paints the same samples with the same weights as by rows:
     /// thin slivers (a slope band's slice between two stations) and wide quads in every

@@ -1660,6 +1660,17 @@ mod tests {
 
     /// `laplace_like` is `laplace` of the new values with the set-up shared: the same weights
     /// and right-hand sides on every level, bit for bit; `None` when the free samples differ.
+    /// A Laplace problem needs a grid of at least 2 × 2, one value per sample and one given.
+    #[test]
+    fn laplace_refuses_what_it_cannot_solve() {
+        let one = |n: usize| (0..n).map(|k| if k == 0 { 1.0 } else { f32::NAN }).collect::<Vec<_>>();
+        assert!(DiffusionProblem::laplace(2, 2, &one(4)).is_some(), "the smallest grid");
+        assert!(DiffusionProblem::laplace(1, 5, &one(5)).is_none(), "one column");
+        assert!(DiffusionProblem::laplace(5, 1, &one(5)).is_none(), "one row");
+        assert!(DiffusionProblem::laplace(3, 3, &one(8)).is_none(), "a value short");
+        assert!(DiffusionProblem::laplace(3, 3, &[f32::NAN; 9]).is_none(), "nothing given");
+    }
+
     #[test]
     fn laplace_like_is_laplace_of_the_new_values() {
         let (nx, ny) = (37, 23);
