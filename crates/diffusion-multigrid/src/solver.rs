@@ -335,8 +335,13 @@ impl DiffusionProblem {
     /// ‖r‖₂ of the constraints alone (fixed values, zero elsewhere): the reference of the
     /// relative residual.
     fn reference_norm(&self) -> f64 {
+        self.reference_norm_at(&self.levels[0].start())
+    }
+
+    /// [`Self::reference_norm`] from the finest level's `start`, which the caller keeps.
+    fn reference_norm_at(&self, start: &Field) -> f64 {
         let l = &self.levels[0];
-        let norm = l.residual_norm(&l.start(), &l.b);
+        let norm = l.residual_norm(start, &l.b);
         if norm > 0.0 { norm } else { 1.0 }
     }
 
@@ -346,17 +351,23 @@ impl DiffusionProblem {
         options: &SolveOptions,
         observe: &mut dyn FnMut(usize) -> ControlFlow<()>,
     ) -> Option<(Field, SolveReport)> {
-        let r0 = self.reference_norm();
+        // The finest start serves the reference norm, then the full multigrid's last level: one
+        // grid allocated (and, in a fresh process, faulted in) instead of two.
+        let start = self.levels[0].start();
+        let r0 = self.reference_norm_at(&start);
+        let mut finest_start = Some(start);
+        let mut start =
+            |l: usize| if l == 0 { finest_start.take() } else { None }.unwrap_or_else(|| self.levels[l].start());
         let top = self.levels.len() - 1;
         // Full multigrid: solve the coarsest version, then interpolate and cycle once per level.
         let coarsest = &self.levels[top];
-        let mut x = coarsest.start();
+        let mut x = start(top);
         for _ in 0..100 {
             coarsest.sweep(&mut x, &coarsest.b);
         }
         for l in (0..top).rev() {
             let level = &self.levels[l];
-            let mut finer = level.start();
+            let mut finer = start(l);
             finer.interpolate(&x, level, None);
             x = finer;
             self.vcycle(l, &mut x, &level.b);
@@ -373,8 +384,11 @@ impl DiffusionProblem {
         }
         let mut cycles = 0;
         let mut step = None;
+        // The iterate before each cycle, kept to restart from should the cycle stall: one buffer
+        // for every cycle, not a grid allocated per cycle.
+        let mut before = Field::zeros(0, 0);
         while history[history.len() - 1] >= options.tolerance && cycles < max {
-            let before = x.clone();
+            before.copy_from(&x);
             self.vcycle(0, &mut x, &finest.b);
             cycles += 1;
             let rel = finest.residual_sq(0, &x, &finest.b).sqrt() / r0;
@@ -1487,6 +1501,14 @@ impl Field {
     fn zeros(nx: usize, ny: usize) -> Self {
         let w = nx.div_ceil(2);
         Self { nx, ny, w, c: [vec![0.0; w * ny], vec![0.0; w * ny]] }
+    }
+
+    /// `self` becomes a copy of `other`, in its own storage where that is large enough.
+    fn copy_from(&mut self, other: &Field) {
+        (self.nx, self.ny, self.w) = (other.nx, other.ny, other.w);
+        for (a, b) in self.c.iter_mut().zip(&other.c) {
+            a.clone_from(b);
+        }
     }
 
     /// Every sample set to `v`.
