@@ -14,6 +14,7 @@ use relief_heightfield::rounding::{ceil, floor};
 use crate::DiffusionError;
 use crate::curve::{FeatureCurve, Station};
 use crate::maps::{CellKind, ConstraintMaps};
+use crate::parameters::NOISE_TOLERANCE;
 use crate::solver::{DiffusionProblem, SolveOptions};
 
 /// Most samples one feature curve may take when rasterized (a station every half cell): 2^23, a
@@ -649,7 +650,8 @@ struct Fill {
 }
 
 impl Fill {
-    /// The three solves of `window`, side by side.
+    /// The three solves of `window`, side by side, each to a relative residual of
+    /// [`NOISE_TOLERANCE`].
     fn solve(maps: &ConstraintMaps, window: &Window) -> Self {
         let values = |field: &(dyn Fn(usize) -> f32 + Sync)| -> Vec<f32> {
             let mut out = vec![0.0; window.w * window.h];
@@ -665,7 +667,7 @@ impl Fill {
         let Some(problem) = DiffusionProblem::laplace(window.w, window.h, &values(&|k| maps.gradient[k])) else {
             return Self { gradient: None, x: None, y: None };
         };
-        let options = SolveOptions { tolerance: 1e-3, ..SolveOptions::default() };
+        let options = SolveOptions { tolerance: NOISE_TOLERANCE, ..SolveOptions::default() };
         let solve = |p: &DiffusionProblem| p.solve(&options).ok().map(|(x, _)| x);
         let like =
             |field: &(dyn Fn(usize) -> f32 + Sync)| problem.laplace_like(&values(field)).as_ref().and_then(solve);
@@ -847,6 +849,60 @@ mod tests {
             }
         }
         maps
+    }
+
+    /// 96 × 64 samples: diagonal slope bands one sample wide whose steps and normals change along
+    /// them, and a block of holes: a window where the solver's tolerance decides the fill (its
+    /// full multigrid start lands between 10⁻³ and 10⁻² of the initial residual).
+    fn wide_holes() -> ConstraintMaps {
+        let (nx, ny) = (96, 64);
+        let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap();
+        let mut maps = ConstraintMaps {
+            grid,
+            kind: vec![CellKind::Free; nx * ny],
+            elevation: vec![f32::NAN; nx * ny],
+            gradient: vec![0.0; nx * ny],
+            normal: vec![[0.0; 2]; nx * ny],
+            amplitude: vec![f32::NAN; nx * ny],
+            roughness: vec![f32::NAN; nx * ny],
+        };
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                if (i + 2 * j) % 23 == 0 || (3 * i + j) % 29 == 0 {
+                    let t = (i as f32 * 0.37 + j as f32 * 0.11).sin();
+                    (maps.kind[k], maps.gradient[k], maps.normal[k]) =
+                        (CellKind::Gradient, 1.0 + t, [t, 1.0 - t.abs()]);
+                } else if (20..44).contains(&j) && (30..66).contains(&i) {
+                    maps.kind[k] = CellKind::Hole;
+                }
+            }
+        }
+        maps
+    }
+
+    /// Each field of a fill is its Laplace solve to [`NOISE_TOLERANCE`], bit for bit; a tighter
+    /// or a looser tolerance gives other values on this window.
+    #[test]
+    fn fills_are_solved_to_the_noise_tolerance() {
+        let maps = wide_holes();
+        let window = Window { i0: 0, j0: 0, w: 96, h: 64, nx: 96 };
+        let fill = Fill::solve(&maps, &window);
+        let fixed = |k: usize, v: f32| if maps.kind[k] == CellKind::Gradient { v } else { f32::NAN };
+        let fields: [Vec<f32>; 3] = [
+            (0..maps.kind.len()).map(|k| fixed(k, maps.gradient[k])).collect(),
+            (0..maps.kind.len()).map(|k| fixed(k, maps.normal[k][0])).collect(),
+            (0..maps.kind.len()).map(|k| fixed(k, maps.normal[k][1])).collect(),
+        ];
+        let solved = |values: &[f32], tolerance: f64| {
+            let options = SolveOptions { tolerance, ..SolveOptions::default() };
+            DiffusionProblem::laplace(96, 64, values).unwrap().solve(&options).unwrap().0
+        };
+        for (field, values) in [&fill.gradient, &fill.x, &fill.y].into_iter().zip(&fields) {
+            let field = field.as_ref().unwrap();
+            assert!(field == &solved(values, 1e-3), "the fill is the solve to 1e-3");
+            assert!(field != &solved(values, 1e-4) && field != &solved(values, 1e-2), "the tolerance decides");
+        }
     }
 
     #[test]
