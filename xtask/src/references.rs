@@ -44,30 +44,34 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      \n\
      Table 2's terrains, as fixture scenes with the paper's curve counts (whole `generate`, best of\n\
      5 at 512² and 1024² and of 3 at 2048², `examples/generate_timing.rs` with `WHOLE_ONLY=1`, 2 cores,\n\
-     re-measured 2026-12-02 on an AMD EPYC: the default, the best of six passes after the W-cycle\n\
-     stopped at the fourth level, below; the paper's budget, the best of three). Each cell gives ours with\n\
+     re-measured 2026-12-02 (noon) on an AMD EPYC with AVX-512, the best of two passes; this in-process\n\
+     timing keeps glibc's default allocator, which hands each generation's grids back to the system, so\n\
+     every run faults its memory in afresh). Each cell gives ours with\n\
      the default multigrid / ours with the paper's own solver at its fixed budget for the elevation and\n\
      the noise parameters (`\"solver\": \"jacobi_pyramid\", \"max_iterations\": 0` in the scene, which\n\
      `generate_timing` honours; the hole fills keep their multigrid) / the paper's GPU:\n\
      \n\
      | scene (curves) | 512² (ms) | 1024² (ms) | 2048² (s) |\n\
      |---|---:|---:|---:|\n\
-     | `volcanic-island-48` (48) | 57 / 51 / 168 | 192 / 143 / 275 | 0.69 / 0.64 / 0.675 |\n\
-     | `mountain` (59) | 89 / 69 / 187 | 295 / 220 / 270 | 1.12 / 0.94 / 0.670 |\n\
-     | `lake` (45) | 77 / 53 / 185 | 222 / 156 / 261 | 0.84 / 0.70 / 0.690 |\n\
-     | `canyon-step-3` (74) | 94 / 78 / 216 | 250 / 208 / 339 | 0.77 / 0.68 / 0.811 |\n\
-     | `desert` (26) | 47 / 38 / 171 | 118 / 102 / 253 | 0.52 / 0.41 / 0.635 |\n\
+     | `volcanic-island-48` (48) | 43 / 35 / 168 | 122 / 105 / 275 | 0.51 / 0.42 / 0.675 |\n\
+     | `mountain` (59) | 65 / 65 / 187 | 227 / 195 / 270 | 0.81 / 0.65 / 0.670 |\n\
+     | `lake` (45) | 65 / 43 / 185 | 187 / 144 / 261 | 0.68 / 0.64 / 0.690 |\n\
+     | `canyon-step-3` (74) | 74 / 71 / 216 | 182 / 163 / 339 | 0.63 / 0.52 / 0.811 |\n\
+     | `desert` (26) | 46 / 35 / 171 | 103 / 112 / 253 | 0.41 / 0.33 / 0.635 |\n\
      \n\
      Like for like (the paper's algorithm and budget on 2 CPU cores against its 2010 GPU) we are faster\n\
-     on every scene at 512² (0.22–0.37×) and 1024² (0.40–0.81×), and at 2048² on the volcanic island,\n\
-     the canyon and the desert (0.65–0.94×; the lake 1.01×, the mountain 1.40×: a quarter of its samples\n\
-     are holes, and their fill covers the whole grid). That budget stops far from the solution: at 2048²\n\
+     on every scene at every size: 0.20–0.35× at 512², 0.38–0.72× at 1024², 0.51–0.97× at 2048² (the\n\
+     mountain, where a quarter of the samples are holes and their fill covers the whole grid, 0.97×).\n\
+     With the default multigrid we beat the GPU at 512² (0.26–0.35×) and 1024² (0.41–0.84×) everywhere,\n\
+     and at 2048² on all but the mountain (0.64–0.98×; the mountain 1.21×). The morning's figures on\n\
+     the same kind of machine (early that day, before the coarsening without copies, the noise maps'\n\
+     tolerance, the painting's canvas pool and the unstored norms below), were 57 / 192 / 690 ms (`volcanic-island-48`), 89 / 295 / 1120 (`mountain`), 77 / 222 / 840\n\
+     (`lake`), 94 / 250 / 770 (`canyon-step-3`) and 47 / 118 / 520 (`desert`) with the default, and 51 /\n\
+     143 / 640, 69 / 220 / 940, 53 / 156 / 700, 78 / 208 / 680 and 38 / 102 / 410 with the paper's\n\
+     budget. That budget stops far from the solution: at 2048²\n\
      the elevation of `volcanic-island-48` is 2.9 m off on average and 73 m at worst (of 1 500 m of\n\
      relief), that of `mountain` 23 and 363 m, where the default multigrid stops 0.012 and 3.2 m, and\n\
-     0.045 and 10 m, from it. With the default we beat the GPU at 512² everywhere (0.27–0.48×), at 1024²\n\
-     on all but the mountain (0.47–0.85×; the mountain 1.09×), and at 2048² on the canyon and the desert\n\
-     (0.95× and 0.82×); the volcanic island takes 1.02×, the lake 1.22× and the mountain 1.67× the GPU's\n\
-     time. The 12-01 (evening) figures, before the coarse rows below, were 74 / 260 / 990 ms\n\
+     0.045 and 10 m, from it. The 12-01 (evening) figures, before the coarse rows below, were 74 / 260 / 990 ms\n\
      (`volcanic-island-48`), 120 / 421 / 1640 (`mountain`), 101 / 335 / 1310 (`lake`), 111 / 304 / 1040\n\
      (`canyon-step-3`) and 66 / 163 / 690 (`desert`) with the default, and with the paper's budget the\n\
      volcanic island was 6.5 m off on average and 181 m at worst, the mountain 43 and 627 m. The first figures (2026-11-26, Intel Xeon, default solver) were\n\
@@ -309,7 +313,32 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      322 ms). Faulting memory in ahead with `MADV_POPULATE_WRITE` costs 2.2 µs a page on this VM\n\
      against 3 µs for a first touch, too little to be worth an allocator hook. A first generation\n\
      still takes 90 k page faults with the CLI's settings (63 k of them in the rasterization: the maps\n\
-     and the hole fills' three solves, side by side).",
+     and the hole fills' three solves, side by side).\n\
+     \n\
+     On 2026-12-02 (noon), on an AMD EPYC with AVX-512 again. `relief` now gives every thread one malloc\n\
+     arena (`M_ARENA_MAX` 1, beside its other `mallopt` settings): with an arena per thread, a grid\n\
+     freed on one rayon worker could not serve the next allocation made on another, and a first 2048²\n\
+     `relief diffuse` of `volcanic-island-48` took 105 k page faults, now 74 k (`mountain` 125 k →\n\
+     80–93 k); the diffusion stage's time moved within this VM's noise (484–549 → 471–507 ms, three\n\
+     alternated rounds). The solver's finest start serves both the reference norm and the full\n\
+     multigrid's last level, and the iterate kept before each cycle lives in one buffer (the same bits).\n\
+     The criterion rows below were re-run the same hour: `generate/2048` 480 ms, 0.71× the paper's GPU.\n\
+     Whole first generations in the CLI, `relief -v diffuse SCENE --resolution 2048` (its diffusion\n\
+     stage, ten runs in two passes, the VM's speed drifting by a quarter between them), against Table\n\
+     2's GPU: `volcanic-island-48` 463–649 ms (median 566; 0.84× the GPU's 675), `mountain` 741–992\n\
+     (817; 1.22× its 670), `lake` 589–811 (655; 0.95× its 690), `canyon-step-3` 548–767 (623; 0.77×\n\
+     its 811), `desert` 332–412 (371; 0.58× its 635), and the issue's `mountain-ridges` 315–455 (407).\n\
+     Under the issue's 0.6 s: `mountain-ridges`, `desert` and the volcanic island in most runs; not\n\
+     `mountain` (its whole-grid hole fill and five cycles) nor, by a few per cent, `lake` and\n\
+     `canyon-step-3`. On the AVX2-only EPYC of the morning the same generations took about twice as\n\
+     long. Measured and not pursued: a W-cycle from the first coarse level took 7–12 ms against 1–2 ms\n\
+     for that level's own sweeps, but running its levels serially or with a higher parallel threshold\n\
+     changed nothing measurable (short rows, not thread hand-offs, make the cost); more smoothing on the\n\
+     finest level (V(2,3), V(3,3), V(2,4)) cut the hole fills' cycles (the normals' 2 → 1, the step's 1\n\
+     → 0) without making the fills faster. Of `mountain`'s painting (about 160 ms warm), 48 ms are the\n\
+     samples' own work, 88 ms the scanlines and triangles around them (1.36 M triangles, 9.0 M lines,\n\
+     60 % of them empty, for 4.1 M samples) and 21 ms the canvases and maps: what is left there is the\n\
+     scan's overhead, not the painting.",
     ),
     (
         "gaussian_terrain",
