@@ -1701,6 +1701,21 @@ mod tests {
         assert!(DiffusionProblem::laplace(3, 3, &[f32::NAN; 9]).is_none(), "nothing given");
     }
 
+    /// Constraints that are all zero have a zero reference norm: the solve measures against 1
+    /// instead, and so starts converged (relative residual 0, no cycle) with the zero solution,
+    /// rather than dividing 0 by 0 and reporting a NaN residual that never converged.
+    #[test]
+    fn zero_constraints_are_solved_at_once() {
+        for solver in [Solver::Multigrid, Solver::JacobiPyramid] {
+            let values: Vec<f32> = (0..40 * 30).map(|k| if k % 7 == 0 { 0.0 } else { f32::NAN }).collect();
+            let options = SolveOptions { solver, ..SolveOptions::default() };
+            let (x, report) = DiffusionProblem::laplace(40, 30, &values).unwrap().solve(&options).unwrap();
+            assert!(x.iter().all(|&v| v == 0.0), "{solver:?}");
+            assert_eq!(report.relative_residual, 0.0, "{solver:?}: {report:?}");
+            assert!(report.converged, "{solver:?}: {report:?}");
+        }
+    }
+
     #[test]
     fn laplace_like_is_laplace_of_the_new_values() {
         let (nx, ny) = (37, 23);
