@@ -821,20 +821,24 @@ mod tests {
         assert!(merge_overlapping(Vec::new()).is_empty());
     }
 
-    /// 24 × 16 samples: slope columns 6–8 (step 1, normal east) and 15–17 (step 3, normal north),
-    /// and two groups of holes between them whose windows share columns 11 and 12.
-    fn two_hole_groups() -> ConstraintMaps {
-        let (nx, ny) = (24, 16);
-        let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap();
-        let mut maps = ConstraintMaps {
-            grid,
+    /// Maps of an `nx × ny` grid of unit cells with nothing painted.
+    fn unpainted(nx: usize, ny: usize) -> ConstraintMaps {
+        ConstraintMaps {
+            grid: GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap(),
             kind: vec![CellKind::Free; nx * ny],
             elevation: vec![f32::NAN; nx * ny],
             gradient: vec![0.0; nx * ny],
             normal: vec![[0.0; 2]; nx * ny],
             amplitude: vec![f32::NAN; nx * ny],
             roughness: vec![f32::NAN; nx * ny],
-        };
+        }
+    }
+
+    /// 24 × 16 samples: slope columns 6–8 (step 1, normal east) and 15–17 (step 3, normal north),
+    /// and two groups of holes between them whose windows share columns 11 and 12.
+    fn two_hole_groups() -> ConstraintMaps {
+        let (nx, ny) = (24, 16);
+        let mut maps = unpainted(nx, ny);
         for j in 0..ny {
             for (i0, step, normal) in [(6, 1.0, [1.0, 0.0]), (15, 3.0, [0.0, 1.0])] {
                 for i in i0..i0 + 3 {
@@ -856,16 +860,7 @@ mod tests {
     /// full multigrid start lands between 10⁻³ and 10⁻² of the initial residual).
     fn wide_holes() -> ConstraintMaps {
         let (nx, ny) = (96, 64);
-        let grid = GridSpec::new(nx, ny, DVec2::ZERO, DVec2::ONE).unwrap();
-        let mut maps = ConstraintMaps {
-            grid,
-            kind: vec![CellKind::Free; nx * ny],
-            elevation: vec![f32::NAN; nx * ny],
-            gradient: vec![0.0; nx * ny],
-            normal: vec![[0.0; 2]; nx * ny],
-            amplitude: vec![f32::NAN; nx * ny],
-            roughness: vec![f32::NAN; nx * ny],
-        };
+        let mut maps = unpainted(nx, ny);
         for j in 0..ny {
             for i in 0..nx {
                 let k = j * nx + i;
