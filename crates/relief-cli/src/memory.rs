@@ -20,9 +20,8 @@
 //! worker went unused while the next one faulted in fresh pages. A first 2048² `relief diffuse`
 //! of `volcanic-island-48` took 105 k page faults with an arena per thread and 74 k with one
 //! (`mountain` 125 k → 80–93 k); the diffusion stage's time changed within the VM's noise (2
-//! cores: 484–549 against 471–507 ms), and so did `relief demo` and a small `relief vectorize`.
-//! The lock costs little here: the workers allocate grids and scratch rows, not small objects in
-//! hot loops.
+//! cores: 484–549 against 471–507 ms), and so did `relief demo` and a small `relief vectorize`:
+//! no contention on the one arena's lock showed in those runs.
 //!
 //! This is the one `unsafe` call in the workspace: glibc's `mallopt` has no safe binding. Other
 //! platforms and C libraries keep their allocator's defaults.
