@@ -334,15 +334,19 @@ impl DiffusionProblem {
 
     /// ‖r‖₂ of the constraints alone (fixed values, zero elsewhere): the reference of the
     /// relative residual.
+    #[cfg(test)]
     fn reference_norm(&self) -> f64 {
-        self.reference_norm_at(&self.levels[0].start())
+        self.reference_norm_and_starts().0
     }
 
-    /// [`Self::reference_norm`] from the finest level's `start`, which the caller keeps.
-    fn reference_norm_at(&self, start: &Field) -> f64 {
+    /// [`Self::reference_norm`] and the levels' starts, the finest of which it was measured on:
+    /// a solve then takes that grid for its finest start instead of making a second one (and,
+    /// in a fresh process, faulting it in).
+    fn reference_norm_and_starts(&self) -> (f64, Starts<'_>) {
         let l = &self.levels[0];
-        let norm = l.residual_norm(start, &l.b);
-        if norm > 0.0 { norm } else { 1.0 }
+        let start = l.start();
+        let norm = l.residual_norm(&start, &l.b);
+        (if norm > 0.0 { norm } else { 1.0 }, Starts { problem: self, finest: Some(start) })
     }
 
     /// The multigrid solve; `None` when `observe` breaks.
@@ -351,23 +355,17 @@ impl DiffusionProblem {
         options: &SolveOptions,
         observe: &mut dyn FnMut(usize) -> ControlFlow<()>,
     ) -> Option<(Field, SolveReport)> {
-        // The finest start serves the reference norm, then the full multigrid's last level: one
-        // grid allocated (and, in a fresh process, faulted in) instead of two.
-        let start = self.levels[0].start();
-        let r0 = self.reference_norm_at(&start);
-        let mut finest_start = Some(start);
-        let mut start =
-            |l: usize| if l == 0 { finest_start.take() } else { None }.unwrap_or_else(|| self.levels[l].start());
+        let (r0, mut starts) = self.reference_norm_and_starts();
         let top = self.levels.len() - 1;
         // Full multigrid: solve the coarsest version, then interpolate and cycle once per level.
         let coarsest = &self.levels[top];
-        let mut x = start(top);
+        let mut x = starts.take(top);
         for _ in 0..100 {
             coarsest.sweep(&mut x, &coarsest.b);
         }
         for l in (0..top).rev() {
             let level = &self.levels[l];
-            let mut finer = start(l);
+            let mut finer = starts.take(l);
             finer.interpolate(&x, level, None);
             x = finer;
             self.vcycle(l, &mut x, &level.b);
@@ -555,13 +553,13 @@ impl DiffusionProblem {
         options: &SolveOptions,
         observe: &mut dyn FnMut(usize) -> ControlFlow<()>,
     ) -> Option<(Field, SolveReport)> {
-        let r0 = self.reference_norm();
+        let (r0, mut starts) = self.reference_norm_and_starts();
         let l = self.levels.len();
         let mut x: Option<Field> = None;
         // Level i of the paper counts from the coarsest (0); ours from the finest.
         for depth in (0..l).rev() {
             let level = &self.levels[depth];
-            let mut cur = level.start();
+            let mut cur = starts.take(depth);
             if let Some(coarse) = &x {
                 cur.interpolate(coarse, level, None);
             }
@@ -651,6 +649,21 @@ fn quantize(w: f32) -> i16 {
         t
     };
     rounded as i16
+}
+
+/// Each level's start (fixed values, zero elsewhere) for one solve, the finest one made once
+/// ([`DiffusionProblem::reference_norm_and_starts`]).
+struct Starts<'a> {
+    problem: &'a DiffusionProblem,
+    finest: Option<Field>,
+}
+
+impl Starts<'_> {
+    /// Level `l`'s start: the kept finest grid the first time level 0 is asked for, a new grid
+    /// otherwise.
+    fn take(&mut self, l: usize) -> Field {
+        if l == 0 { self.finest.take() } else { None }.unwrap_or_else(|| self.problem.levels[l].start())
+    }
 }
 
 /// One row of a sweep, residual or Jacobi step as a `pulp` operation (see [`Level::stencil_row`]).
