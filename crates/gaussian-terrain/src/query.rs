@@ -359,7 +359,7 @@ impl TerrainQuery {
         if !self.layers.is_empty() {
             return self.batch(points, false).into_iter().map(|s| s.elevation).collect();
         }
-        self.gather(points, false, |s| s.elevation)
+        self.gather(points, false, 0.0, |s| s.elevation)
     }
 
     /// The elevations and gradients at `points`, in parallel: the same values as
@@ -374,7 +374,7 @@ impl TerrainQuery {
         if points.len() > MAX_BATCH {
             return points.chunks(MAX_BATCH).flat_map(|chunk| self.batch(chunk, gradients)).collect();
         }
-        let mut out = self.gather(points, gradients, |s| s);
+        let mut out = self.gather(points, gradients, Sample::NAN, |s| s);
         if !self.layers.is_empty() {
             self.add_details(points, gradients, &mut out);
         }
@@ -383,32 +383,46 @@ impl TerrainQuery {
 
     /// The Gaussians' samples at every point, `f` applied to each: the points beyond the anchor
     /// lattice at the base ([`Self::beyond`]). When the strips hold every point in the caller's
-    /// order (a grid in row order), they are written strip by strip in parallel.
-    fn gather<T: Send>(&self, points: &[DVec2], gradients: bool, f: impl Fn(Sample) -> T + Sync) -> Vec<T> {
-        let (sums, in_order) = self.gaussian_sums(points, gradients);
+    /// order (a grid in row order), each band writes its own stretch of the output as it ends,
+    /// in parallel; otherwise the bands' sums are scattered to their points.
+    fn gather<T: Send + Sync + Copy>(
+        &self,
+        points: &[DVec2],
+        gradients: bool,
+        fill: T,
+        f: impl Fn(Sample) -> T + Sync,
+    ) -> Vec<T> {
+        let (strips, in_order) = self.strips(points);
+        let slopes = self.slopes(gradients);
+        let bands = bands(&strips);
         if in_order {
-            return sums
-                .par_iter()
-                .flat_map_iter(|(strip, sums)| (0..strip.members.len()).map(|n| f(self.ground(sums, n))))
-                .collect();
+            let mut out = Vec::with_capacity(points.len());
+            rayon::iter::repeat_n(fill, points.len()).collect_into_vec(&mut out);
+            let mut parts = Vec::with_capacity(bands.len());
+            let mut rest = out.as_mut_slice();
+            for band in &bands {
+                let (part, tail) = rest.split_at_mut(strips[band.clone()].iter().map(|s| s.x.len()).sum());
+                parts.push(part);
+                rest = tail;
+            }
+            bands.into_par_iter().zip(parts).for_each(|(band, part)| {
+                let sums = self.band_sums(&strips[band.clone()], slopes);
+                let values = strips[band]
+                    .iter()
+                    .zip(&sums)
+                    .flat_map(|(s, sums)| (0..s.x.len()).map(|n| f(self.ground(sums, n))));
+                part.iter_mut().zip(values).for_each(|(slot, value)| *slot = value);
+            });
+            return out;
         }
+        let sums: Vec<Vec<Sums>> = bands.into_par_iter().map(|band| self.band_sums(&strips[band], slopes)).collect();
         let mut out: Vec<T> = points.par_iter().map(|&p| f(self.beyond(p))).collect();
-        for (strip, sums) in sums {
+        for (strip, sums) in strips.iter().zip(sums.iter().flatten()) {
             for (n, &k) in strip.members.iter().enumerate() {
-                out[k as usize] = f(self.ground(&sums, n));
+                out[k as usize] = f(self.ground(sums, n));
             }
         }
         out
-    }
-
-    /// The Gaussians' sums at the finite points, strip by strip (bands of strips in parallel),
-    /// and whether the strips hold every point in the caller's order.
-    fn gaussian_sums(&self, points: &[DVec2], gradients: bool) -> (Vec<(Strip, Sums)>, bool) {
-        let (strips, in_order) = self.strips(points);
-        let slopes = self.slopes(gradients);
-        let sums: Vec<Vec<Sums>> =
-            bands(&strips).into_par_iter().map(|band| self.band_sums(&strips[band], slopes)).collect();
-        (strips.into_iter().zip(sums.into_iter().flatten()).collect(), in_order)
     }
 
     /// Whether the Gaussians' gradients are needed: when asked for, or when a detail layer's
@@ -583,43 +597,33 @@ impl TerrainQuery {
             sort_by_key(&mut members, |k| sortable(x(k)));
         }
         let n = members.len();
-        let mut strip = Strip {
-            y0,
-            y1,
-            x0: points[members[0] as usize].x,
-            per_x: 0.0,
-            even: false,
-            x: Vec::with_capacity(n),
-            qx: Vec::with_capacity(n),
-            qy: Vec::new(),
-            row: None,
-            runs: Vec::new(),
-            members: Vec::new(),
-        };
-        // The strip is in one anchor row and sorted by x, so each anchor square's points follow
-        // each other: a search finds where each square's run ends.
+        let x: Vec<f64> = members.iter().map(|&k| points[k as usize].x).collect();
+        // The strip is in one anchor row (one corner y) and sorted by x, so each anchor square's
+        // points follow each other: a search finds where each square's run ends.
         let square = |k: u32| self.anchor_of(points[k as usize]).expect("points in the lattice only");
-        let mut i = 0;
+        let (mut runs, mut qx, mut i) = (Vec::new(), Vec::with_capacity(n), 0);
         while i < n {
             let cell = square(members[i]);
             let end = i + 1 + members[i + 1..].partition_point(|&k| square(k) == cell);
             let corner = self.anchor(cell);
-            strip.runs.push(Run { end: end as u32, corner });
-            for &k in &members[i..end] {
-                let (p, q) = (points[k as usize], points[k as usize] - corner);
-                strip.x.push(p.x);
-                strip.qx.push(q.x as f32);
-                if y0 == y1 {
-                    strip.row = Some(q.y as f32);
-                } else {
-                    strip.qy.push(q.y as f32);
-                }
-            }
+            runs.push(Run { end: end as u32, corner });
+            qx.extend(x[i..end].iter().map(|&x| (x - corner.x) as f32));
             i = end;
         }
-        let last = strip.x[n - 1];
-        strip.per_x = if last > strip.x0 { (n - 1) as f64 / (last - strip.x0) } else { 0.0 };
-        strip.even = strip.per_x > 0.0 && strip.x.iter().enumerate().all(|(k, &x)| strip.rank(x) == k);
+        let corner_y = runs[0].corner.y;
+        let (qy, row) = if y0 == y1 {
+            (Vec::new(), Some((y0 - corner_y) as f32))
+        } else {
+            (members.iter().map(|&k| (points[k as usize].y - corner_y) as f32).collect(), None)
+        };
+        let (x0, last) = (x[0], x[n - 1]);
+        let per_x = if last > x0 { (n - 1) as f64 / (last - x0) } else { 0.0 };
+        let mut strip = Strip { y0, y1, x0, per_x, drift: None, x, qx, qy, row, runs, members: Vec::new() };
+        if per_x > 0.0 {
+            let drift = strip.x.iter().enumerate().map(|(k, &x)| (strip.place(x) - k as f64).abs()).fold(0.0, f64::max);
+            // The margin covers the rounding of a stretch's ends (a few units in the last place of n).
+            strip.drift = (drift < 0.25).then_some(drift + (n as f64 + 1.0) * 1e-12);
+        }
         strip.members = members;
         strip
     }
@@ -843,9 +847,9 @@ struct Strip {
     y1: f64,
     x0: f64,
     per_x: f64,
-    /// Whether [`Strip::rank`] gives every point its own index (evenly spread points: a grid
-    /// row).
-    even: bool,
+    /// For evenly spread points (a grid row), how far a point's [`Strip::place`] may be from its
+    /// index (below a quarter), with a margin for rounding; `None` for uneven points.
+    drift: Option<f64>,
     /// Each point's x, for the stretches' searches.
     x: Vec<f64>,
     /// Each point relative to its square's corner (f32, as the kernel takes it): y only for a
@@ -860,20 +864,31 @@ struct Strip {
 }
 
 impl Strip {
-    /// Where a point at `x` would be, were the points evenly spread: its index rounded, so
-    /// rounding errors of the points' own x keep their ranks. It never decreases with `x`.
+    /// Where a point at `x` would be, were the points evenly spread: its index, not rounded.
+    /// It never decreases with `x`.
+    #[allow(
+        clippy::inline_always,
+        reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn place(&self, x: f64) -> f64 {
+        (x - self.x0) * self.per_x
+    }
+
+    /// [`Strip::place`] rounded to an index, so rounding errors of the points' own x keep their
+    /// ranks: the guess a search starts from.
     #[allow(
         clippy::inline_always,
         reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
     )]
     #[inline(always)]
     fn rank(&self, x: f64) -> usize {
-        ((x - self.x0) * self.per_x + 0.5).max(0.0) as usize
+        (self.place(x) + 0.5).max(0.0) as usize
     }
 
-    /// The points from `x0` to `x1`, or a few more: when the strip is [`Strip::even`], a point
-    /// of rank `k` has index `k`, so the points in the range have ranks from `rank(x0)` to
-    /// `rank(x1)` (and a neighbour of each end may come along; the kernel's own inside test
+    /// The points from `x0` to `x1`. For evenly spread points, with no search: a point in the
+    /// range has an index within the drift of the range's places, so the stretch is the indices
+    /// there (a point within the drift of an end may come along; the kernel's own inside test
     /// leaves it out, as a support's grown range reaches no point it counts outside). Else a
     /// search from the ranks.
     #[allow(
@@ -883,15 +898,38 @@ impl Strip {
     #[inline(always)]
     fn stretch(&self, x0: f64, x1: f64) -> (usize, usize) {
         let n = self.x.len();
-        if self.even {
-            let i = self.rank(x0).min(n);
-            (i, self.rank(x1).saturating_add(1).clamp(i, n))
+        if let Some(drift) = self.drift {
+            // The standard rounding: one instruction within the kernel's target features.
+            let i = ((self.place(x0) - drift).ceil().max(0.0) as usize).min(n);
+            (i, (((self.place(x1) + drift).floor() + 1.0).max(0.0) as usize).clamp(i, n))
         } else {
             let i = partition_near(&self.x, self.rank(x0), |x| x < x0);
             (i, partition_near(&self.x, self.rank(x1), |x| x <= x1).max(i))
         }
     }
+
+    /// The run that holds point `i` (below the strip's length). A strip mostly has a few runs
+    /// (a grid row of 1024 points over the benchmark's terrain, 4 or 5): a scan is quicker than
+    /// a bisection's unpredictable branches, which take over beyond [`SCANNED_RUNS`].
+    #[allow(
+        clippy::inline_always,
+        reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn run_of(&self, i: usize) -> usize {
+        if self.runs.len() > SCANNED_RUNS {
+            return self.runs.partition_point(|run| run.end as usize <= i);
+        }
+        let mut r = 0;
+        while self.runs[r].end as usize <= i {
+            r += 1;
+        }
+        r
+    }
 }
+
+/// Most runs a strip's [`Strip::run_of`] scans.
+const SCANNED_RUNS: usize = 8;
 
 /// Consecutive points of a strip in one anchor square: where they end and the square's corner.
 #[derive(Clone, Copy)]
@@ -992,7 +1030,10 @@ impl pulp::WithSimd for BandWork<'_> {
             for (strip, sums) in inside[first..last].iter().zip(&mut sums[first..last]) {
                 let Some((x0, x1)) = item.x_range(strip.y0, strip.y1) else { continue };
                 let (mut i, j) = strip.stretch(x0, x1);
-                let mut r = strip.runs.partition_point(|run| run.end as usize <= i);
+                if i == j {
+                    continue;
+                }
+                let mut r = strip.run_of(i);
                 while i < j {
                     let run = strip.runs[r];
                     r += 1;
@@ -1207,9 +1248,10 @@ mod tests {
         assert!(item.x_range(-100.0, 2.0 * g.center[1] - top - 0.1).is_none());
     }
 
-    /// A grid row is an even strip: every point ranks at its own index, and a stretch holds the
-    /// points in its range and at most one more at each end. A strip of uneven points is not
-    /// even, and its stretches are exact.
+    /// A grid row is an even strip: every point ranks at its own index, and a stretch is exactly
+    /// the points in its range (ends on a point included). A jittered row is even with a larger
+    /// drift: its stretches hold every point in range, and only points within the drift of an
+    /// end besides. A strip of uneven points is not even, and its stretches are exact.
     #[test]
     fn grid_rows_are_even_strips() {
         let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::new(50.0, 50.0), 10.0, 1.0)]);
@@ -1218,18 +1260,30 @@ mod tests {
         let strips = query.strips(&row).0;
         assert_eq!(strips.len(), 1);
         let strip = &strips[0];
-        assert!(strip.even && strip.y0 == strip.y1);
+        assert!(strip.drift.is_some_and(|d| d < 1e-9) && strip.y0 == strip.y1);
         assert!(strip.x.iter().enumerate().all(|(k, &x)| strip.rank(x) == k));
+        let jitter = |i: i32| 0.03 * f64::from((i * 7919) % 13 - 6) / 6.0;
+        let jittered: Vec<DVec2> =
+            (0..700).map(|i| DVec2::new(-3.7 + (f64::from(i) + jitter(i)) * 0.1437, 20.0)).collect();
+        let shaken = &query.strips(&jittered).0[0];
+        let drift = shaken.drift.expect("a jittered row is even");
+        assert!(drift > 0.02 && drift < 0.1, "drift {drift}");
         let uneven: Vec<DVec2> = (0..700).map(|i| DVec2::new(f64::from(i * i) * 1e-3, 20.0)).collect();
         let other = &query.strips(&uneven).0[0];
-        assert!(!other.even);
-        for (x0, x1) in [(-10.0, -5.0), (0.0, 0.0), (1.0, 7.3), (12.34, 80.0), (99.0, 120.0), (-1.0, 200.0)] {
-            let (i, j) = strip.stretch(x0, x1);
-            let (p0, p1) = (strip.x.partition_point(|&x| x < x0), strip.x.partition_point(|&x| x <= x1));
-            assert!(i <= p0 && j >= p1.max(i), "{x0}..{x1}: {i}..{j} against {p0}..{p1}");
-            assert!(p0 - i <= 1 && j - p1.max(i) <= 1, "{x0}..{x1}: {i}..{j} against {p0}..{p1}");
-            let (p0, p1) = (other.x.partition_point(|&x| x < x0), other.x.partition_point(|&x| x <= x1));
-            assert_eq!(other.stretch(x0, x1), (p0, p1.max(p0)));
+        assert!(other.drift.is_none());
+        let on_points = (strip.x[10], strip.x[20]);
+        for (x0, x1) in [(-10.0, -5.0), (0.0, 0.0), (1.0, 7.3), (12.34, 80.0), (99.0, 120.0), (-1.0, 200.0), on_points]
+        {
+            let exact = |s: &Strip| {
+                let p0 = s.x.partition_point(|&x| x < x0);
+                (p0, s.x.partition_point(|&x| x <= x1).max(p0))
+            };
+            assert_eq!(strip.stretch(x0, x1), exact(strip), "{x0}..{x1}");
+            assert_eq!(other.stretch(x0, x1), exact(other), "{x0}..{x1}");
+            let ((i, j), (p0, p1)) = (shaken.stretch(x0, x1), exact(shaken));
+            assert!(i <= p0 && j >= p1, "{x0}..{x1}: {i}..{j} against {p0}..{p1}");
+            let near = |k: usize| (shaken.x[k] - x0).abs().min((shaken.x[k] - x1).abs()) <= drift / shaken.per_x;
+            assert!((i..p0).chain(p1..j).all(near), "{x0}..{x1}: {i}..{j} against {p0}..{p1}");
         }
     }
 
@@ -1254,7 +1308,7 @@ mod tests {
         let (strips, in_order) = query.strips(&grid);
         assert!(in_order, "a grid in row order is written strip by strip");
         assert_eq!(strips.len(), rows as usize);
-        assert!(strips.iter().all(|s| s.even && s.y0 == s.y1 && s.members.len() == 100));
+        assert!(strips.iter().all(|s| s.drift.is_some() && s.y0 == s.y1 && s.members.len() == 100));
         let mut state = 7_u64;
         let mut next = move || {
             state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
@@ -1283,6 +1337,27 @@ mod tests {
         }
         assert!(seen.iter().all(|s| *s));
         assert!(strips.len() > 20 && strips.len() < 1_000);
+    }
+
+    /// A point's run is found by a scan over a few runs and by a bisection over many, alike.
+    #[test]
+    fn run_of_finds_the_run_of_each_point() {
+        let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::new(50.0, 50.0), 10.0, 1.0)]);
+        let query = terrain.query().unwrap();
+        let square = ANCHOR_CELLS * query.cell;
+        // One run, a few (scanned), and many (bisected).
+        for (count, step, runs) in [(700, 0.1437, 1..=2), (7, square / 2.0, 4..=4), (700, square / 25.0, 28..=29)] {
+            let row: Vec<DVec2> = (0..count).map(|i| DVec2::new(-3.7 + f64::from(i) * step, 20.0)).collect();
+            let strip = &query.strips(&row).0[0];
+            assert!(runs.contains(&strip.runs.len()), "{count} points: {} runs", strip.runs.len());
+            for i in 0..strip.x.len() {
+                assert_eq!(
+                    strip.run_of(i),
+                    strip.runs.partition_point(|run| run.end as usize <= i),
+                    "{count} points, {i}"
+                );
+            }
+        }
     }
 
     /// The search from a guess finds the partition point whatever the guess.
