@@ -8,7 +8,8 @@
 //! rows: sorted into strips of one y value (a grid row) or of a thin range of y (scattered
 //! points), each sorted by x. Bands of strips run in parallel; a band walks the hierarchy once
 //! for its box, and each support, in a fixed order, adds itself to the stretch of each strip its
-//! ellipse covers (a search from where the stretch would start were the points evenly spread),
+//! ellipse covers (for an evenly spread row, the indices its ends fall at; else a search from
+//! where the stretch would start were the points evenly spread),
 //! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX-512 or
 //! AVX2 through `pulp` where the CPU has it). A point is held relative to the corner of its
 //! square of a coarse lattice, so its arithmetic depends on the point and the support alone, and each
@@ -621,8 +622,9 @@ impl TerrainQuery {
         let mut strip = Strip { y0, y1, x0, per_x, drift: None, x, qx, qy, row, runs, members: Vec::new() };
         if per_x > 0.0 {
             let drift = strip.x.iter().enumerate().map(|(k, &x)| (strip.place(x) - k as f64).abs()).fold(0.0, f64::max);
-            // The margin covers the rounding of a stretch's ends (a few units in the last place of n).
-            strip.drift = (drift < 0.25).then_some(drift + (n as f64 + 1.0) * 1e-12);
+            // Exact: within a quarter of its index, a place of index 1 or more is within a factor
+            // of 2 of it, so the subtraction is exact (the place of index 0 is 0).
+            strip.drift = (drift < 0.25).then_some(drift);
         }
         strip.members = members;
         strip
@@ -847,8 +849,8 @@ struct Strip {
     y1: f64,
     x0: f64,
     per_x: f64,
-    /// For evenly spread points (a grid row), how far a point's [`Strip::place`] may be from its
-    /// index (below a quarter), with a margin for rounding; `None` for uneven points.
+    /// For evenly spread points (a grid row), how far a point's [`Strip::place`] is from its
+    /// index at most (below a quarter); `None` for uneven points.
     drift: Option<f64>,
     /// Each point's x, for the stretches' searches.
     x: Vec<f64>,
@@ -889,8 +891,10 @@ impl Strip {
     /// The points from `x0` to `x1`. For evenly spread points, with no search: a point in the
     /// range has an index within the drift of the range's places, so the stretch is the indices
     /// there (a point within the drift of an end may come along; the kernel's own inside test
-    /// leaves it out, as a support's grown range reaches no point it counts outside). Else a
-    /// search from the ranks.
+    /// leaves it out, as a support's grown range reaches no point it counts outside). No margin
+    /// is needed: a point `k` at or after `x0` has `place(x0) − drift ≤ place(x_k) − drift ≤ k`
+    /// (rounding keeps order), and the rounded difference stays at or below the integer `k`; the
+    /// same holds at `x1`. Else a search from the ranks.
     #[allow(
         clippy::inline_always,
         reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
@@ -1271,6 +1275,13 @@ mod tests {
         let uneven: Vec<DVec2> = (0..700).map(|i| DVec2::new(f64::from(i * i) * 1e-3, 20.0)).collect();
         let other = &query.strips(&uneven).0[0];
         assert!(other.drift.is_none());
+        // A range that ends on a point holds it, on every point of both rows.
+        for s in [strip, shaken] {
+            assert!((0..s.x.len()).all(|k| {
+                let ((i, j), (ii, jj)) = (s.stretch(s.x[k], s.x[k]), s.stretch(s.x[k], s.x[k] + 1.0));
+                i <= k && k < j && ii <= k && k < jj
+            }));
+        }
         let on_points = (strip.x[10], strip.x[20]);
         for (x0, x1) in [(-10.0, -5.0), (0.0, 0.0), (1.0, 7.3), (12.34, 80.0), (99.0, 120.0), (-1.0, 200.0), on_points]
         {
