@@ -446,7 +446,30 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      AMD EPYC): elevations 1.27× the rasterizer. What is\n\
      left is in the kernels' stretches: the x range of a support over a strip (two square roots\n\
      where the rasterizer's row needs one), ranks, anchor cuts, a load per point where the\n\
-     rasterizer steps its coordinates, and an inside test on every lane.",
+     rasterizer steps its coordinates, and an inside test on every lane.\n\
+     \n\
+     On 2026-12-02 (on an AMD EPYC with AVX-512) a grid row's stretch became exact without a search:\n\
+     the strip measures how far each point's place `(x − x₀)·n/(x_last − x₀)` lies from its index\n\
+     (its drift, 0 to rounding on a grid row), and a support's x range maps to the indices within the\n\
+     drift of its ends, so no neighbour comes along at each end (lanes 29.2 → 28.2 M, stretches\n\
+     1.30 M against the rasterizer's 1.22 M spans, the rest being anchor cuts; the 11-28 attempt,\n\
+     which loaded each end's x, had been slower). A point's anchor run is found by a scan among a\n\
+     strip's few runs instead of a bisection (5 % of the kernel's profile had gone to its branches),\n\
+     strips are filled column by column instead of point by point, and each band of a batch in row\n\
+     order writes its own stretch of the output as it ends instead of a collect over all strips.\n\
+     The same bits (golden hashes and a hash of 1M scattered points unchanged). Interleaved in one\n\
+     process with the rasterizer on the 1024²/60k terrain (21 rounds, the median of the per-round\n\
+     ratios, three runs alternated with the former build): elevations 1.23–1.29× → 1.14–1.21× the\n\
+     rasterizer (best elevations 63–68 → 51–62 ms); single queries and 1M scattered points\n\
+     unchanged. Criterion in a slow phase of this VM the same hour: rasterize/1024/60k 61–67 ms,\n\
+     query/elevations 70–79 ms (1.10–1.30×); the rows below are left from 11-29. Tried and dropped,\n\
+     measured the same way (the next two on one thread): bands of 32 strips (no change), AVX2 (8-lane) dispatch for the query\n\
+     alone (1.30–1.41× against 1.21–1.27×), stretches widened to 8 lanes within the AVX-512 loop\n\
+     (slower: LLVM's remainder loop), coarser anchor squares (64 typical widths: within noise), and\n\
+     a branch-free count in place of the bisection that picks a support's strips within a band (no\n\
+     measurable change). What is left is the same as on 11-29, smaller: anchor cuts (6 % more\n\
+     stretches), the hierarchy walk and the sort of each band's candidates (about 4 % of the CPU\n\
+     time), and the strips' set-up (3 %).",
     ),
     (
         "engine_export",
