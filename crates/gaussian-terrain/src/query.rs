@@ -33,9 +33,11 @@ use crate::{DetailLayer, Gaussian, GaussianError, Ground, VectorTerrain};
 const CELL_PER_SUPPORT: f64 = 1.0;
 
 /// Side of the lattice whose corners the kernel measures points from, in query cells: a stretch
-/// of a strip is cut where it crosses into another square of this lattice (on the rasterizer
-/// benchmark's terrain, 1024² points: 4 took 1.34–1.46× the rasterizer's time, 16 1.29–1.32×,
-/// 64 1.25–1.31×). f32 holds a point 16 support widths from its corner to a millionth of a width.
+/// of a strip takes another square's brackets where it crosses into it, and is cut where it
+/// crosses into a third (on the rasterizer benchmark's terrain, 1024² points, when every crossing
+/// cut: 4 took 1.34–1.46× the rasterizer's time, 16 1.29–1.32×, 64 1.25–1.31×; on 2026-12-02, 64
+/// was within noise of 16). f32 holds a point 16 support widths from its corner to a millionth
+/// of a width.
 const ANCHOR_CELLS: f64 = 16.0;
 
 /// Detail cells per parallel task in the batched queries.
@@ -840,9 +842,9 @@ const BAND_STRIPS: usize = 16;
 /// into strips: the points of one y value when there are [`MIN_ROW`] of them (a grid row: its
 /// stretch of a support is exact, as the rasterizer's span), else the points within
 /// [`STRIP_THICKNESS`] cells of y (scattered points), sorted by x. A support reaches a strip's points in one
-/// stretch of x, found from where the points would be were they evenly spread; the stretch is
-/// cut where the points' anchor square changes, since every point is held relative to its own
-/// square's corner.
+/// stretch of x, found from where the points would be were they evenly spread; every point is
+/// held relative to its own anchor square's corner, so the stretch takes the next square's
+/// brackets where the square changes ([`Next`]), and is cut where it changes again.
 struct Strip {
     /// The points' y range, the first x, and points per unit of x (0 for one x).
     y0: f64,
@@ -1020,7 +1022,7 @@ impl pulp::WithSimd for BandWork<'_> {
             // inside test is what decides; the x ranges and searches would cost more than it.
             let corner = strip.runs[0].corner;
             for &k in candidates {
-                add_stretch(Local::new(&items[k as usize], corner), strip, sums, (0, 1), S::F32_LANES);
+                add_stretch((Local::new(&items[k as usize], corner), None), strip, sums, (0, 1), S::F32_LANES);
             }
             return;
         }
@@ -1046,7 +1048,15 @@ impl pulp::WithSimd for BandWork<'_> {
                         Some((corner, c)) if corner == run.corner => c,
                         _ => seen.insert((run.corner, Local::new(item, run.corner))).1,
                     };
-                    add_stretch(c, strip, sums, (i, e), S::F32_LANES);
+                    // A stretch that ends in the next square goes in one pass (each point from
+                    // its own square's corner): no second widening, no second stretch's set-up.
+                    if e < j && strip.runs[r].end as usize >= j {
+                        let far = Local::new(item, strip.runs[r].corner);
+                        let next = Next { at: e, kx: far.kx, ky: far.ky };
+                        add_stretch((c, Some(next)), strip, sums, (i, j), S::F32_LANES);
+                        break;
+                    }
+                    add_stretch((c, None), strip, sums, (i, e), S::F32_LANES);
                     i = e;
                 }
             }
@@ -1062,11 +1072,11 @@ impl pulp::WithSimd for BandWork<'_> {
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
 )]
 #[inline(always)]
-fn add_stretch(c: Local, strip: &Strip, sums: &mut Sums, (i, e): (usize, usize), lanes: usize) {
-    let exponent = c.half_beta - 1.0;
+fn add_stretch(c: (Local, Option<Next>), strip: &Strip, sums: &mut Sums, (i, e): (usize, usize), lanes: usize) {
+    let exponent = c.0.half_beta - 1.0;
     let lower = move |s: f32| exp2_signed(exponent * log2(s));
     let q = (&strip.qx[..], &strip.qy[..], strip.row);
-    match (sums.gx.is_empty(), c.half_beta == 1.0) {
+    match (sums.gx.is_empty(), c.0.half_beta == 1.0) {
         (false, true) => add_terms(c, q, sums, (i, e, lanes), |_| 1.0),
         (false, false) => add_terms(c, q, sums, (i, e, lanes), lower),
         (true, true) => add_values(c, q, &mut sums.h, (i, e, lanes), |_| 1.0),
@@ -1108,6 +1118,28 @@ impl Local {
     }
 }
 
+/// Where a stretch passes into the next anchor square, and the support's brackets `(kx, ky)`
+/// from that square's corner ([`Local`]): the points from there on take them, as they would
+/// in a stretch of their own.
+#[derive(Clone, Copy)]
+struct Next {
+    at: usize,
+    kx: f32,
+    ky: f32,
+}
+
+impl Next {
+    /// The lane where the next square starts in vectors from point `start`, and its brackets.
+    #[allow(
+        clippy::inline_always,
+        reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
+    )]
+    #[inline(always)]
+    fn brackets(self, start: usize) -> (i32, f32, f32) {
+        ((self.at - start) as i32, self.kx, self.ky)
+    }
+}
+
 /// The whole vectors of `lanes` lanes that cover the stretch `a..e` of `n` points (widened
 /// within the band, so short stretches need no scalar remainder), and the stretch within them.
 #[allow(
@@ -1130,13 +1162,15 @@ fn widen((a, e, lanes): (usize, usize, usize), n: usize) -> (std::ops::Range<usi
 )]
 #[inline(always)]
 fn add_terms(
-    c: Local,
+    (c, next): (Local, Option<Next>),
     (qx, qy, row): (&[f32], &[f32], Option<f32>),
     sums: &mut Sums,
     lanes: (usize, usize, usize),
     lower: impl Fn(f32) -> f32,
 ) {
     let (range, first, last) = widen(lanes, qx.len());
+    let (split, kx2, ky2) = next.map_or((0, c.kx, c.ky), |next| next.brackets(range.start));
+    let second = |j: usize| next.is_some() && (j as i32) >= split;
     let n = range.len();
     let qx = &qx[range.clone()][..n];
     let (h, gx, gy) =
@@ -1152,8 +1186,10 @@ fn add_terms(
     let keep = |j: usize| (j as i32) >= first && (j as i32) < last;
     if let Some(row) = row {
         // One y for the whole stretch: the brackets once.
-        let (ax, ay) = (row.mul_add(c.uy, c.kx), row.mul_add(c.vy, c.ky));
+        let (a, b) =
+            ((row.mul_add(c.uy, c.kx), row.mul_add(c.vy, c.ky)), (row.mul_add(c.uy, kx2), row.mul_add(c.vy, ky2)));
         for j in 0..n {
+            let (ax, ay) = if second(j) { b } else { a };
             let (inside, g, dx, dy) = term(qx[j].mul_add(c.ux, ax), qx[j].mul_add(c.vx, ay));
             let add = inside && keep(j);
             (h[j], gx[j], gy[j]) = if add { (h[j] + g, gx[j] + dx, gy[j] + dy) } else { (h[j], gx[j], gy[j]) };
@@ -1161,8 +1197,8 @@ fn add_terms(
     } else {
         let qy = &qy[range][..n];
         for j in 0..n {
-            let (x, y) =
-                (qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, c.kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, c.ky)));
+            let (kx, ky) = if second(j) { (kx2, ky2) } else { (c.kx, c.ky) };
+            let (x, y) = (qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, ky)));
             let (inside, g, dx, dy) = term(x, y);
             let add = inside && keep(j);
             (h[j], gx[j], gy[j]) = if add { (h[j] + g, gx[j] + dx, gy[j] + dy) } else { (h[j], gx[j], gy[j]) };
@@ -1177,13 +1213,15 @@ fn add_terms(
 )]
 #[inline(always)]
 fn add_values(
-    c: Local,
+    (c, next): (Local, Option<Next>),
     (qx, qy, row): (&[f32], &[f32], Option<f32>),
     h: &mut [f32],
     lanes: (usize, usize, usize),
     lower: impl Fn(f32) -> f32,
 ) {
     let (range, first, last) = widen(lanes, qx.len());
+    let (split, kx2, ky2) = next.map_or((0, c.kx, c.ky), |next| next.brackets(range.start));
+    let second = |k: i32| next.is_some() && k >= split;
     let n = range.len();
     let (qx, h) = (&qx[range.clone()][..n], &mut h[range.clone()][..n]);
     // Whether (x, y) is inside the support, and the value there.
@@ -1193,9 +1231,11 @@ fn add_values(
     };
     if let Some(row) = row {
         // One y for the whole stretch: the brackets once.
-        let (ax, ay) = (row.mul_add(c.uy, c.kx), row.mul_add(c.vy, c.ky));
+        let (a, b) =
+            ((row.mul_add(c.uy, c.kx), row.mul_add(c.vy, c.ky)), (row.mul_add(c.uy, kx2), row.mul_add(c.vy, ky2)));
         for j in 0..n {
             let k = j as i32;
+            let (ax, ay) = if second(k) { b } else { a };
             let (inside, g) = value(qx[j].mul_add(c.ux, ax), qx[j].mul_add(c.vx, ay));
             h[j] = if inside && k >= first && k < last { h[j] + g } else { h[j] };
         }
@@ -1203,8 +1243,9 @@ fn add_values(
         let qy = &qy[range][..n];
         for j in 0..n {
             let k = j as i32;
+            let (kx, ky) = if second(k) { (kx2, ky2) } else { (c.kx, c.ky) };
             let (inside, g) =
-                value(qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, c.kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, c.ky)));
+                value(qx[j].mul_add(c.ux, qy[j].mul_add(c.uy, kx)), qx[j].mul_add(c.vx, qy[j].mul_add(c.vy, ky)));
             h[j] = if inside && k >= first && k < last { h[j] + g } else { h[j] };
         }
     }
