@@ -387,7 +387,8 @@ impl TerrainQuery {
     /// The Gaussians' samples at every point, `f` applied to each: the points beyond the anchor
     /// lattice at the base ([`Self::beyond`]). When the strips hold every point in the caller's
     /// order (a grid in row order), each band writes its own stretch of the output as it ends,
-    /// in parallel; otherwise the bands' sums are scattered to their points.
+    /// in parallel (`fill` holds each slot until then); otherwise the bands' sums are scattered
+    /// to their points.
     fn gather<T: Send + Sync + Copy>(
         &self,
         points: &[DVec2],
@@ -1064,9 +1065,10 @@ impl pulp::WithSimd for BandWork<'_> {
     }
 }
 
-/// Adds the Gaussian `c` over the points `i..e` of `strip` (in one anchor square) to `sums`:
-/// with gradients when `sums` has them, the logarithm skipped for β = 2, in vectors of `lanes`
-/// points (the dispatched register's f32 count).
+/// Adds the Gaussian `c.0` over the points `i..e` of `strip` (in one anchor square, or in two
+/// when `c.1` says where the next starts and gives its brackets) to `sums`: with gradients when
+/// `sums` has them, the logarithm skipped for β = 2, in vectors of `lanes` points (the
+/// dispatched register's f32 count).
 #[allow(
     clippy::inline_always,
     reason = "the loops vectorize for AVX2 only when inlined into pulp's target-feature function"
