@@ -463,11 +463,11 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      rasterizer (best elevations 63–68 → 51–62 ms); single queries and 1M scattered points\n\
      unchanged. Criterion in a slow phase of this VM the same hour: rasterize/1024/60k 61–67 ms,\n\
      query/elevations 70–79 ms (1.10–1.30×); the rows below are left from 11-29. Tried and dropped,\n\
-     measured the same way (the next two on one thread): bands of 32 strips (no change), AVX2 (8-lane) dispatch for the query\n\
-     alone (1.30–1.41× against 1.21–1.27×), stretches widened to 8 lanes within the AVX-512 loop\n\
-     (slower: LLVM's remainder loop), coarser anchor squares (64 typical widths: within noise), and\n\
-     a branch-free count in place of the bisection that picks a support's strips within a band (no\n\
-     measurable change). Then a stretch that passes into the next anchor square went in one pass\n\
+     measured the same way: bands of 32 strips (no change); on one thread, AVX2 (8-lane) dispatch for\n\
+     the query alone (1.30–1.41× against 1.21–1.27×), stretches widened to 8 lanes within the\n\
+     AVX-512 loop (slower: LLVM's remainder loop) and coarser anchor squares (64 typical widths:\n\
+     within noise); and a branch-free count in place of the bisection that picks a support's strips\n\
+     within a band (no measurable change). Then a stretch that passes into the next anchor square went in one pass\n\
      instead of two, the lanes past the square's edge taking that square's brackets (the same bits:\n\
      each point still computes from its own square's corner): per-round ratio medians 1.12–1.19× →\n\
      1.09–1.13×, CPU time 1.15–1.21× → 1.13× the rasterizer's (three runs alternated). What is left:\n\
