@@ -624,10 +624,13 @@ impl TerrainQuery {
         let per_x = if last > x0 { (n - 1) as f64 / (last - x0) } else { 0.0 };
         let mut strip = Strip { y0, y1, x0, per_x, drift: None, x, qx, qy, row, runs, members: Vec::new() };
         if per_x > 0.0 {
-            let drift = strip.x.iter().enumerate().map(|(k, &x)| (strip.place(x) - k as f64).abs()).fold(0.0, f64::max);
             // Exact: within a quarter of its index, a place of index 1 or more is within a factor
-            // of 2 of it, so the subtraction is exact (the place of index 0 is 0).
-            strip.drift = (drift < 0.25).then_some(drift);
+            // of 2 of it, so the subtraction is exact (the place of index 0 is 0). Scattered
+            // points stop at the first point a quarter or more from its index.
+            strip.drift = strip.x.iter().enumerate().try_fold(0.0, |drift: f64, (k, &x)| {
+                let drift = drift.max((strip.place(x) - k as f64).abs());
+                (drift < 0.25).then_some(drift)
+            });
         }
         strip.members = members;
         strip
