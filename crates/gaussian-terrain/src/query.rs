@@ -6,14 +6,15 @@
 //!
 //! A batch goes the rasterizer's way (module `kernel`), with its points in place of a grid's
 //! rows: sorted into strips of one y value (a grid row) or of a thin range of y (scattered
-//! points), each sorted by x. Bands of strips run in parallel; a band walks the hierarchy once
-//! for its box, and each support, in a fixed order, adds itself to the stretch of each strip its
-//! ellipse covers (for an evenly spread row, the indices its ends fall at; else a search from
-//! where the stretch would start were the points evenly spread),
-//! with the rasterizer's branch-free f32 arithmetic (module `fastmath`), vectorized (AVX-512 or
-//! AVX2 through `pulp` where the CPU has it). A point is held relative to the corner of its
-//! square of a coarse lattice, so its arithmetic depends on the point and the support alone, and each
-//! point sums the supports over it in that order: a single query is a batch of one (whose
+//! points), each sorted by x. Bands of strips run in parallel; a band finds its candidate
+//! supports once (a wide band, as a grid's, scans the Gaussians stored by the y of their
+//! centres between two bisections; a narrow one, as a single query, walks the hierarchy), and
+//! each support, in a fixed order, adds itself to the stretch of each strip its ellipse covers
+//! (for an evenly spread row, the indices its ends fall at; else a search from where the
+//! stretch would start were the points evenly spread), with the rasterizer's branch-free f32
+//! arithmetic (module `fastmath`), vectorized (AVX-512 or AVX2 through `pulp` where the CPU
+//! has it). A point is held relative to the corner of its square of a coarse lattice, so its
+//! arithmetic depends on the point and the support alone, and each point sums the supports over it in that order: a single query is a batch of one (whose
 //! supports go straight to the kernel's own inside test, with no stretch to find), and a batch
 //! returns exactly the single queries' values, in any order, for any thread count. Detail
 //! layers (f64 falloffs and noise) go by the cells of a finer lattice.
@@ -215,6 +216,13 @@ pub struct TerrainQuery {
     items: Vec<Item>,
     /// `items[gaussians..]` are detail falloffs.
     gaussians: usize,
+    /// For each Gaussian `k`, the highest top (y) of the reach boxes of Gaussians `0..=k`, and
+    /// the lowest bottom of those of `k..`: both rise with `k`, so the Gaussians that may meet
+    /// a band of y lie between two bisections ([`TerrainQuery::window`]).
+    tops: Vec<f64>,
+    bottoms: Vec<f64>,
+    /// The x extent of the Gaussians' reach boxes ([`TerrainQuery::scans`]).
+    x_span: f64,
     /// Each detail layer and the end of its falloffs in `items`.
     layers: Vec<(DetailLayer, usize)>,
     base: f64,
@@ -281,8 +289,33 @@ impl VectorTerrain {
             build_bvh2(&boxes, BvhBuildParams::fast_build(), &mut build_time)
         };
         let (gaussians, base, floor) = (self.primitives.len(), self.base, self.floor);
-        Ok(TerrainQuery { origin, bvh, items, gaussians, layers, base, floor, cell })
+        let (tops, bottoms, x_span) = windows(&reach[..gaussians]);
+        Ok(TerrainQuery { origin, bvh, items, gaussians, tops, bottoms, x_span, layers, base, floor, cell })
     }
+}
+
+/// [`TerrainQuery::tops`], [`TerrainQuery::bottoms`] and [`TerrainQuery::x_span`] of the
+/// reach boxes `reach`.
+fn windows(reach: &[(DVec2, DVec2)]) -> (Vec<f64>, Vec<f64>, f64) {
+    let (mut top, mut bottom) = (f64::NEG_INFINITY, f64::INFINITY);
+    let tops = reach
+        .iter()
+        .map(|(_, hi)| {
+            top = top.max(hi.y);
+            top
+        })
+        .collect();
+    let mut bottoms: Vec<f64> = reach
+        .iter()
+        .rev()
+        .map(|(lo, _)| {
+            bottom = bottom.min(lo.y);
+            bottom
+        })
+        .collect();
+    bottoms.reverse();
+    let (x0, x1) = reach.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| (a.min(lo.x), b.max(hi.x)));
+    (tops, bottoms, (x1 - x0).max(0.0))
 }
 
 /// A traversal's visit of the leaf `node`: appends its supports' indices to `into` and goes on.
@@ -636,17 +669,13 @@ impl TerrainQuery {
         strip
     }
 
-    /// The Gaussians' sums at the points of the strips `inside` (a band): the hierarchy walked
+    /// The Gaussians' sums at the points of the strips `inside` (a band): the candidates found
     /// once for the band's box, then every support in order over every strip it may reach.
     fn band_sums(&self, inside: &[Strip], gradients: bool) -> Vec<Sums> {
         let x_min = inside.iter().map(|s| s.x[0]).fold(f64::INFINITY, f64::min);
         let x_max = inside.iter().map(|s| s.x[s.x.len() - 1]).fold(f64::NEG_INFINITY, f64::max);
-        let lo = DVec2::new(x_min, inside[0].y0) - self.origin;
-        let hi = DVec2::new(x_max, inside[inside.len() - 1].y1) - self.origin;
-        let mut candidates = Vec::new();
-        self.bvh.aabb_traverse(outward_box(lo, hi), |bvh, node| collect_leaf(bvh, node, &mut candidates));
-        candidates.retain(|&k| (k as usize) < self.gaussians);
-        candidates.sort_unstable();
+        let candidates =
+            self.candidates(DVec2::new(x_min, inside[0].y0), DVec2::new(x_max, inside[inside.len() - 1].y1));
         let mut sums: Vec<Sums> = inside
             .iter()
             .map(|s| {
@@ -658,6 +687,41 @@ impl TerrainQuery {
         let work = BandWork { items: &self.items, candidates: &candidates, inside, sums: &mut sums };
         pulp::Arch::new().dispatch(work);
         sums
+    }
+
+    /// The Gaussians whose reach boxes meet the box `[lo, hi]`, in index order (the order
+    /// every point sums them in): from the y window ([`Self::window`]) when the box is wide
+    /// ([`Self::scans`]), else from a walk of the hierarchy (a single query).
+    fn candidates(&self, lo: DVec2, hi: DVec2) -> Vec<u32> {
+        let meets = |k: usize| {
+            let (a, b) = self.items[k].reach();
+            a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y
+        };
+        if self.scans(lo, hi) {
+            return self.window(lo.y, hi.y).filter(|&k| meets(k)).map(|k| k as u32).collect();
+        }
+        let mut candidates = Vec::new();
+        let bounds = outward_box(lo - self.origin, hi - self.origin);
+        self.bvh.aabb_traverse(bounds, |bvh, node| collect_leaf(bvh, node, &mut candidates));
+        // A leaf comes whole: its supports that miss the box would each cost a kernel call.
+        candidates.retain(|&k| (k as usize) < self.gaussians && meets(k as usize));
+        candidates.sort_unstable();
+        candidates
+    }
+
+    /// Whether a box from `lo` to `hi` is wide enough to scan its y window for candidates:
+    /// at least the Gaussians' x extent over [`WINDOW_SHARE`] (a grid's or a scattered batch's
+    /// band). Either way gives the same candidates, so this changes the speed, never the sums.
+    fn scans(&self, lo: DVec2, hi: DVec2) -> bool {
+        (hi.x - lo.x) * WINDOW_SHARE >= self.x_span
+    }
+
+    /// The indices of the Gaussians that may meet the band of y from `y0` to `y1`: from the
+    /// first whose reach box's top is at or above `y0` to the last whose bottom is at or below
+    /// `y1` (two bisections of [`Self::tops`] and [`Self::bottoms`]).
+    fn window(&self, y0: f64, y1: f64) -> std::ops::Range<usize> {
+        let first = self.tops.partition_point(|&top| top < y0);
+        first..self.bottoms.partition_point(|&bottom| bottom <= y1).max(first)
     }
 
     /// Adds the detail layers to `out` (the Gaussians' samples), cell by cell in parallel.
@@ -938,6 +1002,10 @@ impl Strip {
     }
 }
 
+/// A band at least the Gaussians' x extent over this wide scans its y window for candidates
+/// ([`TerrainQuery::scans`]).
+const WINDOW_SHARE: f64 = 4.0;
+
 /// Most runs a strip's [`Strip::run_of`] scans.
 const SCANNED_RUNS: usize = 8;
 
@@ -1174,8 +1242,9 @@ fn add_terms(
     lower: impl Fn(f32) -> f32,
 ) {
     let (range, first, last) = widen(lanes, qx.len());
-    let (split, kx2, ky2) = next.map_or((0, c.kx, c.ky), |next| next.brackets(range.start));
-    let second = |j: usize| next.is_some() && (j as i32) >= split;
+    // Without a next square no lane is past the split, and its brackets are the first's.
+    let (split, kx2, ky2) = next.map_or((i32::MAX, c.kx, c.ky), |next| next.brackets(range.start));
+    let second = |j: usize| (j as i32) >= split;
     let n = range.len();
     let qx = &qx[range.clone()][..n];
     let (h, gx, gy) =
@@ -1225,8 +1294,9 @@ fn add_values(
     lower: impl Fn(f32) -> f32,
 ) {
     let (range, first, last) = widen(lanes, qx.len());
-    let (split, kx2, ky2) = next.map_or((0, c.kx, c.ky), |next| next.brackets(range.start));
-    let second = |k: i32| next.is_some() && k >= split;
+    // Without a next square no lane is past the split, and its brackets are the first's.
+    let (split, kx2, ky2) = next.map_or((i32::MAX, c.kx, c.ky), |next| next.brackets(range.start));
+    let second = |k: i32| k >= split;
     let n = range.len();
     let (qx, h) = (&qx[range.clone()][..n], &mut h[range.clone()][..n]);
     // Whether (x, y) is inside the support, and the value there.
@@ -1434,6 +1504,53 @@ mod tests {
 
     /// The box test is exact on the axes of a round support and never refuses a box holding a
     /// point of the support.
+    /// A box's candidates are exactly the Gaussians whose reach boxes meet it, in index order,
+    /// whether the box scans its y window or walks the hierarchy; the window is the tightest run
+    /// of indices that holds them, stretched by a wide Gaussian in the middle of the order.
+    #[test]
+    fn candidates_are_the_supports_that_meet_the_box() {
+        let fixture = relief_fixtures::random_terrain(2_000, 1000.0, 16.0, 4);
+        let mut primitives: Vec<Gaussian> = fixture
+            .primitives
+            .iter()
+            .map(|g| Gaussian {
+                center: g.center,
+                sigma: g.sigma,
+                theta: g.theta,
+                amplitude: g.amplitude,
+                beta: g.beta,
+            })
+            .collect();
+        primitives.push(Gaussian::round(DVec2::new(300.0, 480.0), 150.0, 10.0));
+        let query = VectorTerrain::new(primitives).query().unwrap();
+        let reach: Vec<(DVec2, DVec2)> = query.items[..query.gaussians].iter().map(Item::reach).collect();
+        let wide = reach.iter().map(|(lo, hi)| hi.y - lo.y).fold(0.0, f64::max);
+        assert!(wide > 800.0, "the wide Gaussian reaches {wide}");
+        let row = |y0: f64, y1: f64| (DVec2::new(0.0, y0), DVec2::new(1000.0, y1));
+        let point = |x: f64, y: f64| (DVec2::new(x, y), DVec2::new(x, y));
+        let x_span = reach.iter().map(|(_, hi)| hi.x).fold(f64::MIN, f64::max)
+            - reach.iter().map(|(lo, _)| lo.x).fold(f64::MAX, f64::min);
+        assert_eq!(query.x_span, x_span);
+        // A band from the first Gaussian's top: it still meets that Gaussian.
+        let top = reach[0].1.y;
+        let quarter = (DVec2::new(100.0, 300.0), DVec2::new(100.0 + x_span / WINDOW_SHARE, 340.0));
+        let boxes = [row(10.0, 25.0), row(500.0, 500.0), row(930.0, 946.0), row(-80.0, -60.0), row(top, top + 5.0)];
+        let boxes = [boxes.as_slice(), &[row(1e4, 1e4 + 1.0), quarter]].concat();
+        let narrow = (DVec2::new(100.0, 300.0), DVec2::new(99.0 + x_span / WINDOW_SHARE, 340.0));
+        let points = [point(310.0, 20.0), point(640.0, 955.0), point(300.0, 480.0), point(5e3, 5e3), narrow];
+        for (k, &(lo, hi)) in boxes.iter().chain(&points).enumerate() {
+            let meets = |(a, b): &(DVec2, DVec2)| a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y;
+            let expected: Vec<u32> = (0..reach.len()).filter(|&i| meets(&reach[i])).map(|i| i as u32).collect();
+            assert_eq!(query.candidates(lo, hi), expected, "box {k}");
+            assert_eq!(query.scans(lo, hi), k < boxes.len(), "box {k}");
+            let first = reach.iter().position(|(_, top)| top.y >= lo.y).unwrap_or(reach.len());
+            let last = reach.iter().rposition(|(bottom, _)| bottom.y <= hi.y).map_or(0, |i| i + 1).max(first);
+            assert_eq!(query.window(lo.y, hi.y), first..last, "box {k}");
+        }
+        // The wide Gaussian sits in the middle of the order and keeps the windows around it long.
+        assert!(query.window(940.0, 946.0).len() > reach.len() / 3);
+    }
+
     #[test]
     fn reaches_is_tight_and_conservative() {
         let (u, v) = (DVec2::X, DVec2::Y);
