@@ -473,7 +473,35 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      1.09–1.13×, CPU time 1.15–1.21× → 1.13× the rasterizer's (three runs alternated). What is left:\n\
      the hierarchy walk and the sort of each band's candidates (about 4 % of the CPU time), the\n\
      strips' set-up (3 %), and a stretch's scalar work (the x range of an ellipse over a strip, two\n\
-     square roots where the rasterizer's row needs one).",
+     square roots where the rasterizer's row needs one).\n\
+     \n\
+     On 2026-12-03 (an Intel Xeon VM with AVX-512, about twice as slow as the 11-29 one and noisy:\n\
+     the rasterizer's best of 21 ranged 70–160 ms over the session) a band wide enough (a quarter of\n\
+     the Gaussians' x extent: a grid's, a scattered batch's) takes its candidates without the\n\
+     hierarchy. The Gaussians are stored by the y of their centres, so with each one's running\n\
+     highest top (over those before it) and lowest bottom (over those after it) two bisections bound\n\
+     the ones that may meet the band, and an exact box test keeps them, already in the order every\n\
+     point sums them; a 1024² grid's bands of 16 rows scan 3.5–6 k Gaussians and keep about 2 k\n\
+     (the walk returned each leaf's up to 8 supports whole, to be sorted). A narrow band (a single\n\
+     query) still walks the hierarchy and now drops the leaf-mates its box misses, and a stretch with\n\
+     no next anchor square compares each lane once (its split is past every lane). The same bits: a\n\
+     hash of the 1024² grid's elevations and of 1M scattered points unchanged, golden hashes\n\
+     unchanged. Interleaved with the rasterizer on the 1024²/60k terrain (21 rounds, CPU time now\n\
+     summed over every thread, where the 12-02 figures counted the calling thread only; four runs\n\
+     alternated with the former build): elevations 1.18–1.22× → 1.16–1.17× the rasterizer's CPU\n\
+     time, per-round wall-time ratio medians 1.12–1.18× → 1.10–1.16×. Tried and dropped, measured\n\
+     the same way: one square root for a row's x range (the widest over the slack-thick band and the\n\
+     centre line's extremes, a superset the inside test trims; 1.16–1.18× against 1.12–1.15×), both\n\
+     roots in one vector (LLVM kept two scalar roots), and other hierarchies for single queries\n\
+     (obvhs's medium and slow builds, leaves of 2, 4 or 8: 7.1–9.7 µs each, no gain). Single queries\n\
+     take 7–10 µs on this VM for the 11-29 build, the 12-02 build and this one alike, so the 11-29\n\
+     note's 1.5 µs does not reproduce here (this VM's rasterizer is 2× slower than that day's, its\n\
+     single queries 5–6×); 1M scattered points 217–540 ms for either build. Where the CPU time goes now:\n\
+     the query's band kernels take 80 % of its time (vector lanes 56 %, a stretch's scalar work\n\
+     25 %), the rasterizer's 87 % of its own (vector 56 %, scalar 31 %), so the kernels are within\n\
+     about 6 % of each other; what is left is the query's per-point bookkeeping outside them\n\
+     (building strips, 4 %: index, f64 and f32 coordinate vectors and the drift; the bands' f32 sums\n\
+     turned into f64 results), about 10 % of the rasterizer's time.",
     ),
     (
         "engine_export",
