@@ -14,10 +14,11 @@
 //! stretch would start were the points evenly spread), with the rasterizer's branch-free f32
 //! arithmetic (module `fastmath`), vectorized (AVX-512 or AVX2 through `pulp` where the CPU
 //! has it). A point is held relative to the corner of its square of a coarse lattice, so its
-//! arithmetic depends on the point and the support alone, and each point sums the supports over it in that order: a single query is a batch of one (whose
-//! supports go straight to the kernel's own inside test, with no stretch to find), and a batch
-//! returns exactly the single queries' values, in any order, for any thread count. Detail
-//! layers (f64 falloffs and noise) go by the cells of a finer lattice.
+//! arithmetic depends on the point and the support alone, and each point sums the supports
+//! over it in that order: a single query is a batch of one (whose supports go straight to the
+//! kernel's own inside test, with no stretch to find), and a batch returns exactly the single
+//! queries' values, in any order, for any thread count. Detail layers (f64 falloffs and noise)
+//! go by the cells of a finer lattice.
 
 use glam::{DVec2, DVec3, Vec3A};
 use obvhs::BvhBuildParams;
