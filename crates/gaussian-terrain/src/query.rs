@@ -217,6 +217,8 @@ pub struct TerrainQuery {
     items: Vec<Item>,
     /// `items[gaussians..]` are detail falloffs.
     gaussians: usize,
+    /// Each item's reach box ([`Item::reach`]), packed for the window scans.
+    reach: Vec<(DVec2, DVec2)>,
     /// For each Gaussian `k`, the highest top (y) of the reach boxes of Gaussians `0..=k`, and
     /// the lowest bottom of those of `k..`: both rise with `k`, so the Gaussians that may meet
     /// a band of y lie between two bisections ([`TerrainQuery::window`]).
@@ -291,7 +293,7 @@ impl VectorTerrain {
         };
         let (gaussians, base, floor) = (self.primitives.len(), self.base, self.floor);
         let (tops, bottoms, x_span) = windows(&reach[..gaussians]);
-        Ok(TerrainQuery { origin, bvh, items, gaussians, tops, bottoms, x_span, layers, base, floor, cell })
+        Ok(TerrainQuery { origin, bvh, items, gaussians, reach, tops, bottoms, x_span, layers, base, floor, cell })
     }
 }
 
@@ -372,7 +374,7 @@ impl TerrainQuery {
             return self.beyond(p);
         }
         let points = [p];
-        let strip = [self.strip(vec![0], &points)];
+        let strip = [self.strip(0..1, None, &points)];
         let mut out = [self.ground(&self.band_sums(&strip, self.slopes(gradients))[0], 0)];
         if !self.layers.is_empty() {
             self.add_details(&points, gradients, &mut out);
@@ -443,21 +445,21 @@ impl TerrainQuery {
                 parts.push(part);
                 rest = tail;
             }
-            bands.into_par_iter().zip(parts).for_each(|(band, part)| {
+            bands.into_par_iter().zip(parts).for_each(|(band, mut part)| {
                 let sums = self.band_sums(&strips[band.clone()], slopes);
-                let values = strips[band]
-                    .iter()
-                    .zip(&sums)
-                    .flat_map(|(s, sums)| (0..s.x.len()).map(|n| f(self.ground(sums, n))));
-                part.iter_mut().zip(values).for_each(|(slot, value)| *slot = value);
+                for (s, sums) in strips[band].iter().zip(&sums) {
+                    let (head, tail) = std::mem::take(&mut part).split_at_mut(s.x.len());
+                    head.iter_mut().enumerate().for_each(|(n, slot)| *slot = f(self.ground(sums, n)));
+                    part = tail;
+                }
             });
             return out;
         }
         let sums: Vec<Vec<Sums>> = bands.into_par_iter().map(|band| self.band_sums(&strips[band], slopes)).collect();
         let mut out: Vec<T> = points.par_iter().map(|&p| f(self.beyond(p))).collect();
         for (strip, sums) in strips.iter().zip(sums.iter().flatten()) {
-            for (n, &k) in strip.members.iter().enumerate() {
-                out[k as usize] = f(self.ground(sums, n));
+            for n in 0..strip.x.len() {
+                out[strip.member(n) as usize] = f(self.ground(sums, n));
             }
         }
         out
@@ -504,11 +506,23 @@ impl TerrainQuery {
     /// when it is not finite or more than 2³⁰ squares from the origin (so far out that no
     /// support reaches it).
     fn anchor_of(&self, p: DVec2) -> Option<(i32, i32)> {
-        const FAR: f64 = (1u32 << 30) as f64;
-        let c = (p - self.origin) / (ANCHOR_CELLS * self.cell);
+        let c = self.in_squares(p);
         // Truncation, one down for a negative fraction: the floor without a libm call.
         let floor = |v: f64| v as i32 - i32::from(f64::from(v as i32) > v);
-        (c.x.abs() < FAR && c.y.abs() < FAR).then(|| (floor(c.x), floor(c.y)))
+        self.in_lattice(p).then(|| (floor(c.x), floor(c.y)))
+    }
+
+    /// `p` in anchor squares from the origin.
+    fn in_squares(&self, p: DVec2) -> DVec2 {
+        (p - self.origin) / (ANCHOR_CELLS * self.cell)
+    }
+
+    /// Whether `p` has an anchor square ([`Self::anchor_of`]): finite and within 2³⁰ squares
+    /// of the origin.
+    fn in_lattice(&self, p: DVec2) -> bool {
+        const FAR: f64 = (1u32 << 30) as f64;
+        let c = self.in_squares(p).abs();
+        c.x < FAR && c.y < FAR
     }
 
     /// The lower corner of the anchor square `key`.
@@ -547,7 +561,7 @@ impl TerrainQuery {
             let changes: Vec<usize> = (1..len)
                 .into_par_iter()
                 .step_by(SCAN_CHUNK)
-                .flat_map_iter(|a| (a..(a + SCAN_CHUNK).min(len)).filter(|&k| points[k].y != points[k - 1].y))
+                .flat_map_iter(|a| changes_of_y(&points[a - 1..(a + SCAN_CHUNK).min(len)]).map(move |k| a + k))
                 .collect();
             changes.into_iter().for_each(&mut change);
         } else {
@@ -555,9 +569,9 @@ impl TerrainQuery {
         }
         change(len);
         let strips: Vec<Strip> =
-            cuts.into_par_iter().map(|range| self.strip(range.map(index).collect(), points)).collect();
+            cuts.into_par_iter().map(|range| self.strip(range, order.as_deref(), points)).collect();
         // In the order given unless a strip of several y values sorted its points by x.
-        let in_order = order.is_none() && strips.par_iter().all(|s| s.members.is_sorted());
+        let in_order = order.is_none() && strips.par_iter().all(|s| s.members.is_empty());
         (strips, in_order)
     }
 
@@ -567,11 +581,11 @@ impl TerrainQuery {
     fn order(&self, points: &[DVec2]) -> Option<Vec<u32>> {
         // The lattice row grows with y, so an order by y is one by row too; −0 and +0 are one y.
         let le = |p: DVec2, q: DVec2| p.y <= q.y;
+        // Each chunk without a branch per point, so that it runs in vectors.
         let given = points.par_chunks(SCAN_CHUNK).enumerate().all(|(c, chunk)| {
             let joined = c == 0 || le(points[c * SCAN_CHUNK - 1], chunk[0]);
-            joined
-                && chunk.windows(2).all(|pair| le(pair[0], pair[1]))
-                && chunk.iter().all(|&p| self.anchor_of(p).is_some())
+            let ordered = chunk.windows(2).fold(true, |ordered, pair| ordered & le(pair[0], pair[1]));
+            joined && ordered && chunk.iter().fold(true, |inside, &p| inside & self.in_lattice(p))
         });
         if given {
             return None;
@@ -627,46 +641,77 @@ impl TerrainQuery {
         sorted
     }
 
-    /// The strip of the points `members` (sorted by y, in one anchor row; see [`Strip`]).
-    fn strip(&self, mut members: Vec<u32>, points: &[DVec2]) -> Strip {
-        let (y0, y1) = (points[members[0] as usize].y, points[members[members.len() - 1] as usize].y);
-        let x = |k: u32| points[k as usize].x;
-        if !members.is_sorted_by(|a, b| x(*a) <= x(*b)) {
-            sort_by_key(&mut members, |k| sortable(x(k)));
-        }
-        let n = members.len();
-        let x: Vec<f64> = members.iter().map(|&k| points[k as usize].x).collect();
+    /// The strip of the points `range` of `order` (of `points` when `None`), sorted by y and in
+    /// one anchor row (see [`Strip`]).
+    fn strip(&self, range: std::ops::Range<usize>, order: Option<&[u32]>, points: &[DVec2]) -> Strip {
+        let index = |k: usize| order.map_or(k as u32, |order| order[k]);
+        let (y0, y1) = (points[index(range.start) as usize].y, points[index(range.end - 1) as usize].y);
+        // Points in the order given and by x (a grid row) keep no list of indices.
+        let in_place: Vec<f64> =
+            if order.is_none() { points[range.clone()].iter().map(|p| p.x).collect() } else { Vec::new() };
+        // Without a branch per point, so that it runs in vectors.
+        let by_x =
+            order.is_none() && in_place.windows(2).map(|pair| usize::from(pair[0] > pair[1])).sum::<usize>() == 0;
+        let members = match order {
+            None if by_x => Vec::new(),
+            _ => {
+                let mut members: Vec<u32> = range.clone().map(index).collect();
+                let x = |k: u32| points[k as usize].x;
+                if !members.is_sorted_by(|a, b| x(*a) <= x(*b)) {
+                    sort_by_key(&mut members, |k| sortable(x(k)));
+                }
+                members
+            }
+        };
+        let point = |i: usize| if members.is_empty() { points[range.start + i] } else { points[members[i] as usize] };
+        let n = range.len();
+        let x: Vec<f64> = if by_x { in_place } else { (0..n).map(|i| point(i).x).collect() };
         // The strip is in one anchor row (one corner y) and sorted by x, so each anchor square's
         // points follow each other: a search finds where each square's run ends.
-        let square = |k: u32| self.anchor_of(points[k as usize]).expect("points in the lattice only");
+        let square = |i: usize| self.anchor_of(point(i)).expect("points in the lattice only");
         let (mut runs, mut qx, mut i) = (Vec::new(), Vec::with_capacity(n), 0);
         while i < n {
-            let cell = square(members[i]);
-            let end = i + 1 + members[i + 1..].partition_point(|&k| square(k) == cell);
+            let cell = square(i);
+            // A bisection for the end of the run from `i`: the points before `end` are in it,
+            // those from `past` on are not.
+            let (mut end, mut past) = (i, n);
+            while end < past {
+                let mid = end + (past - end) / 2;
+                (end, past) = if square(mid) == cell { (mid + 1, past) } else { (end, mid) };
+            }
             let corner = self.anchor(cell);
             runs.push(Run { end: end as u32, corner });
-            qx.extend(x[i..end].iter().map(|&x| (x - corner.x) as f32));
+            qx.resize(end, 0.0);
+            qx[i..end].iter_mut().zip(&x[i..end]).for_each(|(q, &x)| *q = (x - corner.x) as f32);
             i = end;
         }
         let corner_y = runs[0].corner.y;
         let (qy, row) = if y0 == y1 {
             (Vec::new(), Some((y0 - corner_y) as f32))
         } else {
-            (members.iter().map(|&k| (points[k as usize].y - corner_y) as f32).collect(), None)
+            ((0..n).map(|i| (point(i).y - corner_y) as f32).collect(), None)
         };
         let (x0, last) = (x[0], x[n - 1]);
         let per_x = if last > x0 { (n - 1) as f64 / (last - x0) } else { 0.0 };
-        let mut strip = Strip { y0, y1, x0, per_x, drift: None, x, qx, qy, row, runs, members: Vec::new() };
+        let mut strip =
+            Strip { y0, y1, x0, per_x, drift: None, x, qx, qy, row, runs, members, first: range.start as u32 };
         if per_x > 0.0 {
             // Exact: within a quarter of its index, a place of index 1 or more is within a factor
             // of 2 of it, so the subtraction is exact (the place of index 0 is 0). Scattered
             // points stop at the first point a quarter or more from its index.
-            strip.drift = strip.x.iter().enumerate().try_fold(0.0, |drift: f64, (k, &x)| {
-                let drift = drift.max((strip.place(x) - k as f64).abs());
+            strip.drift = strip.x.chunks(DRIFT_CHUNK).enumerate().try_fold(0.0, |drift: f64, (c, xs)| {
+                // Eight running maxima, in vectors.
+                let mut far = [drift; 8];
+                for (g, group) in xs.chunks(8).enumerate() {
+                    let base = c * DRIFT_CHUNK + 8 * g;
+                    for (l, (f, &x)) in far.iter_mut().zip(group).enumerate() {
+                        *f = f.max((strip.place(x) - (base + l) as f64).abs());
+                    }
+                }
+                let drift = far.into_iter().fold(0.0, f64::max);
                 (drift < 0.25).then_some(drift)
             });
         }
-        strip.members = members;
         strip
     }
 
@@ -695,7 +740,7 @@ impl TerrainQuery {
     /// ([`Self::scans`]), else from a walk of the hierarchy (a single query).
     fn candidates(&self, lo: DVec2, hi: DVec2) -> Vec<u32> {
         let meets = |k: usize| {
-            let (a, b) = self.items[k].reach();
+            let (a, b) = self.reach[k];
             a.x <= hi.x && b.x >= lo.x && a.y <= hi.y && b.y >= lo.y
         };
         if self.scans(lo, hi) {
@@ -932,11 +977,17 @@ struct Strip {
     row: Option<f32>,
     /// Consecutive points in one anchor square, in order.
     runs: Vec<Run>,
-    /// Each point's index in the caller's points.
+    /// Each point's index in the caller's points; empty when they are `first` on, in order.
     members: Vec<u32>,
+    first: u32,
 }
 
 impl Strip {
+    /// Point `n`'s index in the caller's points.
+    fn member(&self, n: usize) -> u32 {
+        if self.members.is_empty() { self.first + n as u32 } else { self.members[n] }
+    }
+
     /// Where a point at `x` would be, were the points evenly spread: its index, not rounded.
     /// It never decreases with `x`.
     #[allow(
@@ -1007,6 +1058,10 @@ impl Strip {
 /// ([`TerrainQuery::scans`]).
 const WINDOW_SHARE: f64 = 4.0;
 
+/// Points a strip's drift takes at once (a scattered strip stops at the first chunk a quarter
+/// or more from its indices).
+const DRIFT_CHUNK: usize = 64;
+
 /// Most runs a strip's [`Strip::run_of`] scans.
 const SCANNED_RUNS: usize = 8;
 
@@ -1041,6 +1096,19 @@ fn partition_near(xs: &[f64], guess: usize, before: impl Fn(f64) -> bool) -> usi
     } else {
         g + xs[g..].partition_point(|&x| before(x))
     }
+}
+
+/// The pairs of consecutive `points` whose y differ, by the first's index: a test without a
+/// branch per point over each block (a grid's rows change y once per row), then a search of
+/// the blocks that have a change.
+fn changes_of_y(points: &[DVec2]) -> impl Iterator<Item = usize> + '_ {
+    const BLOCK: usize = 64;
+    (0..points.len().saturating_sub(1)).step_by(BLOCK).flat_map(move |b| {
+        let block = &points[b..(b + BLOCK + 1).min(points.len())];
+        let any = block.windows(2).map(|pair| usize::from(pair[0].y != pair[1].y)).sum::<usize>() > 0;
+        let pairs = block.windows(2).take(if any { BLOCK } else { 0 }).enumerate();
+        pairs.filter(|(_, pair)| pair[0].y != pair[1].y).map(move |(k, _)| b + k)
+    })
 }
 
 /// The strips cut into bands (parallel tasks): consecutive strips up to [`BAND_POINTS`] points
@@ -1436,7 +1504,10 @@ mod tests {
         let (strips, in_order) = query.strips(&grid);
         assert!(in_order, "a grid in row order is written strip by strip");
         assert_eq!(strips.len(), rows as usize);
-        assert!(strips.iter().all(|s| s.drift.is_some() && s.y0 == s.y1 && s.members.len() == 100));
+        assert!(strips.iter().all(|s| s.drift.is_some() && s.y0 == s.y1 && s.x.len() == 100 && s.members.is_empty()));
+        // A point repeated is still in order.
+        let twice = [grid[0], grid[1], grid[1], grid[2]];
+        assert!(query.strips(&twice).1 && query.strips(&twice).0[0].members.is_empty());
         let mut state = 7_u64;
         let mut next = move || {
             state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
@@ -1484,6 +1555,19 @@ mod tests {
                     strip.runs.partition_point(|run| run.end as usize <= i),
                     "{count} points, {i}"
                 );
+            }
+        }
+    }
+
+    /// Every pair of consecutive points whose y differ is found, in order, whatever the blocks.
+    #[test]
+    fn changes_of_y_finds_every_change() {
+        for len in [0_u32, 1, 2, 63, 64, 65, 129, 300] {
+            for every in [1, 7, 64, 65, 1000] {
+                let points: Vec<DVec2> = (0..len).map(|k| DVec2::new(0.0, f64::from(k / every))).collect();
+                let want: Vec<usize> =
+                    (0..len.saturating_sub(1) as usize).filter(|&k| points[k].y != points[k + 1].y).collect();
+                assert_eq!(changes_of_y(&points).collect::<Vec<_>>(), want, "{len} points, rows of {every}");
             }
         }
     }

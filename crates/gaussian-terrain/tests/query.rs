@@ -171,6 +171,12 @@ fn far_from_the_origin_and_outside_every_support() {
     assert!(batch[1].is_nan() && query.elevation(far[1]).is_nan());
     assert_eq!(query.elevation(far[0]), 120.0);
     assert_eq!(batch[2], query.elevation(far[2]));
+    // A row in row order that ends beyond the lattice: the points in range are still a batch.
+    let mut row: Vec<DVec2> = (0..50).map(|i| offset + DVec2::new(f64::from(i) * 20.0, 500.0)).collect();
+    row.push(DVec2::new(1e15, offset.y + 500.0));
+    let single: Vec<f64> = row.iter().map(|&p| query.elevation(p)).collect();
+    assert_eq!(query.elevations(&row), single);
+    assert!(single[50] == 120.0 && single.iter().any(|h| *h != 120.0));
     let empty = VectorTerrain { base: -3.0, ..VectorTerrain::default() }.query().unwrap();
     assert!(empty.is_empty());
     assert_eq!(empty.sample(DVec2::new(1.0, 2.0)).elevation, -3.0);
@@ -354,6 +360,13 @@ fn scattered_points_in_any_order_are_the_single_queries() {
     sorted.sort_by(|a, b| a.y.total_cmp(&b.y).then(a.x.total_cmp(&b.x)));
     let single: Vec<f64> = sorted.iter().map(|&p| query.elevation(p)).collect();
     assert_eq!(query.elevations(&sorted), single);
+    // Two grid rows amid them, still by y: strips in place (the rows) among sorted ones.
+    let row = |y: f64| (0..100).map(move |i| DVec2::new(f64::from(i) * 9.9, y));
+    let mut mixed: Vec<DVec2> = sorted.iter().copied().filter(|p| p.y < 480.0).collect();
+    mixed.extend(row(495.0).chain(row(505.0)));
+    mixed.extend(sorted.iter().copied().filter(|p| p.y > 520.0));
+    let single: Vec<f64> = mixed.iter().map(|&p| query.elevation(p)).collect();
+    assert_eq!(query.elevations(&mixed), single);
     // Few points far apart in y (sorted whole, not by slabs), and y = ±0 with x out of order.
     let sparse = [
         DVec2::new(500.0, 4e7),
