@@ -698,7 +698,8 @@ impl TerrainQuery {
         if per_x > 0.0 {
             // Exact: within a quarter of its index, a place of index 1 or more is within a factor
             // of 2 of it, so the subtraction is exact (the place of index 0 is 0). Scattered
-            // points stop at the first point a quarter or more from its index.
+            // points stop at the first chunk of [`DRIFT_CHUNK`] with a point a quarter or more
+            // from its index.
             strip.drift = strip.x.chunks(DRIFT_CHUNK).enumerate().try_fold(0.0, |drift: f64, (c, xs)| {
                 // Eight running maxima, in vectors.
                 let mut far = [drift; 8];
