@@ -515,7 +515,29 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      rest 14 % (strips 3 %, candidate scans 1.3 %, the order and change scans about 2 %, results\n\
      0.5 %). What separates the two is now mostly inside the kernels: the query's takes about 14 %\n\
      more time than the rasterizer's (two square roots per stretch and a point's coordinates loaded\n\
-     rather than stepped).",
+     rather than stepped).\n\
+     \n\
+     Afternoon of 2026-12-03, the same VM: two changes to the query's band kernel and one to the\n\
+     rasterizer's, the same bits (both query hashes, a hash of the 1024² raster, golden test). Lanes\n\
+     outside a stretch or a support now add +0 instead of keeping the old sum (no sum is ever −0, the\n\
+     one value +0 would change), so each lane takes one add and a plain store: 1.15–1.17× → 1.08–1.14×\n\
+     the rasterizer's CPU time (six rounds alternated with the former build). Then each support's\n\
+     stretches over a band's strips are found first and the kernel run over each after: a kernel's\n\
+     first load (a point's coordinate) waits on its stretch's square roots and roundings, which had\n\
+     each sat behind the previous kernel loop's exit branch; back to back they overlap: 0.99–1.06×,\n\
+     and a profile put the query's band kernels 7 % below the rasterizer's. The rasterizer has the\n\
+     same shape (a primitive's row spans, each behind the previous row's loop), so it got the same\n\
+     change (spans of a primitive's rows first), and the ratio is back to 1.09–1.14×: against the\n\
+     morning's build (eight rounds) the rasterizer's CPU time per 1024²/60k 168–189 → 155–181 ms, the\n\
+     query's 196–219 → 170–202 ms. Criterion in quick mode the same hour (this VM's slow phase, so\n\
+     the rows below are left as they were): rasterize/1024/60k 78.7 ms, query/elevations 88.6 ms\n\
+     (1.13×), query/samples 131.7 ms, build 64.0 ms; before the rasterizer's change 96.6 and 98.5 ms\n\
+     (1.02×). Tried and dropped: loops without the per-lane choice of the next square's brackets for\n\
+     stretches in one square (no change), bands of 8 strips (1.18–1.22× against 1.15–1.20×) or 32\n\
+     (no change), touching each stretch's first point before the kernels (1.07–1.10× against\n\
+     1.03–1.06×), and the stretches in a vector per band instead of a stack array (1.09–1.19× against\n\
+     0.98–1.05×, likely code placement). The query's band kernels are now 84 % of its CPU time; the\n\
+     rest, 16 %, is the per-point work the rasterizer does not have (strips, the order check, results).",
     ),
     (
         "engine_export",
