@@ -410,7 +410,8 @@ fn a_tiny_support_far_from_its_corner_gives_the_same_bits() {
 
 /// A support wider than several anchor squares: a stretch of it crosses squares, and the lanes
 /// that pad a stretch to whole vectors hold points of the next square, measured from another
-/// corner. Only the stretch's own points may take it: the grid's batch is the single queries.
+/// corner. Only the stretch's own points may take it: the grid's batch, and a scattered one's
+/// (strips of several y, cut where they cross a third square), are the single queries.
 #[test]
 fn a_support_wider_than_the_anchor_squares() {
     let mut terrain = random_terrain(20_000, 1000.0, 16.0, 6);
@@ -422,6 +423,12 @@ fn a_support_wider_than_the_anchor_squares() {
     assert_eq!(query.elevations(&points), single);
     let samples = query.samples(&points);
     assert!(samples.iter().zip(&points).all(|(s, &p)| *s == query.sample(p)));
+    let mut uniform = uniform(0x9e37_79b9_7f4a_7c15);
+    let scattered: Vec<DVec2> = (0..20_000).map(|_| DVec2::new(uniform(), uniform()) * 1000.0).collect();
+    let alone: Vec<f64> = scattered.iter().map(|&p| query.elevation(p)).collect();
+    assert_eq!(query.elevations(&scattered), alone);
+    let together = query.samples(&scattered);
+    assert!(together.iter().zip(&scattered).all(|(s, &p)| *s == query.sample(p)));
     // And the rasterizer's values, to a support's truncation at a sample on its edge.
     let raster = rasterize(&terrain, &g, &RasterOptions::default()).unwrap();
     let worst = single.iter().zip(raster.samples()).map(|(h, r)| (h - f64::from(*r)).abs()).fold(0.0, f64::max);
