@@ -509,7 +509,7 @@ impl TerrainQuery {
         let c = self.in_squares(p);
         // Truncation, one down for a negative fraction: the floor without a libm call.
         let floor = |v: f64| v as i32 - i32::from(f64::from(v as i32) > v);
-        self.in_lattice(p).then(|| (floor(c.x), floor(c.y)))
+        within_lattice(c).then(|| (floor(c.x), floor(c.y)))
     }
 
     /// `p` in anchor squares from the origin.
@@ -517,12 +517,9 @@ impl TerrainQuery {
         (p - self.origin) / (ANCHOR_CELLS * self.cell)
     }
 
-    /// Whether `p` has an anchor square ([`Self::anchor_of`]): finite and within 2³⁰ squares
-    /// of the origin.
+    /// Whether `p` has an anchor square ([`Self::anchor_of`]).
     fn in_lattice(&self, p: DVec2) -> bool {
-        const FAR: f64 = (1u32 << 30) as f64;
-        let c = self.in_squares(p).abs();
-        c.x < FAR && c.y < FAR
+        within_lattice(self.in_squares(p))
     }
 
     /// The lower corner of the anchor square `key`.
@@ -646,12 +643,10 @@ impl TerrainQuery {
     fn strip(&self, range: std::ops::Range<usize>, order: Option<&[u32]>, points: &[DVec2]) -> Strip {
         let index = |k: usize| order.map_or(k as u32, |order| order[k]);
         let (y0, y1) = (points[index(range.start) as usize].y, points[index(range.end - 1) as usize].y);
-        // Points in the order given and by x (a grid row) keep no list of indices.
-        let in_place: Vec<f64> =
-            if order.is_none() { points[range.clone()].iter().map(|p| p.x).collect() } else { Vec::new() };
-        // Without a branch per point, so that it runs in vectors.
-        let by_x =
-            order.is_none() && in_place.windows(2).map(|pair| usize::from(pair[0] > pair[1])).sum::<usize>() == 0;
+        // Points in the order given and by x (a grid row) keep no list of indices. The test has
+        // no branch per point, so that it runs in vectors.
+        let by_x = order.is_none()
+            && points[range.clone()].windows(2).map(|pair| usize::from(pair[0].x > pair[1].x)).sum::<usize>() == 0;
         let members = match order {
             None if by_x => Vec::new(),
             _ => {
@@ -665,7 +660,11 @@ impl TerrainQuery {
         };
         let point = |i: usize| if members.is_empty() { points[range.start + i] } else { points[members[i] as usize] };
         let n = range.len();
-        let x: Vec<f64> = if by_x { in_place } else { (0..n).map(|i| point(i).x).collect() };
+        let x: Vec<f64> = if members.is_empty() {
+            points[range.clone()].iter().map(|p| p.x).collect()
+        } else {
+            members.iter().map(|&k| points[k as usize].x).collect()
+        };
         // The strip is in one anchor row (one corner y) and sorted by x, so each anchor square's
         // points follow each other: a search finds where each square's run ends.
         let square = |i: usize| self.anchor_of(point(i)).expect("points in the lattice only");
@@ -1097,6 +1096,12 @@ fn partition_near(xs: &[f64], guess: usize, before: impl Fn(f64) -> bool) -> usi
     } else {
         g + xs[g..].partition_point(|&x| before(x))
     }
+}
+
+/// Whether a point `c` anchor squares from the origin has one: finite and within 2³⁰ squares.
+fn within_lattice(c: DVec2) -> bool {
+    const FAR: f64 = (1u32 << 30) as f64;
+    c.x.abs() < FAR && c.y.abs() < FAR
 }
 
 /// The pairs of consecutive `points` whose y differ, by the first's index: a test without a
