@@ -421,10 +421,11 @@ impl TerrainQuery {
     }
 
     /// The Gaussians' samples at every point, `f` applied to each: the points beyond the anchor
-    /// lattice at the base ([`Self::beyond`]). When the strips hold every point in the caller's
-    /// order (a grid in row order), each band writes its own stretch of the output as it ends,
-    /// in parallel (`fill` holds each slot until then); otherwise the bands' sums are scattered
-    /// to their points.
+    /// lattice at the base ([`Self::beyond`]). Each band (a parallel task) builds its own strips
+    /// and sums them, so a strip's points are still in cache when its kernels read them. When
+    /// the batch is in y order within the lattice (a grid in row order), each band writes its
+    /// own stretch of the output as it ends (`fill` holds each slot until then); otherwise the
+    /// bands' sums are scattered to their points.
     fn gather<T: Send + Sync + Copy>(
         &self,
         points: &[DVec2],
@@ -432,32 +433,46 @@ impl TerrainQuery {
         fill: T,
         f: impl Fn(Sample) -> T + Sync,
     ) -> Vec<T> {
-        let (strips, in_order) = self.strips(points);
+        let (cuts, order) = self.cuts(points);
         let slopes = self.slopes(gradients);
-        let bands = bands(&strips);
-        if in_order {
+        let bands = bands(&cuts);
+        let sum_band = |band: std::ops::Range<usize>| {
+            let strips: Vec<Strip> =
+                cuts[band].iter().map(|r| self.strip(r.clone(), order.as_deref(), points)).collect();
+            let sums = self.band_sums(&strips, slopes);
+            (strips, sums)
+        };
+        if order.is_none() {
             let mut out = Vec::with_capacity(points.len());
             rayon::iter::repeat_n(fill, points.len()).collect_into_vec(&mut out);
             let mut parts = Vec::with_capacity(bands.len());
             let mut rest = out.as_mut_slice();
             for band in &bands {
-                let (part, tail) = rest.split_at_mut(strips[band.clone()].iter().map(|s| s.x.len()).sum());
+                let (part, tail) = rest.split_at_mut(cuts[band.end - 1].end - cuts[band.start].start);
                 parts.push(part);
                 rest = tail;
             }
-            bands.into_par_iter().zip(parts).for_each(|(band, mut part)| {
-                let sums = self.band_sums(&strips[band.clone()], slopes);
-                for (s, sums) in strips[band].iter().zip(&sums) {
-                    let (head, tail) = std::mem::take(&mut part).split_at_mut(s.x.len());
-                    head.iter_mut().enumerate().for_each(|(n, slot)| *slot = f(self.ground(sums, n)));
-                    part = tail;
+            bands.into_par_iter().zip(parts).for_each(|(band, part)| {
+                let offset = cuts[band.start].start;
+                let (strips, sums) = sum_band(band);
+                for (s, sums) in strips.iter().zip(&sums) {
+                    let start = s.first as usize - offset;
+                    let slots = &mut part[start..start + s.x.len()];
+                    if s.members.is_empty() {
+                        slots.iter_mut().enumerate().for_each(|(n, slot)| *slot = f(self.ground(sums, n)));
+                    } else {
+                        // Points of several y sorted by x: their slots are within the strip's.
+                        for (n, &k) in s.members.iter().enumerate() {
+                            part[k as usize - offset] = f(self.ground(sums, n));
+                        }
+                    }
                 }
             });
             return out;
         }
-        let sums: Vec<Vec<Sums>> = bands.into_par_iter().map(|band| self.band_sums(&strips[band], slopes)).collect();
+        let done: Vec<(Vec<Strip>, Vec<Sums>)> = bands.into_par_iter().map(sum_band).collect();
         let mut out: Vec<T> = points.par_iter().map(|&p| f(self.beyond(p))).collect();
-        for (strip, sums) in strips.iter().zip(sums.iter().flatten()) {
+        for (strip, sums) in done.iter().flat_map(|(strips, sums)| strips.iter().zip(sums)) {
             for n in 0..strip.x.len() {
                 out[strip.member(n) as usize] = f(self.ground(sums, n));
             }
@@ -528,12 +543,21 @@ impl TerrainQuery {
     }
 
     /// The points within the anchor lattice's range (the others are [`Self::beyond`]) sorted
-    /// into strips (see [`Strip`]), and whether the strips hold every point in the order given.
+    /// into strips ([`Strip`]), and whether they are every point in the order given.
+    #[cfg(test)]
     fn strips(&self, points: &[DVec2]) -> (Vec<Strip>, bool) {
+        let (cuts, order) = self.cuts(points);
+        let strips = cuts.into_iter().map(|range| self.strip(range, order.as_deref(), points)).collect();
+        (strips, order.is_none())
+    }
+
+    /// The strips of the points within the anchor lattice's range (see [`Strip`]): each a range
+    /// of `order` ([`Self::order`]; of `points` when `None`).
+    fn cuts(&self, points: &[DVec2]) -> (Vec<std::ops::Range<usize>>, Option<Vec<u32>>) {
         let order = self.order(points);
         let len = order.as_ref().map_or(points.len(), Vec::len);
         if len == 0 {
-            return (Vec::new(), points.is_empty());
+            return (Vec::new(), order);
         }
         let index = |k: usize| order.as_ref().map_or(k as u32, |order| order[k]);
         let point = |k: usize| points[index(k) as usize];
@@ -565,11 +589,7 @@ impl TerrainQuery {
             (1..len).filter(|&k| point(k).y != point(k - 1).y).for_each(&mut change);
         }
         change(len);
-        let strips: Vec<Strip> =
-            cuts.into_par_iter().map(|range| self.strip(range, order.as_deref(), points)).collect();
-        // In the order given unless a strip of several y values sorted its points by x.
-        let in_order = order.is_none() && strips.par_iter().all(|s| s.members.is_empty());
-        (strips, in_order)
+        (cuts, order)
     }
 
     /// The indices of the points within the anchor lattice's range, ordered by y (ties in any
@@ -1117,13 +1137,13 @@ fn changes_of_y(points: &[DVec2]) -> impl Iterator<Item = usize> + '_ {
     })
 }
 
-/// The strips cut into bands (parallel tasks): consecutive strips up to [`BAND_POINTS`] points
-/// (at least one strip) and [`BAND_STRIPS`] strips.
-fn bands(strips: &[Strip]) -> Vec<std::ops::Range<usize>> {
+/// The strips (their ranges of points) cut into bands (parallel tasks): consecutive strips up
+/// to [`BAND_POINTS`] points (at least one strip) and [`BAND_STRIPS`] strips.
+fn bands(strips: &[std::ops::Range<usize>]) -> Vec<std::ops::Range<usize>> {
     let mut bands = Vec::new();
     let (mut first, mut points) = (0, 0);
     for (s, strip) in strips.iter().enumerate() {
-        points += strip.x.len();
+        points += strip.len();
         if s + 1 == strips.len() || points >= BAND_POINTS || s + 1 - first >= BAND_STRIPS {
             bands.push(first..s + 1);
             (first, points) = (s + 1, 0);
