@@ -578,13 +578,8 @@ impl TerrainQuery {
             }
         };
         if order.is_none() {
-            // Points in the order given, likely grid rows: the few changes of y found in parallel.
-            let changes: Vec<usize> = (1..len)
-                .into_par_iter()
-                .step_by(SCAN_CHUNK)
-                .flat_map_iter(|a| changes_of_y(&points[a - 1..(a + SCAN_CHUNK).min(len)]).map(move |k| a + k))
-                .collect();
-            changes.into_iter().for_each(&mut change);
+            // Points in the order given (so by y), likely grid rows: a search for each change.
+            changes_of_y(points).for_each(&mut change);
         } else {
             (1..len).filter(|&k| point(k).y != point(k - 1).y).for_each(&mut change);
         }
@@ -1124,16 +1119,22 @@ fn within_lattice(c: DVec2) -> bool {
     c.x.abs() < FAR && c.y.abs() < FAR
 }
 
-/// The pairs of consecutive `points` whose y differ, by the first's index: a test without a
-/// branch per point over each block (a grid's rows change y once per row), then a search of
-/// the blocks that have a change.
+/// The indices of `points` (ordered by y) whose y differs from the point before's. The points of
+/// one y follow each other, so each run's end is found by doubling steps from its start, then a
+/// bisection: a grid's row costs about twice the logarithm of its length, not a look at every
+/// point.
 fn changes_of_y(points: &[DVec2]) -> impl Iterator<Item = usize> + '_ {
-    const BLOCK: usize = 64;
-    (0..points.len().saturating_sub(1)).step_by(BLOCK).flat_map(move |b| {
-        let block = &points[b..(b + BLOCK + 1).min(points.len())];
-        let any = block.windows(2).map(|pair| usize::from(pair[0].y != pair[1].y)).sum::<usize>() > 0;
-        let pairs = block.windows(2).take(if any { BLOCK } else { 0 }).enumerate();
-        pairs.filter(|(_, pair)| pair[0].y != pair[1].y).map(move |(k, _)| b + k)
+    let mut start = 0;
+    std::iter::from_fn(move || {
+        let y = points.get(start)?.y;
+        // `start + reach` is in the run; the run ends before `start + step` (or the end).
+        let (mut reach, mut step) = (0, 1);
+        while start + step < points.len() && points[start + step].y == y {
+            (reach, step) = (step, 2 * step);
+        }
+        let tail = &points[start + reach + 1..(start + step).min(points.len())];
+        start += reach + 1 + tail.partition_point(|p| p.y == y);
+        (start < points.len()).then_some(start)
     })
 }
 
@@ -1598,17 +1599,25 @@ mod tests {
         }
     }
 
-    /// Every pair of consecutive points whose y differ is found, in order, whatever the blocks.
+    /// Every point whose y differs from the point before's is found, in order, whatever the
+    /// runs' lengths (−0 and +0 are one y).
     #[test]
     fn changes_of_y_finds_every_change() {
+        let check = |points: &[DVec2], what: &str| {
+            let want: Vec<usize> = (1..points.len()).filter(|&k| points[k].y != points[k - 1].y).collect();
+            assert_eq!(changes_of_y(points).collect::<Vec<_>>(), want, "{what}");
+        };
         for len in [0_u32, 1, 2, 63, 64, 65, 129, 300] {
-            for every in [1, 7, 64, 65, 1000] {
+            for every in [1, 2, 3, 7, 64, 65, 1000] {
                 let points: Vec<DVec2> = (0..len).map(|k| DVec2::new(0.0, f64::from(k / every))).collect();
-                let want: Vec<usize> =
-                    (0..len.saturating_sub(1) as usize).filter(|&k| points[k].y != points[k + 1].y).collect();
-                assert_eq!(changes_of_y(&points).collect::<Vec<_>>(), want, "{len} points, rows of {every}");
+                check(&points, &format!("{len} points, rows of {every}"));
             }
         }
+        // Runs of every length from 1 to 40, then 1 to 40 again, and a run across −0 and +0.
+        let runs = (1..=40).chain(1..=40).enumerate().flat_map(|(r, n)| std::iter::repeat_n(r as f64, n));
+        check(&runs.map(|y| DVec2::new(1.0, y)).collect::<Vec<_>>(), "runs of 1 to 40");
+        let zeros = [-1.0, -0.0, -0.0, 0.0, 0.0, -0.0, 1.0].map(|y| DVec2::new(0.0, y));
+        assert_eq!(changes_of_y(&zeros).collect::<Vec<_>>(), [1, 6]);
     }
 
     /// The search from a guess finds the partition point whatever the guess.
