@@ -593,11 +593,17 @@ impl TerrainQuery {
     fn order(&self, points: &[DVec2]) -> Option<Vec<u32>> {
         // The lattice row grows with y, so an order by y is one by row too; −0 and +0 are one y.
         let le = |p: DVec2, q: DVec2| p.y <= q.y;
-        // Each chunk without a branch per point, so that it runs in vectors.
+        // Within this of the origin, a point is within the lattice ([`within_lattice`]): its
+        // quotient by the square's side is below 2³⁰ (1 − 10⁻¹²), and rounding it adds 2⁻⁵³.
+        let near = f64::from(1u32 << 30) * ANCHOR_CELLS * self.cell * (1.0 - 1e-12);
+        let close = |p: DVec2| (p - self.origin).abs().cmplt(DVec2::splat(near)).all();
+        // Each chunk without a branch per point, so that it runs in vectors; the test without a
+        // division first.
         let given = points.par_chunks(SCAN_CHUNK).enumerate().all(|(c, chunk)| {
             let joined = c == 0 || le(points[c * SCAN_CHUNK - 1], chunk[0]);
             let ordered = chunk.windows(2).fold(true, |ordered, pair| ordered & le(pair[0], pair[1]));
-            joined && ordered && chunk.iter().fold(true, |inside, &p| inside & self.in_lattice(p))
+            let close = chunk.iter().fold(true, |inside, &p| inside & close(p));
+            joined && ordered && (close || chunk.iter().fold(true, |inside, &p| inside & self.in_lattice(p)))
         });
         if given {
             return None;
@@ -1596,6 +1602,24 @@ mod tests {
                     "{count} points, {i}"
                 );
             }
+        }
+    }
+
+    /// A batch in y order that ends just within or just beyond the anchor lattice gives the
+    /// single queries: the order check's test without a division lets a point through only
+    /// well within the lattice, and the exact test decides the rest.
+    #[test]
+    fn a_batch_to_the_lattice_edge_is_the_single_queries() {
+        let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::new(50.0, 50.0), 10.0, 1.0)]);
+        let query = terrain.query().unwrap();
+        let edge = f64::from(1u32 << 30) * ANCHOR_CELLS * query.cell;
+        for scale in [1.0 - 1e-13, 1.0 + 1e-13] {
+            let mut row: Vec<DVec2> = (0..100).map(|i| DVec2::new(f64::from(i), 50.0)).collect();
+            row.push(DVec2::new(query.origin.x + edge * scale, 50.0));
+            assert_eq!(query.in_lattice(row[100]), scale < 1.0);
+            let single: Vec<f64> = row.iter().map(|&p| query.elevation(p)).collect();
+            assert_eq!(query.elevations(&row), single, "{scale}");
+            assert!(single[50] > 0.5);
         }
     }
 
