@@ -537,7 +537,25 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      (no change), touching each stretch's first point before the kernels (1.07–1.10× against\n\
      1.03–1.06×), and the stretches in a vector per band instead of a stack array (1.09–1.19× against\n\
      0.98–1.05×, likely code placement). The query's band kernels are now 84 % of its CPU time; the\n\
-     rest, 16 %, is the per-point work the rasterizer does not have (strips, the order check, results).",
+     rest, 16 %, is the per-point work the rasterizer does not have (strips, the order check, results).\n\
+     \n\
+     Late afternoon of 2026-12-03, the same VM: three changes to the query's bookkeeping, the same bits\n\
+     (both query hashes, golden test). Each band builds its own strips just before it sums them (all\n\
+     strips had been built first, 12 MB for a 1024² grid, and the kernels read them back from memory);\n\
+     a batch in y order writes each band's stretch of the output even when a strip sorted its points by\n\
+     x. In sorted input each run of one y ends where a search by doubling steps and a bisection finds\n\
+     it (a grid row: about 20 looks instead of 1024; the scan of every point had been 2–3 % of the\n\
+     query's CPU time). The order check tests each chunk of points against a bound in their own units\n\
+     before it divides (its pass 3.6 → 2.4 % of the CPU time). Against the session's first build (eight\n\
+     rounds alternated): the query's CPU time per 1024² batch 1.11–1.14× → 1.05–1.09× the rasterizer's.\n\
+     The query's bookkeeping outside its band kernels now costs about what the rasterizer's does; its\n\
+     kernels' function takes about 7 % more than the rasterizer's (per stretch: the strips a support\n\
+     reaches, the run a stretch starts in, the next square's brackets). Criterion in quick mode went\n\
+     from 0.94× to 1.19× between runs in the same hour, so the rows below are left as they were. Tried\n\
+     and dropped: the change search fused into the order check (no change); a stretch stored for every\n\
+     strip, empty ones skipped in the kernel loop, in place of the compacted list (1.11–1.17× against\n\
+     1.04–1.08×); a stretch's run found by a branch-free count in place of the scan (1.13–1.16× against\n\
+     1.04–1.10×).",
     ),
     (
         "engine_export",
