@@ -1571,6 +1571,11 @@ mod tests {
             for (i, &k) in s.members.iter().enumerate() {
                 let run = s.runs[s.runs.partition_point(|run| run.end as usize <= i)];
                 assert_eq!(run.corner, query.anchor(query.anchor_of(scattered[k as usize]).unwrap()));
+                let from = (scattered[k as usize] - run.corner) / (ANCHOR_CELLS * query.cell);
+                assert!(
+                    from.cmpge(DVec2::ZERO).all() && from.cmplt(DVec2::ONE).all(),
+                    "{from} squares from the corner"
+                );
                 assert!(!std::mem::replace(&mut seen[k as usize], true));
                 assert!((scattered[k as usize].y - s.y0) * (scattered[k as usize].y - s.y1) <= 0.0);
             }
@@ -1610,16 +1615,19 @@ mod tests {
     /// well within the lattice, and the exact test decides the rest.
     #[test]
     fn a_batch_to_the_lattice_edge_is_the_single_queries() {
-        let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::new(50.0, 50.0), 10.0, 1.0)]);
-        let query = terrain.query().unwrap();
-        let edge = f64::from(1u32 << 30) * ANCHOR_CELLS * query.cell;
-        for scale in [1.0 - 1e-13, 1.0 + 1e-13] {
-            let mut row: Vec<DVec2> = (0..100).map(|i| DVec2::new(f64::from(i), 50.0)).collect();
-            row.push(DVec2::new(query.origin.x + edge * scale, 50.0));
-            assert_eq!(query.in_lattice(row[100]), scale < 1.0);
-            let single: Vec<f64> = row.iter().map(|&p| query.elevation(p)).collect();
-            assert_eq!(query.elevations(&row), single, "{scale}");
-            assert!(single[50] > 0.5);
+        // Query cells wider and narrower than a unit, the edge on either side of the origin.
+        for sigma in [10.0, 0.02] {
+            let terrain = VectorTerrain::new(vec![Gaussian::round(DVec2::new(50.0, 50.0), sigma, 1.0)]);
+            let query = terrain.query().unwrap();
+            let edge = f64::from(1u32 << 30) * ANCHOR_CELLS * query.cell;
+            for (side, scale) in [(1.0, 1.0 - 1e-13), (1.0, 1.0 + 1e-13), (-1.0, 1.0 - 1e-13), (-1.0, 1.0 + 1e-13)] {
+                let mut row: Vec<DVec2> = (0..100).map(|i| DVec2::new(f64::from(i) * 0.5 + 25.0, 50.0)).collect();
+                row.push(DVec2::new(query.origin.x + side * edge * scale, 50.0));
+                assert_eq!(query.in_lattice(row[100]), scale < 1.0);
+                let single: Vec<f64> = row.iter().map(|&p| query.elevation(p)).collect();
+                assert_eq!(query.elevations(&row), single, "σ {sigma}, {side} × {scale}");
+                assert!(single[50] > 0.5);
+            }
         }
     }
 
