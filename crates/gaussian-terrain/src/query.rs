@@ -456,9 +456,9 @@ impl TerrainQuery {
                 let offset = cuts[band.start].start;
                 let (strips, sums) = sum_band(band);
                 for (s, sums) in strips.iter().zip(&sums) {
-                    let start = s.first as usize - offset;
-                    let slots = &mut part[start..start + s.x.len()];
                     if s.members.is_empty() {
+                        let start = s.first as usize - offset;
+                        let slots = &mut part[start..start + s.x.len()];
                         slots.iter_mut().enumerate().for_each(|(n, slot)| *slot = f(self.ground(sums, n)));
                     } else {
                         // Points of several y sorted by x: their slots are within the strip's.
