@@ -557,26 +557,28 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      1.04–1.08×); a stretch's run found by a branch-free count in place of the scan (1.13–1.16× against\n\
      1.04–1.10×).\n\
      \n\
-     Evening of 2026-12-03, the same VM: a harness that holds two variants in one binary behind a\n\
-     switch and alternates them with the rasterizer repetition by repetition (31 each, CPU time summed\n\
-     over threads) resolves about 1 % (two identical variants: 0.993–1.020 over nine runs), where\n\
-     separate builds alternated by round vary by ±5 %. Counted on the 1024² grid of 60k Gaussians, the\n\
-     query's kernels do exactly the rasterizer's work: 1.222 M stretches against 1.222 M spans, 1.707 M\n\
-     vectors against 1.705 M, 18.04 M lanes inside against 18.01 M, 132 k candidates against 132 k\n\
-     band members; what it costs more is set-up per stretch. Kept: the elevations' kernel is compiled\n\
-     with and without the per-lane choice of the next square's brackets, and a stretch in one square\n\
-     takes the second (0.979–0.997× the query's CPU time over four runs; in separate builds over ten\n\
-     rounds the median ratio to the rasterizer went 1.043 → 1.033; the same split had shown no change\n\
-     in other code before). The gradients' kernel showed none (0.994–1.023×) and keeps one loop. Tried\n\
-     and dropped, each in that harness: a support's x range, stretch and roundings over all of a band's\n\
-     strips at once in f64 vectors, with no search for the strips it reaches (0.994–1.010×: the\n\
-     profile's set-up hot spots moved into the kernel's first loads); a stretch's run by a branch-free\n\
-     count (1.088–1.120×: the scan's branch is predicted, the count is a dependency the kernel waits\n\
-     on); at least two vectors per stretch so the loop's trip count is predictable (1.087–1.109×); two\n\
-     one-vector stretches of adjacent rows summed in one pass (1.040–1.066×, and the binary's other path\n\
-     1.20× the rasterizer); the elevations' output allocated zeroed rather than filled in parallel\n\
-     (0.982–1.013×); loops aligned to 64 bytes (`-C llvm-args=-align-loops=64`: no change). The query's\n\
-     CPU time per 1024² batch in these binaries: 1.01–1.05× the rasterizer's.",
+     Evening of 2026-12-03, the same VM: a harness that holds two variants in one binary behind a switch\n\
+     and alternates them with the rasterizer repetition by repetition (31 each, CPU time summed over\n\
+     threads) resolves about 1 % (two identical variants: 0.993–1.020 over nine runs), where separate\n\
+     builds alternated by round vary by ±5 %. Counted on the 1024² grid of 60k Gaussians, the query's\n\
+     kernels do exactly the rasterizer's work: 1.222 M stretches against 1.222 M spans, 1.707 M vectors\n\
+     against 1.705 M, 18.04 M lanes inside against 18.01 M, 132 k candidates against 132 k band members;\n\
+     what it costs more is set-up per stretch. Kept: the elevations' kernel is compiled with and without\n\
+     the per-lane choice of the next square's brackets, and a stretch in one square takes the second\n\
+     (0.979–0.997× the query's CPU time over four runs; in separate builds over ten rounds the median\n\
+     ratio to the rasterizer went 1.043 → 1.033; the same split had shown no change in other code\n\
+     before). The gradients' kernel showed none (0.994–1.023×) and keeps one loop. Tried and dropped,\n\
+     each in that harness: a support's x range, stretch and roundings over all of a band's strips at once\n\
+     in f64 vectors, with no search for the strips it reaches (0.994–1.010×: the profile's set-up hot\n\
+     spots moved into the kernel's first loads); a stretch's run by a branch-free count (1.088–1.120×:\n\
+     the scan's branch is predicted, the count is a dependency the kernel waits on); at least two vectors\n\
+     per stretch so the loop's trip count is predictable (1.087–1.109×); two one-vector stretches of\n\
+     adjacent rows summed in one pass (1.040–1.066×, and the binary's other path 1.20× the rasterizer);\n\
+     the elevations' output allocated zeroed rather than filled in parallel (0.982–1.013×); the\n\
+     single-query path dispatched as its own `pulp` operation, so that the bands' function is smaller\n\
+     (1.019–1.033×); loops aligned to 64 bytes (`-C llvm-args=-align-loops=64`: no change). The query's\n\
+     CPU time per 1024² batch in these binaries: 1.01–1.05× the rasterizer's in most, 0.98–1.12× over\n\
+     all but the pairs' one.",
     ),
     (
         "engine_export",
