@@ -209,8 +209,8 @@ fn fidelity_runs(root: &Path, quick: bool) -> Result<String> {
          sample outside the DEM's elevation range, % of the relief; *flat* the error over samples whose 3 × 3 \
          (mean) or 5 × 5 (max, the open flat away from the steps at its edge) neighbourhood is flat in the DEM \
          (sea, a lake, filled no-data). `paper` is the paper's choices together (3DGS densification by positional \
-         gradients, one Adam step size for every parameter, the plain sum); the other variants are ours with one \
-         of them. Run: `cargo run --release -p relief --example vectorize_fidelity -- DENSITY VARIANT…`.\n",
+         gradients, the paper's Adam: one step size for every parameter and PyTorch's moment decays, the plain \
+         sum); the other variants are ours with one of them. Run: `cargo run --release -p relief --example vectorize_fidelity -- DENSITY VARIANT…`.\n",
     );
     let notes = section_notes("Real DEMs: fidelity, and our choices against the paper's");
     if !notes.is_empty() {
