@@ -1057,6 +1057,32 @@ mod tests {
         }
     }
 
+    /// Adam's first step moves each parameter by its step size: ours moves a primitive's centre
+    /// by 18.75 × the learning rate of its scale (four times as far for one four times as wide),
+    /// its ln σ, θ and ln β by 5.625 × and its amplitude by 1.875 × the learning rate whatever
+    /// its size; the paper's moves every parameter by the learning rate.
+    #[test]
+    fn our_steps_scale_with_the_primitive() {
+        let lr = VectorizeOptions::default().learning_rate;
+        let first_step = |sigma: f64, uniform_steps: bool| -> [f64; 7] {
+            let options = VectorizeOptions { uniform_steps, ..VectorizeOptions::default() };
+            let mut p = Param::new(DVec2::splat(100.0), [sigma, sigma], 0.3, 0.5, 2.0, &options);
+            let before = p.x;
+            p.adam(&[1.0; 7], 1.0, 200f64.ln(), f64::INFINITY);
+            std::array::from_fn(|k| before[k] - p.x[k])
+        };
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-9 * b.abs();
+        let (small, large) = (first_step(2.0, false), first_step(8.0, false));
+        for (k, want) in
+            [(0, 18.75 * 2.0), (1, 18.75 * 2.0), (2, 5.625), (3, 5.625), (4, 5.625), (5, 1.875), (6, 5.625)]
+        {
+            assert!(close(small[k], want * lr), "parameter {k} moved {}", small[k]);
+            let scale = if k < 2 { 4.0 } else { 1.0 };
+            assert!(close(large[k], scale * small[k]), "parameter {k} moved {} and {}", small[k], large[k]);
+        }
+        assert!(first_step(8.0, true).iter().all(|&d| close(d, lr)));
+    }
+
     /// Once the gradient falls tenfold, our Adam's steps regain their full size (its second
     /// moment forgets the first steps' large gradients, an e-fold every 20 steps); 150 steps
     /// later the paper's (PyTorch's β₂ = 0.999) still moves a fifth of its step.
