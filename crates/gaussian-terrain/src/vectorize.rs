@@ -209,7 +209,7 @@ pub struct Vectorized {
 /// hundreds of steps, so every parameter's step shrinks as the fit settles, on top of the
 /// learning rate's decay; 0.95 forgets them in about 20 steps, so the steps keep their size
 /// until the schedule lowers it, and 1.5× the step sizes then pay. Together, on Jacksboro at
-/// 1024² with 10 000 primitives and 350 steps: ℓ₁ 3.33e-3 → 3.00e-3 (β₂ 0.95 alone 3.14e-3;
+/// 1024² with 10 000 primitives and 350 steps: ℓ₁ 3.33e-3 → 2.99e-3 (β₂ 0.95 alone 3.14e-3;
 /// larger steps alone had fitted worse). On the real DEMs of the fidelity tables, 4–12 % lower
 /// at both densities; 2× the steps fitted closer at a DEM's own resolution but up to 8 % worse
 /// on a working grid coarser than the DEM (`docs/benchmarks.md`).

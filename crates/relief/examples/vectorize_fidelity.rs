@@ -18,8 +18,8 @@
 //! `DENSITY` primitives per 1000 DEM samples (default 10, the paper's 10 000 at 1024²);
 //! variants `ours` (default), `paper` (the paper's choices: 3DGS densification by positional
 //! gradients, the paper's Adam: one step size for every parameter and PyTorch's moment decays,
-//! the plain sum with no range kept), and
-//! ours with one of those choices: `positional-densify`, `uniform-steps`, `plain-range`.
+//! the plain sum with no range kept), and ours with one of those choices: `positional-densify`,
+//! `uniform-steps`, `plain-range`.
 
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
