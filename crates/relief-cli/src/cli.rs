@@ -602,7 +602,7 @@ pub(crate) struct VectorizeArgs {
     #[arg(short, long)]
     pub(crate) output: PathBuf,
     /// Optimisation steps.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 260)]
     pub(crate) iterations: usize,
     /// Samples along the longer side of the grid the fit runs on.
     #[arg(long, default_value_t = 512)]

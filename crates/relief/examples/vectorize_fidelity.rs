@@ -12,7 +12,7 @@
 //!   with its lowest elevation.
 //!
 //! `cargo xtask bench` runs it; each line is one fit. `DEMS=salish,luxembourg` picks DEMs, `SEED=3`
-//! the seed of the initial placement (default 0).
+//! the seed of the initial placement (default 0), `ITERS=350` the steps (default the library's).
 //!
 //! Usage: `cargo run --release -p relief --example vectorize_fidelity -- [DENSITY] [VARIANT…]`:
 //! `DENSITY` primitives per 1000 DEM samples (default 10, the paper's 10 000 at 1024²);
@@ -83,7 +83,9 @@ fn options(variant: &str, primitives: usize) -> Result<VectorizeOptions, String>
         Ok(s) => s.parse().map_err(|_| format!("SEED={s}: not an unsigned integer"))?,
         Err(_) => 0,
     };
-    let ours = VectorizeOptions { primitives, seed, ..VectorizeOptions::default() };
+    let iterations =
+        std::env::var("ITERS").ok().and_then(|v| v.parse().ok()).unwrap_or(VectorizeOptions::default().iterations);
+    let ours = VectorizeOptions { primitives, seed, iterations, ..VectorizeOptions::default() };
     Ok(match variant {
         "ours" => ours,
         "paper" => {

@@ -473,7 +473,7 @@ pub enum GaussianSource {
         /// Most primitives (default 2000).
         #[serde(default = "dem_primitives")]
         primitives: usize,
-        /// Optimisation steps (default 200).
+        /// Optimisation steps (default 260).
         #[serde(default = "dem_iterations")]
         iterations: usize,
         /// Working-grid resolution (default 256).
