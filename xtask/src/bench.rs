@@ -204,7 +204,7 @@ fn end_paragraph(md: &mut String) {
 /// 1000 samples) and at 4× that: one table each.
 fn fidelity_runs(root: &Path, quick: bool) -> Result<String> {
     let mut md = String::from(
-        "\n### Real DEMs: fidelity, and our choices against the paper's\n\nEach row one fit (200 steps) of a real DEM \
+        "\n### Real DEMs: fidelity, and our choices against the paper's\n\nEach row one fit (260 steps, the library's default) of a real DEM \
          in `fixtures/dem/` rasterized back at its grid: ℓ₁ normalized like Table 3; *beyond range* the furthest \
          sample outside the DEM's elevation range, % of the relief; *flat* the error over samples whose 3 × 3 \
          (mean) or 5 × 5 (max, the open flat away from the steps at its edge) neighbourhood is flat in the DEM \
