@@ -686,7 +686,7 @@ pub(crate) const SECTION_NOTES: &[(&str, &str)] = &[
          s, 2.83e-3; 450 steps 73.6 s, 2.86e-3; the default 260 steps 50.4 s, 3.20e-3; 200 steps 39.9 s, \
          3.47e-3. The fBm rows above (200 steps): 2.85, 3.26 and 2.80e-3 → 2.95, 3.28 and 2.81e-3 for the \
          same steps in 15.2, 13.9 and 40.3 s; at 260 steps on the 1024² grid, 2.63e-3 in 45.5 s. Against \
-         Table 3 at 11k under the stricter reading: 1.35× on Jacksboro within 60 s (1.28× in 72 s), 1.19× on \
+         Table 3 at 11k under the stricter reading: 1.35× on Jacksboro in 58.8–64.4 s (1.28× in 72 s), 1.19× on \
          fBm in 45.5 s. On the small real DEMs of the fidelity tables, the same 200 steps fit up to 6 % worse \
          (Luxembourg at the paper's density 69.06 → 73.20 × 10⁻³; Salish-land 0.6 % better) in 20–35 % less \
          time, and 270 steps 1–6 % better than 200 before; the tables below are at the new default of 260 \

@@ -39,8 +39,8 @@ const FIT_TOLERANCE: f64 = crate::DEFAULT_TOLERANCE;
 /// a support of 3.03 rather than 3.72 σ for β = 2, two thirds of the samples, so those steps
 /// cost about 30 % less; the settling fifth at [`FIT_TOLERANCE`] then fits the tails. On
 /// Jacksboro at 1024² with 10 000 primitives and 350 steps: ℓ₁ 2.99e-3 → 2.98e-3, 80.8 → 58.8 s;
-/// on the small real DEMs of `docs/benchmarks.md`, 0–6 % more ℓ₁ for the same steps, 1–7 % less
-/// for the same time. 3·10⁻² fitted as closely for the same steps and faster still, but no
+/// on the small real DEMs of `docs/benchmarks.md`, up to 6 % more ℓ₁ for the same steps and
+/// 1–6 % less for the same time (270 steps against 200). 3·10⁻² fitted as closely for the same steps and faster still, but no
 /// closer for the same time; 10⁻² or 3·10⁻² until the last tenth, no closer or 11 % worse;
 /// 10⁻¹, 2.7× worse (docs/benchmarks.md).
 const PLACING_TOLERANCE: f64 = 1e-2;
@@ -310,9 +310,9 @@ impl Param {
 /// The first four fifths of the steps place primitives (densification) on supports cut at
 /// 10⁻² of their amplitude, the last fifth fits them at the render's 10⁻³
 /// ([`crate::DEFAULT_TOLERANCE`]): the placing steps cost about 30 % less, and the last fifth
-/// fits the tails a render adds. A fit cancelled before its last fifth keeps tails it did not
-/// fit; one with a time budget or a target loss, which may stop at any step, fits them at every
-/// step.
+/// fits the tails a render adds (the loss `progress` sees before then is that of the shorter
+/// tails). A fit cancelled before its last fifth keeps tails it did not fit; one with a time
+/// budget or a target loss, which may stop at any step, fits them at every step.
 ///
 /// Deterministic for a given seed and iteration budget, for any thread count.
 ///

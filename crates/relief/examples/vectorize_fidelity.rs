@@ -83,8 +83,10 @@ fn options(variant: &str, primitives: usize) -> Result<VectorizeOptions, String>
         Ok(s) => s.parse().map_err(|_| format!("SEED={s}: not an unsigned integer"))?,
         Err(_) => 0,
     };
-    let iterations =
-        std::env::var("ITERS").ok().and_then(|v| v.parse().ok()).unwrap_or(VectorizeOptions::default().iterations);
+    let iterations = match std::env::var("ITERS") {
+        Ok(s) => s.parse().map_err(|_| format!("ITERS={s}: not an unsigned integer"))?,
+        Err(_) => VectorizeOptions::default().iterations,
+    };
     let ours = VectorizeOptions { primitives, seed, iterations, ..VectorizeOptions::default() };
     Ok(match variant {
         "ours" => ours,
