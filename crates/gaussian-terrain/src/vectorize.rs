@@ -1034,6 +1034,26 @@ mod tests {
         assert_eq!(step_tolerance(0, &targeted), FIT_TOLERANCE);
     }
 
+    /// 3DGS densification: the primitive with the largest accumulated positional gradient is the
+    /// one that grows, and every primitive starts the next interval's sum from zero (a sum that
+    /// kept growing would rank old primitives above new ones for ever).
+    #[test]
+    fn positional_densification_grows_the_largest_sum_and_restarts_every_sum() {
+        let options = VectorizeOptions { primitives: 3, densify: Densify::PositionalGradient, ..Default::default() };
+        let pixels = GridSpec::new(64, 64, DVec2::ZERO, DVec2::ONE).expect("grid");
+        let at = |x: f64, positional: f64| Param {
+            positional,
+            ..Param::new(DVec2::new(x, 32.0), [4.0, 4.0], 0.0, 0.5, 2.0, &options)
+        };
+        let mut params = vec![at(16.0, 1.0), at(48.0, 5.0)];
+        let back: Vec<Back> = (0..2).map(|_| Back { grad: [0.0; 7], error: 0.0 }).collect();
+        densify(&mut params, &back, &options, &pixels);
+        assert_eq!(params.len(), 3, "one room left in the budget: one primitive becomes two");
+        assert_eq!(params[0].x[0], 16.0, "the smaller sum stays as it was");
+        assert!(params[1..].iter().all(|p| (p.x[0] - 48.0).abs() < 4.0 && p.x[0] != 48.0), "the larger sum splits");
+        assert!(params.iter().all(|p| p.positional == 0.0), "every sum restarts after densification");
+    }
+
     /// The range penalty's gradient: `RANGE_WEIGHT / n` up above 2, down below 0, nothing
     /// inside (0 and 2 included).
     #[test]
