@@ -1050,7 +1050,10 @@ mod tests {
         densify(&mut params, &back, &options, &pixels);
         assert_eq!(params.len(), 3, "one room left in the budget: one primitive becomes two");
         assert_eq!(params[0].x[0], 16.0, "the smaller sum stays as it was");
-        assert!(params[1..].iter().all(|p| (p.x[0] - 48.0).abs() < 4.0 && p.x[0] != 48.0), "the larger sum splits");
+        assert!(
+            params[1..].iter().all(|p| (p.x[0] - 48.0).abs() < 4.0 && p.x[0] != 48.0),
+            "the larger sum becomes two (here a clone)"
+        );
         assert!(params.iter().all(|p| p.positional == 0.0), "every sum restarts after densification");
     }
 
