@@ -95,8 +95,9 @@ fn vectorize_runs(root: &Path, quick: bool, reprint: bool) -> Result<String> {
     let mut md = String::from(
         "## gaussian-terrain, vectorize\n\nOne fit of the synthetic `fbm_dem` with 10 000 primitives, 200 Adam steps, \
          working grid 512² by default, 1024² in the paper's protocol (the paper: 1024², ≈ 10 000 primitives, \
-         ≈ 60 s on an RTX 3090; the issue's target: 60 s at 1024² on 2 cores). ℓ₁ is normalized like Table 3 (relief mapped to [−1, 1]), measured at the DEM's \
-         resolution. Run: `cargo run --release -p relief-gaussian-terrain --example vectorize_timing -- <size>`.\n\n",
+         ≈ 60 s on an RTX 3090; the issue's target: 60 s at 1024² on 2 cores). ℓ₁ is of the relief's half-range (the relief mapped to [−1, 1], as \
+         the paper's §4 words it; Table 3's unit, as the authors' code measures it, is the whole relief, so Table 3 \
+         compares with half these figures), measured at the DEM's resolution. Run: `cargo run --release -p relief-gaussian-terrain --example vectorize_timing -- <size>`.\n\n",
     );
     let (lines, fidelity) = if reprint {
         (
@@ -205,7 +206,7 @@ fn end_paragraph(md: &mut String) {
 fn fidelity_runs(root: &Path, quick: bool) -> Result<String> {
     let mut md = String::from(
         "\n### Real DEMs: fidelity, and our choices against the paper's\n\nEach row one fit (260 steps, the library's default) of a real DEM \
-         in `fixtures/dem/` rasterized back at its grid: ℓ₁ normalized like Table 3; *beyond range* the furthest \
+         in `fixtures/dem/` rasterized back at its grid: ℓ₁ of the relief's half-range, as above (twice Table 3's unit); *beyond range* the furthest \
          sample outside the DEM's elevation range, % of the relief; *flat* the error over samples whose 3 × 3 \
          (mean) or 5 × 5 (max, the open flat away from the steps at its edge) neighbourhood is flat in the DEM \
          (sea, a lake, filled no-data). `paper` is the paper's choices together (3DGS densification by positional \

@@ -38,7 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     })?;
     let r = &fit.report;
     println!(
-        "vectorize {size}² (working grid {}²) with {primitives} primitives, {} steps: {:.1} s, {} primitives kept, ℓ1 {:.2e} (normalized to [-1, 1] like Table 3), loss {:.2e}",
+        "vectorize {size}² (working grid {}²) with {primitives} primitives, {} steps: {:.1} s, {} primitives kept, ℓ1 {:.2e} (of the relief's half-range, [-1, 1]; twice Table 3's unit), loss {:.2e}",
         resolution.min(size),
         r.iterations,
         r.seconds,

@@ -24,8 +24,9 @@
 //!   can cancel, and iteration, time and loss budgets. The paper's LPIPS term needs pre-trained
 //!   VGG weights a terrain library cannot ship, so a gradient-domain ℓ₁ (slope differences) takes
 //!   its place: it weighs the same crests and breaks of slope and has an exact gradient.
-//!   [`LossTerms`] report ℓ₁ in the paper's normalization (relief spanning 2) to compare with its
-//!   Table 3.
+//!   [`LossTerms`] report ℓ₁ with the relief spanning 2 (the paper's `[−1, 1]`);
+//!   [`VectorizeReport::l1_of_relief`] gives the fit's error in Table 3's unit (the relief
+//!   spanning 1, as the authors' code measures it).
 //! - [`DetailLayer`] (§3.2): detail primitives at Poisson-disc centres (`relief-poisson-sampling`,
 //!   so placement is seeded and blue-noise) with procedural-noise or error-map amplitude; an
 //!   error-map layer restores the vectorized DEM to f32 rounding.

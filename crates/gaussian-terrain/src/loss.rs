@@ -42,7 +42,9 @@ impl LossWeights {
 }
 
 /// The loss terms of one evaluation, in normalized elevation (the DEM mapped to `[0, 2]`, the
-/// span of the paper's `[−1, 1]`, so figures compare with its Table 3).
+/// span of the `[−1, 1]` the paper's §4 normalizes to). The authors' code measures Table 3 with
+/// the relief spanning `[0, 1]`, so its ℓ₁ compares with half of `l1` here (see
+/// [`VectorizeReport::l1_of_relief`](crate::VectorizeReport::l1_of_relief)).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct LossTerms {
     /// Mean absolute error `ℓ₁`.

@@ -196,7 +196,8 @@ pub struct VectorizeReport {
     /// Loss at the last step on the working grid (normalized elevation, the paper's units).
     pub loss: LossTerms,
     /// Mean absolute error of the Gaussians alone against the DEM, at the DEM's resolution,
-    /// normalized like `loss.l1`.
+    /// normalized like `loss.l1`: of the relief's half-range (the relief spanning `[−1, 1]`, as
+    /// the paper's §4 words it). [`VectorizeReport::l1_of_relief`] gives it in Table 3's unit.
     pub l1_normalized: f64,
     /// The same in elevation units.
     pub l1: f64,
@@ -206,6 +207,34 @@ pub struct VectorizeReport {
     pub seconds: f64,
     /// Why it stopped: "iterations", "time", "loss" or "cancelled".
     pub stopped_by: String,
+}
+
+impl VectorizeReport {
+    /// The mean absolute error of the Gaussians alone as a fraction of the DEM's relief (the
+    /// relief spanning `[0, 1]`), half of [`l1_normalized`](Self::l1_normalized). This is the
+    /// unit of the paper's Table 3 as its authors' code computes it: their optimisation and
+    /// metrics read a 16-bit PNG divided by its largest value and take PyTorch's `L1Loss` of
+    /// that, so their ℓ₁ of 2.21·10⁻³ at 11k primitives compares with this figure.
+    ///
+    /// ```
+    /// use relief_gaussian_terrain::{LossTerms, VectorizeReport};
+    ///
+    /// // A fit that left 2 m of mean error on a DEM with 1 000 m of relief:
+    /// let report = VectorizeReport {
+    ///     iterations: 260,
+    ///     primitives: 10_000,
+    ///     loss: LossTerms::default(),
+    ///     l1_normalized: 0.004,
+    ///     l1: 2.0,
+    ///     l1_with_details: 2.0,
+    ///     seconds: 50.0,
+    ///     stopped_by: "iterations".into(),
+    /// };
+    /// assert_eq!(report.l1_of_relief(), 0.002);
+    /// ```
+    pub fn l1_of_relief(&self) -> f64 {
+        self.l1_normalized / 2.0
+    }
 }
 
 /// A vectorized DEM and how well it fits.

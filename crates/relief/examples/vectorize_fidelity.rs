@@ -1,7 +1,7 @@
 //! Vectorizes real DEMs and measures what a user sees when the result is rasterized back at the
-//! DEM's grid: the mean error (normalized like the paper's Table 3), how far samples leave the
-//! DEM's own elevation range, and how much pattern appears over ground that is exactly flat in the
-//! DEM (sea, filled no-data).
+//! DEM's grid: the mean error (of the relief's half-range, twice the unit of the paper's Table 3),
+//! how far samples leave the DEM's own elevation range, and how much pattern appears over ground
+//! that is exactly flat in the DEM (sea, filled no-data).
 //!
 //! The DEMs (`fixtures/dem/`, sources in its README):
 //! - `jacksboro`: SRTM ridge-and-valley terrain, 403 × 344;

@@ -33,12 +33,14 @@ pub(crate) fn vectorize(args: &VectorizeArgs, ui: &mut Ui) -> Result<()> {
     ui.step("write", || relief::io::write_atomic(&args.output, json.as_bytes()))?;
     let r = &fit.report;
     ui.say(format_args!(
-        "{} primitives after {} steps ({}) in {:.1} s: mean error {:.3} ({:.2e} of the relief's half-range){}",
+        "{} primitives after {} steps ({}) in {:.1} s: mean error {:.3} ({:.2e} of the relief, Table 3's unit; \
+         {:.2e} of its half-range){}",
         r.primitives,
         r.iterations,
         r.stopped_by,
         r.seconds,
         r.l1,
+        r.l1_of_relief(),
         r.l1_normalized,
         if options.detail_spacing.is_some() {
             format!(", {:.2e} with details", r.l1_with_details)
