@@ -721,8 +721,8 @@ pub(crate) const SECTION_NOTES: &[(&str, &str)] = &[
          columns add up to its ℓ; the code's weights are 0.4, 0.2 and 0.2 (the paper's 0.5, 0.25 and 0.25 \
          scaled by 0.8, the same balance), so its ℓ₁ column would be 0.4·ℓ₁, a raw mean error of 5.53e-3 of \
          the relief at 11k primitives. `VectorizeReport::l1_of_relief` gives our error in that unit and \
-         `relief vectorize` prints it. At 1024² with 10 000 primitives and the default 260 steps, on this \
-         day's VM (an AMD EPYC, AVX2, in a fast phase): Jacksboro 30.2 s, 9995 primitives, 1.60e-3 of the \
+         `relief vectorize` prints it. At 1024² with 10 000 primitives and the default 260 steps, on this session's \
+         VM (an AMD EPYC with AVX-512): Jacksboro 30.2 s, 9995 primitives, 1.60e-3 of the \
          relief (350 steps: 42.4 s, 1.49e-3); Salish-land 28.3 s, 9531 primitives, 1.36e-3; Luxembourg (its \
          no-data filled at its lowest elevation) 31.7 s, 9520 primitives, 0.82e-3; the fBm DEM at 260 steps \
          1.32e-3 (45.5 s on 12-04's slower morning). Against Table 3's 2.21e-3 at 11k read as a raw ℓ₁ that \
