@@ -578,7 +578,18 @@ pub(crate) const GROUP_NOTES: &[(&str, &str)] = &[
      single-query path dispatched as its own `pulp` operation, so that the bands' function is smaller\n\
      (1.019–1.033×); loops aligned to 64 bytes (`-C llvm-args=-align-loops=64`: no change). The query's\n\
      CPU time per 1024² batch in these binaries: 1.01–1.05× the rasterizer's in most, 0.98–1.12× over\n\
-     all but the pairs' one.",
+     all but the pairs' one.\n\
+     \n\
+     On 2026-12-04 (an AMD EPYC VM with AVX-512) the rows below are a criterion run again, the first for\n\
+     this group since 11-29, with no query or rasterizer code changed since 12-03: rasterize/1024/60k\n\
+     45.9 ms, under the issue's 50 ms, query/elevations 49.0 ms (1.07×), samples 47.8 ms, build 27.6 ms.\n\
+     Six runs of the pair alone in the hour before: rasterizer 51.9–57.5 ms, query 49.9–56.4 ms,\n\
+     0.87–1.05× run by run. The example `query_vs_raster` (`cargo run --release -p\n\
+     relief-gaussian-terrain --example query_vs_raster`) alternates one rasterization and one batch of\n\
+     the same 1024² samples call by call and times them as a user sees them (wall time, both threads):\n\
+     over fourteen runs of 31 rounds the median per-round ratio was 0.950–0.999 (medians 44.9–58.1 ms for\n\
+     the query, 46.3–62.1 ms for the rasterizer). On this VM batched queries are as fast per sample as\n\
+     rasterization, 0–5 % faster; on 12-03's Intel VM the CPU-time harness above gave 1.01–1.05×.",
     ),
     (
         "engine_export",
