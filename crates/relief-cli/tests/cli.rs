@@ -522,6 +522,16 @@ fn vectorize_then_rasterize_a_real_dem() {
     assert_eq!((out.nx(), out.ny()), (120, 100));
     let ((a, b), (c, d)) = (source.min_max().unwrap(), out.min_max().unwrap());
     assert!((a - c).abs() < 0.15 * (b - a) && (b - d).abs() < 0.15 * (b - a), "{a}..{b} vs {c}..{d}");
+    // The fit's error is printed in metres, as a fraction of the relief (Table 3's unit, as the
+    // paper's authors measure it) and of the relief's half-range (twice that).
+    let line = stdout.lines().find(|l| l.contains("mean error")).expect("the error's line");
+    let words: Vec<&str> = line.split("mean error ").nth(1).unwrap().split_whitespace().collect();
+    let number = |k: usize| words[k].trim_start_matches('(').parse::<f64>().unwrap_or_else(|e| panic!("{line}: {e}"));
+    let (metres, of_relief, of_half) = (number(0), number(1), number(8));
+    assert!(words[2..8].join(" ").contains("relief, Table 3's unit;") && words[11].starts_with("half-range"), "{line}");
+    let relief = f64::from(b - a);
+    assert!((metres / relief - of_relief).abs() <= 0.01 * of_relief + 5e-4 / relief, "{line} ({relief} m of relief)");
+    assert!((of_half - 2.0 * of_relief).abs() <= 0.01 * of_half, "{line}");
     // In the DEM's frame, recorded in the JSON and carried to the raster: degrees, in its CRS
     // (a raster of it once came out labelled as metres with no CRS).
     let degrees = relief::heightfield::Units::Degrees;
