@@ -171,15 +171,18 @@ fn bad_input_gets_typed_errors() {
         VectorizeOptions { learning_rate: f64::NAN, ..options.clone() },
         VectorizeOptions { resolution: 1, ..options.clone() },
         VectorizeOptions { detail_spacing: Some(-1.0), ..options.clone() },
+        VectorizeOptions { beta_range: [4.0, 2.0], ..options.clone() },
+        VectorizeOptions { beta_range: [0.0, 2.0], ..options.clone() },
+        VectorizeOptions { beta_range: [2.0, f64::INFINITY], ..options.clone() },
         VectorizeOptions {
             weights: relief_gaussian_terrain::LossWeights { l1: 0.9, gradient: 0.9 },
             ..options.clone()
         },
     ] {
-        assert!(matches!(
-            vectorize(&dem, &bad, |_| ControlFlow::Continue(())),
-            Err(GaussianError::InvalidOption { .. })
-        ));
+        assert!(
+            matches!(vectorize(&dem, &bad, |_| ControlFlow::Continue(())), Err(GaussianError::InvalidOption { .. })),
+            "{bad:?}"
+        );
     }
 }
 

@@ -618,6 +618,10 @@ pub(crate) struct VectorizeArgs {
     /// beyond the DEM's range, no extra weight on flat ground (by default the fit keeps all three).
     #[arg(long)]
     pub(crate) plain: bool,
+    /// The range of the primitives' exponent β [default: 0.6,8, peaked to flat-topped]. `2,4`
+    /// is the paper's kernel: on 1024² DEMs it fits 13-25 % faster for up to 2 % more error.
+    #[arg(long, value_name = "MIN,MAX", value_parser = parse_beta_range)]
+    pub(crate) beta_range: Option<[f64; 2]>,
     /// Seed of the initial placement.
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u64,
@@ -692,6 +696,14 @@ fn parse_range(s: &str) -> Result<[f32; 2], String> {
         return Err(usage());
     }
     Ok([min, max])
+}
+
+/// `MIN,MAX`, both numbers (the library checks the range itself).
+fn parse_beta_range(s: &str) -> Result<[f64; 2], String> {
+    let usage = || format!("{s:?}: give MIN,MAX, e.g. 2,4");
+    let (a, b) = s.split_once(',').ok_or_else(usage)?;
+    let parse = |v: &str| v.trim().parse::<f64>().map_err(|_| usage());
+    Ok([parse(a)?, parse(b)?])
 }
 
 /// `S` or `SX,SY`, positive and finite.

@@ -493,6 +493,33 @@ fn usage_errors_exit_with_code_two() {
     fails(&["preview", "fixtures/dem/jacksboro.asc", "-o", "never.png", "--max-size", "0"], 2);
 }
 
+/// `--beta-range 2,4` (the paper's kernel) keeps every primitive's exponent within it, where the
+/// default range takes shapes outside it; a range below the fit's bound is refused by name.
+#[test]
+fn vectorize_takes_the_papers_exponents() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dem = root().join("fixtures/dem/salish.tif");
+    let betas = |range: Option<&str>| -> Vec<f64> {
+        let json = tmp.path().join("salish.json");
+        let mut args = vec!["vectorize", dem.to_str().unwrap(), "--primitives", "150", "--iterations", "40"];
+        args.extend(["-o", json.to_str().unwrap(), "--force"]);
+        if let Some(r) = range {
+            args.extend(["--beta-range", r]);
+        }
+        ok(&args);
+        let terrain: relief::gaussian_terrain::VectorTerrain =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        terrain.primitives.iter().map(|g| g.beta).collect()
+    };
+    let paper = betas(Some("2,4"));
+    assert!(!paper.is_empty() && paper.iter().all(|b| (2.0..=4.0).contains(b)), "{paper:?}");
+    let ours = betas(None);
+    assert!(ours.iter().any(|b| !(2.0..=4.0).contains(b)), "{ours:?}");
+    let json = tmp.path().join("refused.json");
+    let stderr = fails(&["vectorize", dem.to_str().unwrap(), "--beta-range", "0.1,2", "-o", json.to_str().unwrap()], 1);
+    assert!(stderr.contains("beta_range"), "{stderr}");
+}
+
 #[test]
 fn vectorize_then_rasterize_a_real_dem() {
     let tmp = tempfile::tempdir().unwrap();

@@ -86,6 +86,7 @@ fn vectorize_options(args: &VectorizeArgs) -> Result<VectorizeOptions> {
         time_budget,
         detail_spacing: args.details,
         keep_range: !args.plain,
+        beta_range: args.beta_range.unwrap_or(VectorizeOptions::default().beta_range),
         seed: args.seed,
         ..VectorizeOptions::default()
     })

@@ -66,15 +66,26 @@ fn load_source(
     match source {
         GaussianSource::Primitives(terrain) => Ok(terrain.clone()),
         GaussianSource::Terrain { path } => env.read_json(path, &format!("{at}.path")),
-        GaussianSource::Dem { path, primitives, iterations, resolution, keep_range, details, fill_no_data } => {
+        GaussianSource::Dem {
+            path,
+            primitives,
+            iterations,
+            resolution,
+            keep_range,
+            details,
+            beta_range,
+            fill_no_data,
+        } => {
             let dem = read_dem(env, path, *fill_no_data, at)?;
+            let defaults = VectorizeOptions::default();
             let options = VectorizeOptions {
                 primitives: *primitives,
                 iterations: *iterations,
                 resolution: *resolution,
                 keep_range: *keep_range,
                 detail_spacing: *details,
-                ..VectorizeOptions::default()
+                beta_range: beta_range.unwrap_or(defaults.beta_range),
+                ..defaults
             };
             let fitted = vectorize(&dem, &options, |p| {
                 tick.reach(p.iteration as u64);

@@ -489,6 +489,11 @@ pub enum GaussianSource {
         /// [`crate::gaussian_terrain::VectorizeOptions::detail_spacing`].
         #[serde(default, skip_serializing_if = "Option::is_none")]
         details: Option<f64>,
+        /// The range of the primitives' exponent β, `[min, max]` (default `[0.6, 8]`; `[2, 4]`
+        /// is the paper's kernel, faster on large grids for a little more error) —
+        /// [`crate::gaussian_terrain::VectorizeOptions::beta_range`].
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        beta_range: Option<[f64; 2]>,
         /// Fill the DEM's no-data samples before the fit: `"min"` at its lowest elevation (a
         /// country masked beyond its border, a sea stored as no-data; the fit's floor then holds
         /// that ground flat) or at an elevation. Default none: a DEM with no-data is refused.
