@@ -1286,6 +1286,57 @@ mod tests {
         assert!(close(off_centre[1], 100.0 * lr), "moved {} at v = 0", off_centre[1]);
     }
 
+    /// Each option is refused just past its bound, by name and with the offending value, and
+    /// taken at the bound.
+    #[test]
+    fn options_are_checked_at_their_bounds() {
+        use crate::loss::LossWeights;
+        let base = VectorizeOptions::default();
+        let refused = |o: VectorizeOptions| match o.validate() {
+            Err(GaussianError::InvalidOption { name, value, .. }) => Some((name, value)),
+            _ => None,
+        };
+        let taken = [
+            VectorizeOptions { primitives: MAX_PRIMITIVES, ..base.clone() },
+            VectorizeOptions { resolution: 2, ..base.clone() },
+            VectorizeOptions { learning_rate: 1e-300, ..base.clone() },
+            VectorizeOptions { weights: LossWeights { l1: 0.5, gradient: 0.5 }, ..base.clone() },
+            VectorizeOptions { max_elongation: 1.0 + 1e-9, ..base.clone() },
+            VectorizeOptions { min_amplitude: 0.0, ..base.clone() },
+            VectorizeOptions { beta_range: [0.5, 0.5], ..base.clone() },
+            VectorizeOptions { detail_spacing: Some(1e-300), ..base.clone() },
+        ];
+        for o in taken {
+            assert_eq!(refused(o.clone()), None, "{o:?}");
+        }
+        let nan = f64::NAN;
+        let cases = [
+            (
+                VectorizeOptions { primitives: MAX_PRIMITIVES + 1, ..base.clone() },
+                "primitives",
+                (MAX_PRIMITIVES + 1) as f64,
+            ),
+            (VectorizeOptions { resolution: 1, ..base.clone() }, "resolution", 1.0),
+            (VectorizeOptions { learning_rate: 0.0, ..base.clone() }, "learning_rate", 0.0),
+            (VectorizeOptions { learning_rate: f64::INFINITY, ..base.clone() }, "learning_rate", f64::INFINITY),
+            (VectorizeOptions { weights: LossWeights { l1: 0.6, gradient: 0.5 }, ..base.clone() }, "weights", 1.1),
+            (VectorizeOptions { max_elongation: 1.0, ..base.clone() }, "max_elongation", 1.0),
+            (VectorizeOptions { max_elongation: nan, ..base.clone() }, "max_elongation", nan),
+            (VectorizeOptions { min_amplitude: f64::INFINITY, ..base.clone() }, "min_amplitude", f64::INFINITY),
+            (VectorizeOptions { beta_range: [4.0, 2.0], ..base.clone() }, "beta_range", 2.0),
+            (VectorizeOptions { beta_range: [0.4, 2.0], ..base.clone() }, "beta_range", 0.4),
+            (VectorizeOptions { beta_range: [f64::INFINITY, 2.0], ..base.clone() }, "beta_range", f64::INFINITY),
+            (VectorizeOptions { beta_range: [2.0, f64::INFINITY], ..base.clone() }, "beta_range", f64::INFINITY),
+            (VectorizeOptions { detail_spacing: Some(0.0), ..base.clone() }, "detail_spacing", 0.0),
+            (VectorizeOptions { detail_spacing: Some(f64::INFINITY), ..base.clone() }, "detail_spacing", f64::INFINITY),
+        ];
+        for (o, name, value) in cases {
+            let got = refused(o.clone()).unwrap_or_else(|| panic!("taken: {o:?}"));
+            let same = got.1 == value || (got.1.is_nan() && value.is_nan()) || (got.1 - value).abs() < 1e-12;
+            assert!(got.0 == name && same, "{o:?}: refused as {got:?}, not ({name}, {value})");
+        }
+    }
+
     /// The exponent stays within the options' range, the paper's `[2, 4]` as ours.
     #[test]
     fn adam_holds_beta_within_its_range() {
