@@ -105,7 +105,8 @@ pub struct VectorizeOptions {
     /// (our normalized relief spans 2) and 0.15 × for ln β (their exponent's sigmoid at its
     /// initial values).
     pub uniform_steps: bool,
-    /// The range of the exponent β while fitting (default `[0.6, 8]`: peaked to flat-topped).
+    /// The range of the exponent β while fitting, `0.5 ≤ min ≤ max` (default `[0.6, 8]`: peaked
+    /// to flat-topped; the initial exponents, drawn in `[1.8, 2.5)`, are clamped into it).
     /// The paper's kernel `exp(−(½d²)^β′)` with `β′ = 1 + sigmoid ∈ (1, 2)` is ours with
     /// `β = 2β′` (and σ rescaled), so `[2, 4]` restricts the fit to the paper's shapes.
     pub beta_range: [f64; 2],
