@@ -295,9 +295,6 @@ struct Param {
     step: [f64; 7],
     /// Adam's second-moment decay ([`BETA2`], or [`PAPER_BETA2`] with uniform steps).
     beta2: f64,
-    /// The paper's steps ([`VectorizeOptions::uniform_steps`]): the centre's step follows the
-    /// authors' tanh positions.
-    paper: bool,
     t: u32,
     /// Σ |∂ℓ/∂c| since the last densification ([`Densify::PositionalGradient`]).
     positional: f64,
@@ -323,8 +320,7 @@ impl Param {
         } else {
             ([18.75 * lr * scale, 18.75 * lr * scale, s, s, s, a, s], BETA2)
         };
-        let paper = options.uniform_steps;
-        Self { x, m: [0.0; 7], v: [0.0; 7], step, beta2, paper, t: 0, positional: 0.0 }
+        Self { x, m: [0.0; 7], v: [0.0; 7], step, beta2, t: 0, positional: 0.0 }
     }
 
     fn gaussian(&self) -> Gaussian {
@@ -338,13 +334,13 @@ impl Param {
         }
     }
 
-    /// The step sizes of this update: the stored ones, but with the paper's steps the centre's
-    /// is the learning rate times the derivative of the authors' `tanh` positions, half the
-    /// working grid's extent times `1 − u²` (`u` the position in `[−1, 1]`, kept off its ends
-    /// as `tanh` keeps it).
-    fn steps(&self, half: DVec2) -> [f64; 7] {
+    /// The step sizes of this update: the stored ones, but with the paper's steps (`half` the
+    /// working grid's half extents, [`Bounds::tanh_half`]) the centre's is the learning rate
+    /// times the derivative of the authors' `tanh` positions, `half` times `1 − u²` (`u` the
+    /// position in `[−1, 1]`, kept off its ends as `tanh` keeps it).
+    fn steps(&self, half: Option<DVec2>) -> [f64; 7] {
         let mut step = self.step;
-        if self.paper {
+        if let Some(half) = half {
             for k in 0..2 {
                 let u = (self.x[k] / half[k] - 1.0).clamp(-0.999, 0.999);
                 step[k] *= half[k] * (1.0 - u * u);
@@ -358,7 +354,7 @@ impl Param {
         let b2 = self.beta2;
         self.t += 1;
         let (c1, c2) = (1.0 - B1.powi(self.t as i32), 1.0 - b2.powi(self.t as i32));
-        let steps = self.steps(bounds.half);
+        let steps = self.steps(bounds.tanh_half);
         let moments = self.m.iter_mut().zip(self.v.iter_mut());
         for (((x, (m, v)), g), step) in self.x.iter_mut().zip(moments).zip(grad).zip(&steps) {
             *m = B1 * *m + (1.0 - B1) * g;
@@ -392,8 +388,9 @@ struct Bounds {
     max_ln_elongation: f64,
     /// ln β stays within these ([`VectorizeOptions::beta_range`]).
     ln_beta: [f64; 2],
-    /// Half the working grid's extent along x and y, in samples (the paper's steps).
-    half: DVec2,
+    /// With the paper's steps ([`VectorizeOptions::uniform_steps`]), half the working grid's
+    /// extent along x and y in samples, the scale of the authors' `tanh` positions.
+    tanh_half: Option<DVec2>,
 }
 
 impl Bounds {
@@ -406,7 +403,7 @@ impl Bounds {
             max_ln_sigma: ((wx.max(wy) - 1) as f64).ln(),
             max_ln_elongation: max_ln_elongation(options),
             ln_beta: [b0.ln(), b1.ln()],
-            half: 0.5 * DVec2::new(wx as f64, wy as f64),
+            tanh_half: options.uniform_steps.then(|| 0.5 * DVec2::new(wx as f64, wy as f64)),
         }
     }
 }
