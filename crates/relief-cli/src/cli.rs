@@ -638,7 +638,8 @@ pub(crate) struct ServeArgs {
     /// The port (0 picks a free one).
     #[arg(long, default_value_t = 8737)]
     pub(crate) port: u16,
-    /// The address to listen on; anything but a loopback address lets other machines in.
+    /// The address to listen on; anything but a loopback address lets other machines in, and the
+    /// studio then asks for a secret token, part of the address it prints.
     #[arg(long, default_value = "127.0.0.1")]
     pub(crate) host: std::net::IpAddr,
     /// Open the studio in the default browser.

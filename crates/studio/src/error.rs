@@ -22,6 +22,9 @@ pub enum StudioError {
     /// The server failed (binding, accepting).
     #[error("serving: {0}")]
     Serve(#[from] std::io::Error),
+    /// No random secret could be drawn for [`crate::Config::token`].
+    #[error("drawing a random token: {0}")]
+    Token(String),
 }
 
 /// A request that failed: its status, what is wrong, and the scene's JSON path of the problem.
@@ -38,6 +41,12 @@ impl ApiError {
     /// A client error with `status`.
     pub(crate) fn new(status: StatusCode, error: impl std::fmt::Display) -> Self {
         Self { status, error: error.to_string(), path: None }
+    }
+
+    /// The status it answers with.
+    #[cfg(test)]
+    pub(crate) fn status(&self) -> StatusCode {
+        self.status
     }
 
     /// 400: the request itself is malformed.

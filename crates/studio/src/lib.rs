@@ -15,6 +15,12 @@
 //! - It listens where it is told ([`serve`]); `relief serve` binds 127.0.0.1, and the studio
 //!   refuses requests whose `Host` is not a loopback name ([`Config::loopback_only`]), so a web
 //!   page cannot reach it through DNS rebinding.
+//! - Other sites' pages cannot use it: an API request whose `Origin` is not the studio's own (or
+//!   whose `Sec-Fetch-Site` says another site made it) gets 403, a request body must be declared
+//!   `application/json` (415 otherwise; uploads excepted), which a page elsewhere cannot send
+//!   without a CORS preflight the studio never grants, and no page may frame it.
+//! - A studio other machines can reach asks for a secret ([`Config::token`], [`new_token`]):
+//!   `relief serve --host 0.0.0.0` prints an address carrying it.
 //! - Request bodies are capped ([`Config::max_body_bytes`]); scenes run under the same
 //!   [`relief::Budget`] as the CLI's.
 //! - Files live in the workspace folder only: names are plain (`[A-Za-z0-9_.-]`, no leading dot,
@@ -44,6 +50,7 @@ mod api;
 mod assets;
 mod edits;
 mod error;
+mod guard;
 mod jobs;
 mod results;
 mod workspace;
@@ -69,6 +76,10 @@ pub struct Config {
     /// a web page elsewhere cannot reach the studio by pointing its own domain at 127.0.0.1
     /// (DNS rebinding). Default `true`; `relief serve --host` with another address turns it off.
     pub loopback_only: bool,
+    /// A secret every request must carry (`?token=` once, then a cookie, or
+    /// `Authorization: Bearer`); 401 otherwise. Default none; `relief serve` sets one (from
+    /// [`new_token`]) whenever it listens beyond loopback.
+    pub token: Option<String>,
 }
 
 impl Config {
@@ -80,6 +91,7 @@ impl Config {
             max_body_bytes: 64 << 20,
             kept_results: 16,
             loopback_only: true,
+            token: None,
         }
     }
 
@@ -104,10 +116,27 @@ pub fn router(config: &Config) -> Result<axum::Router, StudioError> {
 fn build(config: &Config) -> Result<(axum::Router, Arc<api::App>), StudioError> {
     let workspace = workspace::Workspace::open(&config.workspace)?;
     let state = Arc::new(api::App::new(workspace, config));
-    let routes = api::routes(Arc::clone(&state), config.max_body_bytes);
-    let routes =
-        if config.loopback_only { routes.layer(axum::middleware::from_fn(api::loopback_only)) } else { routes };
-    Ok((routes, state))
+    // The last layer added runs first: framing headers on every answer, then the host, the
+    // token and the origin checks.
+    let mut routes =
+        api::routes(Arc::clone(&state), config.max_body_bytes).layer(axum::middleware::from_fn(guard::same_origin));
+    if let Some(secret) = &config.token {
+        let secret: Arc<str> = secret.as_str().into();
+        routes = routes
+            .layer(axum::middleware::from_fn(move |request, next| guard::token(Arc::clone(&secret), request, next)));
+    }
+    if config.loopback_only {
+        routes = routes.layer(axum::middleware::from_fn(guard::loopback_only));
+    }
+    Ok((routes.layer(axum::middleware::from_fn(guard::headers)), state))
+}
+
+/// A new secret for [`Config::token`]: 32 random bytes from the operating system, in hex.
+///
+/// # Errors
+/// [`StudioError::Token`] when the operating system has no randomness to give.
+pub fn new_token() -> Result<String, StudioError> {
+    guard::new_token().map_err(|e| StudioError::Token(e.to_string()))
 }
 
 /// Serves the studio on `listener` until Ctrl-C.

@@ -42,7 +42,25 @@ impl Studio {
         path: &str,
         body: impl Into<Body>,
     ) -> (StatusCode, Vec<u8>) {
+        let (status, _, body) = self.exchange(headers, method, path, body);
+        (status, body)
+    }
+
+    /// [`Studio::send_with`], with the response's headers.
+    fn exchange(
+        &self,
+        headers: &[(&str, &str)],
+        method: &str,
+        path: &str,
+        body: impl Into<Body>,
+    ) -> (StatusCode, axum::http::HeaderMap, Vec<u8>) {
         let mut request = Request::builder().method(method).uri(path);
+        // The page declares every body JSON (uploads aside), as the studio requires.
+        let upload = method == "PUT" && path.starts_with("/api/files/");
+        let typed = headers.iter().any(|(name, _)| name.eq_ignore_ascii_case("content-type"));
+        if matches!(method, "POST" | "PUT") && !upload && !typed {
+            request = request.header("content-type", "application/json");
+        }
         for (name, value) in headers.iter().filter(|(_, v)| !v.is_empty()) {
             request = request.header(*name, *value);
         }
@@ -50,8 +68,8 @@ impl Studio {
         let runtime = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
         runtime.block_on(async {
             let response = self.router.clone().oneshot(request).await.unwrap();
-            let status = response.status();
-            (status, response.into_body().collect().await.unwrap().to_bytes().to_vec())
+            let (status, headers) = (response.status(), response.headers().clone());
+            (status, headers, response.into_body().collect().await.unwrap().to_bytes().to_vec())
         })
     }
 
@@ -108,7 +126,7 @@ fn every_template_generates() {
 #[test]
 fn requests_addressed_to_another_host_are_refused() {
     let studio = Studio::new();
-    for host in ["localhost:8737", "127.0.0.1:8737", "[::1]:8737"] {
+    for host in ["localhost:8737", "127.0.0.1:8737", "[::1]:8737", "[::ffff:127.0.0.1]:8737"] {
         let (status, _) = studio.send_with(&[("host", host)], "GET", "/api/info", Body::empty());
         assert_eq!(status, StatusCode::OK, "{host}");
     }
@@ -124,6 +142,76 @@ fn requests_addressed_to_another_host_are_refused() {
     let open = Studio { router: router(&open).unwrap(), dir: tempfile::tempdir().unwrap() };
     let (status, _) = open.send_with(&[("host", "terrain.lan:8737")], "GET", "/api/info", Body::empty());
     assert_eq!(status, StatusCode::OK);
+}
+
+#[test]
+fn another_sites_page_changes_nothing() {
+    let studio = Studio::new();
+    let scene = island_scene(&studio).to_string();
+    // What any page may send without asking: a text/plain POST, stamped with its origin.
+    let evil = [("host", "127.0.0.1:8737"), ("origin", "http://evil.example"), ("content-type", "text/plain")];
+    for (method, path) in [
+        ("POST", "/api/generate"),
+        ("POST", "/api/export/heightfield.exr"),
+        ("PUT", "/api/scenes/planted.json"),
+        ("PUT", "/api/files/planted.json"),
+        ("POST", "/api/cancel"),
+    ] {
+        let (status, body) = studio.send_with(&evil, method, path, scene.clone());
+        assert_eq!(status, StatusCode::FORBIDDEN, "{method} {path}");
+        assert!(String::from_utf8_lossy(&body).contains("cross-site"), "{}", String::from_utf8_lossy(&body));
+    }
+    // The browser's own word for it (Sec-Fetch-Site) is enough, even on a GET of the API.
+    let site = [("sec-fetch-site", "cross-site")];
+    assert_eq!(studio.send_with(&site, "GET", "/api/scenes", Body::empty()).0, StatusCode::FORBIDDEN);
+    let (_, listed) = studio.json("GET", "/api/scenes", Body::empty());
+    assert_eq!(listed["scenes"], serde_json::json!([]), "nothing was saved");
+    assert!(!studio.dir.path().join("ws/planted.json").exists());
+    assert_eq!(studio.send("GET", "/api/results/1/elevation", Body::empty()).0, StatusCode::NOT_FOUND);
+    // The studio's own page passes, and must declare its JSON.
+    let own = [("host", "127.0.0.1:8737"), ("origin", "http://127.0.0.1:8737"), ("sec-fetch-site", "same-origin")];
+    let plain: Vec<_> = own.iter().copied().chain([("content-type", "text/plain")]).collect();
+    let (status, _) = studio.send_with(&plain, "POST", "/api/generate", scene.clone());
+    assert_eq!(status, StatusCode::UNSUPPORTED_MEDIA_TYPE);
+    let (status, headers, _) = studio.exchange(&own, "POST", "/api/generate", scene);
+    assert_eq!(status, StatusCode::OK);
+    // No page may frame the studio: every answer says so, refusals included.
+    assert_eq!(headers["x-frame-options"], "DENY");
+    assert_eq!(headers["content-security-policy"], "frame-ancestors 'none'");
+    let (_, headers, _) = studio.exchange(&evil, "POST", "/api/generate", "{}");
+    assert_eq!(headers["x-frame-options"], "DENY");
+}
+
+#[test]
+fn a_studio_with_a_token_answers_its_holders_only() {
+    let studio = Studio::with(|mut c| {
+        c.token = Some("s3cret".into());
+        c
+    });
+    let host = ("host", "127.0.0.1:8737");
+    for headers in
+        [vec![host], vec![host, ("authorization", "Bearer wrong")], vec![host, ("cookie", "relief_token_8737=x")]]
+    {
+        let (status, body) = studio.send_with(&headers, "GET", "/api/info", Body::empty());
+        assert_eq!(status, StatusCode::UNAUTHORIZED, "{headers:?}");
+        assert!(String::from_utf8_lossy(&body).contains("token"));
+    }
+    assert_eq!(studio.send_with(&[host], "GET", "/?token=wrong", Body::empty()).0, StatusCode::UNAUTHORIZED);
+    // The printed address sets the cookie and leaves the address bar without the secret.
+    let (status, headers, _) = studio.exchange(&[host], "GET", "/?token=s3cret", Body::empty());
+    assert_eq!(status, StatusCode::SEE_OTHER);
+    assert_eq!(headers["location"], "/");
+    let cookie = headers["set-cookie"].to_str().unwrap();
+    assert!(cookie.starts_with("relief_token_8737=s3cret;") && cookie.contains("HttpOnly"), "{cookie}");
+    assert!(cookie.contains("SameSite=Strict"), "{cookie}");
+    for credential in [("cookie", "other=1; relief_token_8737=s3cret"), ("authorization", "Bearer s3cret")] {
+        let (status, _) = studio.send_with(&[host, credential], "GET", "/api/info", Body::empty());
+        assert_eq!(status, StatusCode::OK, "{credential:?}");
+    }
+    // Another port's cookie is another studio's.
+    let (status, _) =
+        studio.send_with(&[("host", "127.0.0.1:9000"), ("cookie", "relief_token_8737=s3cret")], "GET", "/", "");
+    assert_eq!(status, StatusCode::UNAUTHORIZED);
 }
 
 #[test]
@@ -445,8 +533,10 @@ fn an_abandoned_request_frees_its_generation() {
     slow["generator"]["contours"]["particles"] = 600_000.into();
     let runtime = tokio::runtime::Runtime::new().unwrap();
     runtime.block_on(async {
-        let request =
-            Request::post("/api/generate").header("x-relief-session", "gone").body(Body::from(slow.to_string()));
+        let request = Request::post("/api/generate")
+            .header("content-type", "application/json")
+            .header("x-relief-session", "gone")
+            .body(Body::from(slow.to_string()));
         let task = tokio::spawn(studio.router.clone().oneshot(request.unwrap()));
         let progress = || async {
             let request = Request::get("/api/progress").header("x-relief-session", "gone").body(Body::empty()).unwrap();
@@ -498,8 +588,11 @@ fn progress_streams_as_server_sent_events_down_to_the_fits_iterations() {
             }
         };
         assert_eq!(next_event().await, serde_json::json!({ "running": false }));
-        let request =
-            Request::post("/api/generate").header("x-relief-session", "ev").body(Body::from(slow.to_string())).unwrap();
+        let request = Request::post("/api/generate")
+            .header("content-type", "application/json")
+            .header("x-relief-session", "ev")
+            .body(Body::from(slow.to_string()))
+            .unwrap();
         let running = tokio::spawn(studio.router.clone().oneshot(request));
         // The fit's iterations, counted against its budget, rising.
         let mut seen = Vec::new();
@@ -511,7 +604,11 @@ fn progress_streams_as_server_sent_events_down_to_the_fits_iterations() {
             }
         }
         assert!(seen.is_sorted() && seen[0] < seen[2], "{seen:?}");
-        let cancel = Request::post("/api/cancel").header("x-relief-session", "ev").body(Body::empty()).unwrap();
+        let cancel = Request::post("/api/cancel")
+            .header("content-type", "application/json")
+            .header("x-relief-session", "ev")
+            .body(Body::empty())
+            .unwrap();
         assert!(studio.router.clone().oneshot(cancel).await.unwrap().status().is_success());
         let response = tokio::time::timeout(std::time::Duration::from_secs(30), running).await;
         assert_eq!(

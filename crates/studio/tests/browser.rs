@@ -122,11 +122,7 @@ async fn result_field(client: &Client, field: &str) -> Value {
 
 #[test]
 fn a_user_draws_an_island_undoes_saves_and_reloads_it() {
-    let Some(driver) = on_path("chromedriver").filter(|_| on_path("chromium").is_some()) else {
-        assert!(std::env::var_os("RELIEF_E2E").is_none(), "RELIEF_E2E is set but chromium or chromedriver is missing");
-        eprintln!("skipped: chromium and chromedriver are not on the PATH (apt-get install chromium chromium-driver)");
-        return;
-    };
+    let Some(driver) = browser() else { return };
     let runtime = tokio::runtime::Runtime::new().unwrap();
     runtime.block_on(async {
         let workspace = tempfile::tempdir().unwrap();
@@ -136,6 +132,62 @@ fn a_user_draws_an_island_undoes_saves_and_reloads_it() {
         let (_driver, client) = connect(&driver).await;
         client.goto(&url).await.unwrap();
         scenario(&client, workspace.path()).await;
+        client.close().await.unwrap();
+    });
+}
+
+/// The browser and its driver, or `None` (the test skips) when they are not installed.
+fn browser() -> Option<PathBuf> {
+    let driver = on_path("chromedriver").filter(|_| on_path("chromium").is_some());
+    if driver.is_none() {
+        assert!(std::env::var_os("RELIEF_E2E").is_none(), "RELIEF_E2E is set but chromium or chromedriver is missing");
+        eprintln!("skipped: chromium and chromedriver are not on the PATH (apt-get install chromium chromium-driver)");
+    }
+    driver
+}
+
+/// A page on another site, open in the user's browser beside the studio, tries what any page
+/// may: a `text/plain` POST (no preflight), a JSON POST (preflighted), a form posted into a
+/// frame, and framing the studio. None of it generates: the studio's first result is its own
+/// page's demo.
+#[test]
+fn a_page_on_another_site_cannot_use_the_studio() {
+    let Some(driver) = browser() else { return };
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    runtime.block_on(async {
+        let workspace = tempfile::tempdir().unwrap();
+        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let studio = format!("http://{}", listener.local_addr().unwrap());
+        tokio::spawn(relief_studio::serve(listener, relief_studio::Config::new(workspace.path())));
+        let scene = include_str!("../web/templates/island.json");
+        let page = format!(
+            "<!doctype html><body><form id=f method=post enctype=text/plain target=sink \
+             action='{studio}/api/generate'><input name='{{\"a\":1}}' value=''></form>\
+             <iframe name=sink></iframe><iframe id=framed src='{studio}/'></iframe><script>\
+             const scene = {scene};\n\
+             const text = fetch('{studio}/api/generate', {{ method: 'POST', mode: 'no-cors', \
+               headers: {{ 'content-type': 'text/plain' }}, body: JSON.stringify(scene) }}).then(() => 'sent', e => String(e));\n\
+             const json = fetch('{studio}/api/generate', {{ method: 'POST', \
+               headers: {{ 'content-type': 'application/json' }}, body: JSON.stringify(scene) }}).then(r => r.status, e => 'blocked');\n\
+             document.getElementById('f').submit();\n\
+             window.attack = Promise.all([text, json]);</script></body>"
+        );
+        let evil = axum::Router::new().route("/", axum::routing::get(move || async move { axum::response::Html(page) }));
+        let evil_listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let evil_port = evil_listener.local_addr().unwrap().port();
+        tokio::spawn(async move { axum::serve(evil_listener, evil).await });
+        let (_driver, client) = connect(&driver).await;
+        // `localhost` is another site than `127.0.0.1`, as a web page's domain would be.
+        client.goto(&format!("http://localhost:{evil_port}/")).await.unwrap();
+        let outcome = client
+            .execute_async("window.attack.then(arguments[arguments.length - 1])", vec![])
+            .await
+            .unwrap();
+        assert_eq!(outcome[1], "blocked", "a preflighted JSON POST got through: {outcome}");
+        // The form's answer lands (refused) in its frame; the framed studio shows nothing.
+        tokio::time::sleep(Duration::from_millis(500)).await;
+        client.goto(&format!("{studio}/")).await.unwrap();
+        assert_eq!(next_result(&client, 0).await, 1, "another site's page generated a scene");
         client.close().await.unwrap();
     });
 }

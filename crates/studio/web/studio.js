@@ -79,7 +79,9 @@ function setState(state, text) {
 
 // This page's session: its newer generation cancels its older one on the server too.
 const session = Array.from(crypto.getRandomValues(new Uint8Array(12)), (b) => b.toString(16).padStart(2, "0")).join("");
-const headers = { "x-relief-session": session };
+// Every request with a body says JSON: the studio refuses other types (another site's form).
+const jsonBody = { "content-type": "application/json" };
+const headers = { ...jsonBody, "x-relief-session": session };
 // End-to-end times of the generations shown: [{ server_ms, total_ms }].
 const timings = [];
 
@@ -830,7 +832,7 @@ let skeleton = null;
 async function loadSkeleton() {
   skeleton = null;
   if (generatorKind() !== "gaussian" || tool() !== "move-crest") return;
-  const exportHeaders = { "x-relief-session": `${session}-skeleton` };
+  const exportHeaders = { ...jsonBody, "x-relief-session": `${session}-skeleton` };
   const response = await fetch("/api/export/skeleton.geojson", { method: "POST", body: JSON.stringify(doc), headers: exportHeaders });
   if (!response.ok) return;
   const geojson = await response.json();
@@ -895,7 +897,7 @@ async function loadTemplate(name) {
 
 async function save() {
   const name = $("name").value.trim();
-  const response = await fetch(`/api/scenes/${encodeURIComponent(name)}`, { method: "PUT", body: JSON.stringify(doc) });
+  const response = await fetch(`/api/scenes/${encodeURIComponent(name)}`, { method: "PUT", body: JSON.stringify(doc), headers: jsonBody });
   if (response.ok) {
     setState(document.body.dataset.state, `saved ${name}`);
     await listScenes();
@@ -924,7 +926,7 @@ async function exportOutput() {
   const file = $("export").value;
   setState(document.body.dataset.state, `exporting ${file}…`);
   // Its own job: an edit meanwhile does not cancel it.
-  const exportHeaders = { "x-relief-session": `${session}-export` };
+  const exportHeaders = { ...jsonBody, "x-relief-session": `${session}-export` };
   const response = await fetch(`/api/export/${file}`, { method: "POST", body: JSON.stringify(doc), headers: exportHeaders });
   if (!response.ok) {
     const body = await response.json();
@@ -974,7 +976,7 @@ function startFrom(scene) {
 /** Shows the uploaded DEM itself as the current result (the scene is unchanged). */
 async function openUpload() {
   generation++;
-  const response = await fetch(`/api/files/${encodeURIComponent(uploaded)}/open`, { method: "POST" });
+  const response = await fetch(`/api/files/${encodeURIComponent(uploaded)}/open`, { method: "POST", headers: jsonBody });
   const body = await response.json();
   if (!response.ok) {
     $("message").textContent = body.error;

@@ -13,12 +13,24 @@ pub(crate) fn serve(args: &ServeArgs, ui: &mut Ui) -> Result<()> {
             .await
             .with_context(|| format!("listening on {}:{} (try another --port)", args.host, args.port))?;
         let address = listener.local_addr().context("reading the bound address")?;
-        let url = format!("http://{address}/");
         let mut config = relief_studio::Config::new(&args.workspace).with_budget(ui.budget());
-        config.loopback_only = args.host.is_loopback();
+        // `::ffff:127.0.0.1` is loopback too.
+        let loopback = args.host.to_canonical().is_loopback();
+        config.loopback_only = loopback;
+        let mut url = format!("http://{address}/");
+        if !loopback {
+            // Other machines can reach it: only those given the printed address get in.
+            let token = relief_studio::new_token().context("drawing the studio's token")?;
+            url = format!("{url}?token={token}");
+            config.token = Some(token);
+        }
         ui.say(format_args!("relief studio at {url} (workspace {}; Ctrl-C stops it)", args.workspace.display()));
-        if !args.host.is_loopback() {
-            ui.warn(format_args!("listening on {}: other machines can reach the studio", args.host));
+        if !loopback {
+            ui.warn(format_args!(
+                "listening on {}: other machines can reach the studio; it answers only those given the address \
+                 above (its token), over plain HTTP",
+                args.host
+            ));
         }
         if args.open
             && let Err(error) = open_browser(&url)

@@ -24,7 +24,7 @@ use std::sync::{Arc, Mutex};
 use axum::Json;
 use axum::Router;
 use axum::extract::{DefaultBodyLimit, Path, State};
-use axum::http::{HeaderMap, StatusCode, header};
+use axum::http::{HeaderMap, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use relief::Scene;
@@ -130,28 +130,6 @@ pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
         .with_state(app)
 }
 
-/// Refuses (403) a request whose `Host` header names anything but a loopback address: a page on
-/// another site that rebinds its domain to 127.0.0.1 sends its own domain as the host. A
-/// request without a `Host` (not from a browser) passes.
-pub(crate) async fn loopback_only(request: axum::extract::Request, next: axum::middleware::Next) -> Response {
-    let host = request.headers().get(header::HOST).map(|h| h.to_str().unwrap_or_default());
-    if host.is_none_or(is_loopback_host) {
-        next.run(request).await
-    } else {
-        let error = "the studio answers requests to localhost only (start it with --host to serve others)";
-        ApiError::new(StatusCode::FORBIDDEN, error).into_response()
-    }
-}
-
-/// `localhost`, `127.x.x.x` or `[::1]`, with or without a port.
-fn is_loopback_host(host: &str) -> bool {
-    let name = match host.strip_prefix('[') {
-        Some(rest) => rest.split(']').next().unwrap_or_default(),
-        None => host.rsplit_once(':').map_or(host, |(name, _)| name),
-    };
-    name.eq_ignore_ascii_case("localhost") || name.parse::<std::net::IpAddr>().is_ok_and(|ip| ip.is_loopback())
-}
-
 /// A file to download: its content type and its name for the browser's save dialog.
 pub(crate) fn attachment(file: &str, content_type: &str, bytes: Vec<u8>) -> Response {
     let disposition = format!("attachment; filename=\"{file}\"");
@@ -197,30 +175,4 @@ pub(crate) fn session(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
 /// Whether `name` can name a session: 1 to 64 ASCII letters, digits or `-`.
 pub(crate) fn session_name_ok(name: &str) -> bool {
     (1..=64).contains(&name.len()) && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-')
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn only_loopback_hosts_pass() {
-        for host in [
-            "localhost",
-            "localhost:8737",
-            "LOCALHOST:1",
-            "127.0.0.1",
-            "127.0.0.1:8737",
-            "127.1.2.3:80",
-            "[::1]:8737",
-            "[::1]",
-        ] {
-            assert!(is_loopback_host(host), "{host}");
-        }
-        for host in
-            ["evil.example:8737", "example.com", "10.0.0.1:8737", "0.0.0.0:8737", "[::2]:80", "localhost.evil.com", ""]
-        {
-            assert!(!is_loopback_host(host), "{host}");
-        }
-    }
 }
