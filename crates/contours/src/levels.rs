@@ -125,13 +125,15 @@ pub fn interval_levels(
     if last < first {
         return Ok(Vec::new());
     }
-    let n = (last - first) as usize + 1;
-    if n > max_levels {
+    // Counted in f64: a tiny interval's count overflows usize (and wrapped to none), a huge
+    // ratio's is infinite or NaN.
+    let count = last - first + 1.0;
+    if count.is_nan() || count > max_levels as f64 {
         return Err(ContoursError::InvalidLevelRequest {
-            reason: format!("interval {interval} gives {n} levels over [{min}, {max}], more than {max_levels}"),
+            reason: format!("interval {interval} gives {count:e} levels over [{min}, {max}], more than {max_levels}"),
         });
     }
-    Ok((0..n).map(|k| base + (first + k as f64) * interval).collect())
+    Ok((0..count as usize).map(|k| base + (first + k as f64) * interval).collect())
 }
 
 /// Checks that `levels` are finite and strictly increasing.
@@ -173,6 +175,11 @@ mod tests {
         assert!(Levels::Count(3).resolve(5.0, 1.0).is_err());
         assert_eq!(Levels::Interval(150.0).resolve(10.0, 400.0), Ok(vec![150.0, 300.0]));
         assert!(Levels::Interval(1e-3).resolve(0.0, 1e6).is_err(), "too many levels");
+        // Counts past usize (they used to wrap to no level at all) and past f64.
+        assert!(Levels::Interval(1e-20).resolve(0.0, 400.0).is_err(), "1e22 levels");
+        assert!(Levels::Interval(1e-20).resolve(-1e300, 1e300).is_err(), "an infinite count");
+        assert_eq!(interval_levels(0.0, 10.0, 1.0, 0.0, 11).map(|l| l.len()), Ok(11), "at the cap");
+        assert!(interval_levels(0.0, 10.0, 1.0, 0.0, 10).is_err(), "one past it");
         assert_eq!(Levels::Heights(vec![9.0, 2.0]).resolve(0.0, 1.0), Ok(vec![9.0, 2.0]));
         // JSON: the same checks as the request is read.
         assert!(serde_json::from_str::<Levels>(r#"{ "interval": -5 }"#).is_err());

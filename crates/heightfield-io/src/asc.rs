@@ -247,6 +247,7 @@ mod tests {
         assert!(bad("ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\ndx 1\n5\n"), "cellsize and dx");
         assert!(bad("ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\n5\n"), "no cell size");
         assert!(bad("ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize -1\n5\n"), "negative cell");
+        assert!(bad("ncols 2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1e-320\n5 6\n"), "subnormal cell");
         assert!(bad("ncols 1\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize\n"), "value missing");
         assert!(bad("ncols 0\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n"), "zero columns");
     }

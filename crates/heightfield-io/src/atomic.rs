@@ -8,8 +8,9 @@ use crate::{IoError, IoErrorKind};
 /// Writes `bytes` to `path` so that readers see either the old file or the complete new one.
 ///
 /// The temporary file lives in the target's directory (a rename across file systems would not be
-/// atomic) and is named `.<name>.<random>.tmp`; on any failure it is removed and no file appears
-/// under the final name.
+/// atomic) and is named `.<name>.<pid>.<random>.tmp`; on any failure it is removed and no file
+/// appears under the final name. A process killed outright (SIGKILL, a power cut) cannot remove
+/// its own: the next write of the same name removes those whose process is gone ([`remove_stale`]).
 pub(crate) fn write(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     write_with(path, |w| w.write_all(bytes))
 }
@@ -22,7 +23,9 @@ pub(crate) fn write_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let prefix = format!(".{}.", path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default());
+    let name = path.file_name().map(|n| n.to_string_lossy()).unwrap_or_default();
+    remove_stale(dir, &name);
+    let prefix = format!(".{name}.{}.", std::process::id());
     let mut builder = tempfile::Builder::new();
     builder.prefix(&prefix).suffix(".tmp");
     // Temporary files are private (0600) by default; the final file should get the usual
@@ -42,4 +45,64 @@ pub(crate) fn write_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::
     // On failure `PersistError` hands the temporary file back; dropping it deletes it.
     tmp.persist(path).map_err(|e| err(e.error))?;
     Ok(())
+}
+
+/// How old a temporary file must be before it counts as abandoned where its writer's process
+/// cannot be looked up (no `/proc`, or a name without a process id).
+const STALE_AGE: std::time::Duration = std::time::Duration::from_secs(3600);
+
+/// Removes the temporary files `.<name>.<pid>.<random>.tmp` in `dir` that a killed process left:
+/// those of a process no longer running (Linux's `/proc`), or, where that cannot be told, older
+/// than an hour. A live writer's file, this process's included, is left alone. Best effort:
+/// failures are ignored, as the write that follows does not depend on it.
+fn remove_stale(dir: &Path, name: &str) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let prefix = format!(".{name}.");
+    let proc_fs = Path::new("/proc/self").exists();
+    for entry in entries.filter_map(Result::ok) {
+        let file = entry.file_name();
+        let Some(middle) = file.to_str().and_then(|f| f.strip_prefix(&prefix)).and_then(|f| f.strip_suffix(".tmp"))
+        else {
+            continue;
+        };
+        // `<pid>.<random>`; a name of its own (`a.b` beside `a`'s temporaries) has no number.
+        let pid = middle.split_once('.').and_then(|(pid, _)| pid.parse::<u32>().ok());
+        let gone = match pid {
+            Some(pid) if pid == std::process::id() => false,
+            Some(pid) if proc_fs => !Path::new("/proc").join(pid.to_string()).exists(),
+            _ => {
+                entry.metadata().and_then(|m| m.modified()).is_ok_and(|t| t.elapsed().is_ok_and(|age| age > STALE_AGE))
+            }
+        };
+        if gone {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_killed_writers_temporaries_go_and_live_ones_stay() {
+        let dir = tempfile::tempdir().unwrap();
+        let at = |f: &str| dir.path().join(f);
+        // Process ids beyond Linux's maximum (2^22) are never running.
+        let dead = format!(".out.tif.{}.aB3dE9.tmp", (1u32 << 22) + 7);
+        let mine = format!(".out.tif.{}.Zz9Zz9.tmp", std::process::id());
+        let other_output = format!(".other.tif.{}.aB3dE9.tmp", (1u32 << 22) + 7);
+        for f in [&dead, &mine, &other_output, ".out.tif.notes"] {
+            std::fs::write(at(f), b"partial").unwrap();
+        }
+        write(&at("out.tif"), b"whole").unwrap();
+        assert_eq!(std::fs::read(at("out.tif")).unwrap(), b"whole");
+        assert!(!at(&dead).exists() || !Path::new("/proc/self").exists(), "a dead writer's file stays");
+        for kept in [&mine, &other_output, ".out.tif.notes"] {
+            assert!(at(kept).exists(), "{kept} was removed");
+        }
+        // Nothing of this write is left behind.
+        let left = std::fs::read_dir(dir.path()).unwrap().count();
+        assert_eq!(left, if Path::new("/proc/self").exists() { 4 } else { 5 });
+    }
 }

@@ -22,8 +22,12 @@ pub enum HeightfieldError {
         /// The largest sample count a grid may hold.
         max: u64,
     },
-    /// The spacing between samples is not a finite positive number.
-    #[error("cell size ({x}, {y}) must be finite and > 0 along both axes")]
+    /// The spacing between samples is not a finite positive number, is subnormal, or is too small
+    /// for the origin's magnitude to tell neighbouring samples apart.
+    #[error(
+        "cell size ({x}, {y}) must be finite and > 0 along both axes, at least f64's smallest normal number, and \
+         large enough that neighbouring samples' coordinates differ"
+    )]
     InvalidCellSize {
         /// Spacing along x.
         x: f64,

@@ -232,12 +232,20 @@ impl GridSpec {
         if n as u64 > MAX_SAMPLES {
             return Err(too_many);
         }
-        if !(cell_size.x.is_finite() && cell_size.y.is_finite() && cell_size.x > 0.0 && cell_size.y > 0.0) {
+        // Normal, not merely positive: a subnormal spacing (an ASCII grid's `cellsize 1e-320`)
+        // loses its precision and its reciprocal is infinite.
+        if !(cell_size.x.is_normal() && cell_size.y.is_normal() && cell_size.x > 0.0 && cell_size.y > 0.0) {
             return Err(HeightfieldError::InvalidCellSize { x: cell_size.x, y: cell_size.y });
         }
         let far = origin + DVec2::new((nx - 1) as f64, (ny - 1) as f64) * cell_size;
         if !(origin.is_finite() && far.is_finite()) {
             return Err(HeightfieldError::InvalidOrigin { x: origin.x, y: origin.y });
+        }
+        // Every sample its own coordinates: a spacing below the origin's rounding step would put
+        // neighbours at one point.
+        let apart = |o: f64, f: f64, c: f64, n: usize| n == 1 || (o + c > o && f - c < f);
+        if !(apart(origin.x, far.x, cell_size.x, nx) && apart(origin.y, far.y, cell_size.y, ny)) {
+            return Err(HeightfieldError::InvalidCellSize { x: cell_size.x, y: cell_size.y });
         }
         Ok(Self { nx, ny, origin, cell_size, units: Units::Metres })
     }
@@ -498,6 +506,19 @@ mod tests {
             GridSpec::new(3, 3, DVec2::new(f64::NAN, 0.0), DVec2::ONE),
             Err(HeightfieldError::InvalidOrigin { .. })
         ));
+        // A subnormal spacing, and one below the origin's rounding step (neighbours at one point).
+        for (origin, cell) in [(0.0, 1e-320), (1e6, 1e-12), (0.0, f64::MIN_POSITIVE / 2.0)] {
+            assert!(
+                matches!(
+                    GridSpec::new(3, 3, DVec2::splat(origin), DVec2::new(1.0, cell)),
+                    Err(HeightfieldError::InvalidCellSize { .. })
+                ),
+                "{origin} {cell}"
+            );
+        }
+        assert!(GridSpec::new(3, 3, DVec2::ZERO, DVec2::splat(f64::MIN_POSITIVE)).is_ok(), "the smallest normal");
+        assert!(GridSpec::new(1, 1, DVec2::splat(1e6), DVec2::splat(1e-12)).is_ok(), "one sample has no neighbour");
+        assert!(GridSpec::new(3, 3, DVec2::splat(1e6), DVec2::splat(1e-9)).is_ok(), "apart at 1e6");
         assert!(matches!(
             GridSpec::new(3, 3, DVec2::ZERO, DVec2::splat(f64::MAX)),
             Err(HeightfieldError::InvalidOrigin { .. })

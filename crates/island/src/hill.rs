@@ -38,6 +38,9 @@ impl Hill {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(IslandError::NotFinite { what: "a hill parameter" });
         }
+        if self.height.abs() > crate::MAX_HEIGHT {
+            return Err(IslandError::InvalidHill { reason: "a height beyond ±1e7 (MAX_HEIGHT)" });
+        }
         if self.radii[0] <= 0.0 || self.radii[1] <= 0.0 {
             return Err(IslandError::InvalidHill { reason: "radii must be positive" });
         }

@@ -17,6 +17,14 @@ use crate::hill::{Hill, Shape};
 /// per sample, so this caps it near 850 MB.
 pub const MAX_CELLS: usize = 1 << 25;
 
+/// The largest height a setting or a hill may give, world units (10 000 km). The grids hold f32
+/// samples: far larger heights, and the sums of many, would overflow them.
+pub const MAX_HEIGHT: f64 = 1.0e7;
+
+/// The largest side of an island's domain, world units (a million km): the perturbations' heights
+/// scale with the island's size, and must stay within f32's range.
+pub const MAX_EXTENT: f64 = 1.0e9;
+
 /// Below this many samples a pass runs on the calling thread: waking the pool costs more.
 const PARALLEL_MIN: usize = 1 << 14;
 
@@ -94,20 +102,23 @@ impl Default for IslandSettings {
 impl IslandSettings {
     fn check(&self) -> Result<(), IslandError> {
         let bad = |name, value, reason| Err(IslandError::InvalidParameter { name, value, reason });
-        if !(self.height.is_finite() && self.height > 0.0) {
-            return bad("height", self.height, "must be positive");
+        if !(self.height.is_finite() && self.height > 0.0 && self.height <= MAX_HEIGHT) {
+            return bad("height", self.height, "must be positive and at most 1e7 (MAX_HEIGHT)");
         }
         if let Some(s) = self.snap
             && !(s.is_finite() && s > 0.0)
         {
             return bad("snap", s, "must be positive");
         }
-        if !(self.land_floor.is_finite() && self.land_floor > 0.0) {
-            return bad("land_floor", self.land_floor, "must be positive");
+        if !(self.land_floor.is_finite() && self.land_floor > 0.0 && self.land_floor <= MAX_HEIGHT) {
+            return bad("land_floor", self.land_floor, "must be positive and at most 1e7 (MAX_HEIGHT)");
         }
         for (name, [lo, hi]) in [("filter_radius", self.filter_radius), ("filter_height", self.filter_height)] {
             if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
                 return bad(name, lo, "needs 0 < min ≤ max");
+            }
+            if hi > 10.0 {
+                return bad(name, hi, "a fraction: at most 10");
             }
         }
         Ok(())
@@ -205,7 +216,8 @@ impl Island {
     /// centred) over a conical island of `settings.height`.
     ///
     /// # Errors
-    /// [`IslandError::Grid`] for grids narrower than 3 samples or above [`MAX_CELLS`];
+    /// [`IslandError::Grid`] for grids narrower than 3 samples, above [`MAX_CELLS`] or wider than
+    /// [`MAX_EXTENT`];
     /// [`IslandError::InvalidParameter`] for bad settings.
     pub fn new(grid: GridSpec, settings: IslandSettings, seed: u64) -> Result<Self, IslandError> {
         let (nx, ny) = (grid.nx(), grid.ny());
@@ -217,6 +229,9 @@ impl Island {
         }
         settings.check()?;
         let extent = grid.extent();
+        if extent.size().max_element() > MAX_EXTENT {
+            return Err(IslandError::Grid { nx, ny, reason: "a domain wider than 1e9 world units (MAX_EXTENT)" });
+        }
         let (center, r) = (extent.center(), 0.4 * extent.size().min_element());
         let circle: Vec<DVec2> = (0..128)
             .map(|k| {

@@ -54,7 +54,9 @@ mod island;
 pub use error::IslandError;
 pub use geometry::EditKind;
 pub use hill::Hill;
-pub use island::{Island, IslandLayers, IslandSettings, MAX_CELLS, MAX_FILTERS, NewHeights, Operation};
+pub use island::{
+    Island, IslandLayers, IslandSettings, MAX_CELLS, MAX_EXTENT, MAX_FILTERS, MAX_HEIGHT, NewHeights, Operation,
+};
 
 /// The crate README's example, compiled and run as a doc test.
 #[cfg(doctest)]

@@ -233,6 +233,39 @@ proptest! {
     }
 }
 
+/// Heights beyond f32's reach are refused by name, never a panic when the grid is made (a scene
+/// asking for a 3.5e38 m island used to abort `relief generate`).
+#[test]
+fn heights_too_large_for_the_grid_are_refused() {
+    let settings = |f: fn(&mut IslandSettings)| {
+        let mut s = IslandSettings::default();
+        f(&mut s);
+        Island::new(grid(33), s, 1).map(drop)
+    };
+    let refused = |result: Result<(), IslandError>, field: &str| match result {
+        Err(IslandError::InvalidParameter { name, .. }) => assert_eq!(name, field),
+        other => panic!("{field}: {other:?}"),
+    };
+    refused(settings(|s| s.height = 3.5e38), "height");
+    refused(settings(|s| s.height = 1.0e7 * 1.000_001), "height");
+    refused(settings(|s| s.land_floor = 2.0e7), "land_floor");
+    refused(settings(|s| s.filter_height = [0.1, 11.0]), "filter_height");
+    refused(settings(|s| s.filter_radius = [0.1, 11.0]), "filter_radius");
+    assert!(settings(|s| s.height = 1.0e7).is_ok(), "MAX_HEIGHT itself is allowed");
+    let mut i = island(33);
+    for height in [3.5e38, -2.0e7] {
+        let hill = Hill::round(DVec2::splat(500.0), 100.0, height);
+        assert!(matches!(i.add_hill(hill), Err(IslandError::InvalidHill { .. })), "{height}");
+    }
+    assert!(i.add_hill(Hill::round(DVec2::splat(500.0), 100.0, -1.0e7)).is_ok());
+    let wide = GridSpec::new(33, 33, DVec2::ZERO, DVec2::splat(1.0e8)).unwrap();
+    assert!(matches!(Island::new(wide, IslandSettings::default(), 1), Err(IslandError::Grid { .. })));
+    // At the bounds every sample stays finite.
+    let mut i = Island::new(grid(33), IslandSettings { height: 1.0e7, ..IslandSettings::default() }, 1).unwrap();
+    i.add_hill(Hill::round(DVec2::splat(500.0), 400.0, 1.0e7)).unwrap();
+    assert!(i.heightfield().samples().iter().all(|v| v.is_finite()));
+}
+
 #[test]
 fn bad_input_is_a_typed_error() {
     let mut i = island(65);

@@ -160,6 +160,12 @@ pub enum SceneError {
         /// The file.
         path: PathBuf,
     },
+    /// An output path leaves the output folder (absolute, or climbing with `..`).
+    #[error("{}: outputs are written inside the output folder (a relative path without `..`)", path.display())]
+    OutsideOutputFolder {
+        /// The path.
+        path: PathBuf,
+    },
     /// The terrain reaches outside the fixed vertical range its 16-bit outputs were asked to use.
     #[error("the terrain spans [{low}, {high}], outside [{min}, {max}]: widen the range or leave it out")]
     RangeTooNarrow {

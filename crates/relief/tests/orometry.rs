@@ -23,6 +23,18 @@ fn fixture() -> (Scene, PathBuf) {
     (scene, path.parent().unwrap().to_owned())
 }
 
+/// Every sample of a synthesized terrain is filled at any resolution: at 256² over 24 km the
+/// last column's `x / cell` rounds to 254.99…, which left it empty (NaN) and failed the run.
+#[test]
+fn every_resolution_fills_every_sample() {
+    let (mut scene, base) = fixture();
+    for n in [255, 256, 257] {
+        scene.reconstruction.resolution = [n, n];
+        let terrain = generate(&scene, &base, &mut Quiet).unwrap_or_else(|e| panic!("{n}: {e}"));
+        assert_eq!(terrain.heightfield.no_data_count(), 0, "{n}");
+    }
+}
+
 #[test]
 fn orometry_scene_keeps_pins_applies_edits_and_drains() {
     let (scene, base) = fixture();

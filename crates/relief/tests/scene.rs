@@ -380,6 +380,11 @@ fn outputs_name_their_formats_and_files_apart() {
         (serde_json::json!({ "summary": "summary.txt" }), "outputs.summary", ".json"),
         (serde_json::json!({ "divide_tree": "tree.svg" }), "outputs.divide_tree", ".geojson"),
         (serde_json::json!({ "heightfield": ["t.png"], "preview": "t.png" }), "outputs", "named by two outputs"),
+        // Nothing lands outside the output folder.
+        (serde_json::json!({ "heightfield": ["ok.tif", "../up.tif"] }), "outputs.heightfield[1]", "inside the output"),
+        (serde_json::json!({ "preview": "/tmp/relief-escape.png" }), "outputs.preview", "without `..`"),
+        (serde_json::json!({ "summary": "a/../../s.json" }), "outputs.summary", "inside the output"),
+        (serde_json::json!({ "engines": [{ "for": "unity", "dir": "../unity" }] }), "outputs.engines[0].dir", ".."),
     ] {
         let mut v = base();
         v["outputs"] = outputs.clone();
@@ -392,7 +397,7 @@ fn outputs_name_their_formats_and_files_apart() {
     }
     // Upper-case extensions and GeoJSON as .json are fine.
     let mut v = base();
-    v["outputs"] = serde_json::json!({ "preview": "P.PNG", "contours_geojson": "c.json", "summary": null });
+    v["outputs"] = serde_json::json!({ "preview": "P.PNG", "contours_geojson": "maps/c.json", "summary": null });
     assert!(relief::pipeline::check_outputs(&Scene::from_json(&v.to_string()).unwrap().outputs).is_ok());
 }
 
@@ -424,6 +429,43 @@ fn a_run_replaces_the_files_of_the_run_before_it() {
     run(&fewer, &root(), dir.path(), &mut ()).unwrap();
     assert!(outside.is_file());
     std::fs::remove_file(outside).unwrap();
+}
+
+/// The names in `dir`, sorted, hidden ones included.
+fn names_in(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> =
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    names
+}
+
+/// Outputs are staged and replace the earlier set only once all are written: a run that fails
+/// part-way (here its preview cannot be written, after its heightfields were) leaves the earlier
+/// run's files as they were, and a staging folder a killed run left is removed by the next run.
+#[test]
+fn a_run_that_fails_while_writing_leaves_the_earlier_set_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::from_json(&base().to_string()).unwrap();
+    run(&scene, &root(), dir.path(), &mut ()).unwrap();
+    let before: Vec<(String, Vec<u8>)> =
+        names_in(dir.path()).into_iter().map(|n| (n.clone(), std::fs::read(dir.path().join(&n)).unwrap())).collect();
+    let mut failing = scene.clone();
+    failing.seed = scene.seed + 1;
+    failing.outputs.heightfield = vec!["t.tif".into(), "terrain.exr".into(), "d.png/u.tif".into()];
+    failing.outputs.preview = Some("d.png".into());
+    run(&failing, &root(), dir.path(), &mut ()).unwrap_err();
+    let after: Vec<(String, Vec<u8>)> =
+        names_in(dir.path()).into_iter().map(|n| (n.clone(), std::fs::read(dir.path().join(&n)).unwrap())).collect();
+    assert!(before == after, "the earlier set changed: {:?}", names_in(dir.path()));
+    // A killed run's staging folder: its process (beyond Linux's largest id) is gone.
+    let abandoned = dir.path().join(format!(".relief-staging.{}.x1y2z3", (1u32 << 22) + 3));
+    std::fs::create_dir_all(abandoned.join("engines")).unwrap();
+    std::fs::write(abandoned.join("terrain.exr"), b"partial").unwrap();
+    run(&scene, &root(), dir.path(), &mut ()).unwrap();
+    if std::path::Path::new("/proc/self").exists() {
+        assert!(!abandoned.exists(), "a killed run's staging folder stays");
+    }
+    assert!(names_in(dir.path()).iter().all(|n| !n.starts_with(".relief-staging.") || n.contains("x1y2z3")));
 }
 
 #[test]

@@ -72,6 +72,9 @@ pub struct Config {
     pub max_body_bytes: usize,
     /// How many generated heightfields are kept for download (default 16).
     pub kept_results: usize,
+    /// The most bytes of samples the kept heightfields take together (default 1 GiB, four
+    /// 8192² results); the oldest go first, and the newest is always kept.
+    pub kept_bytes: u64,
     /// Answer only requests addressed to a loopback name (`localhost`, `127.x.x.x`, `[::1]`):
     /// a web page elsewhere cannot reach the studio by pointing its own domain at 127.0.0.1
     /// (DNS rebinding). Default `true`; `relief serve --host` with another address turns it off.
@@ -90,6 +93,7 @@ impl Config {
             budget: relief::Budget::default(),
             max_body_bytes: 64 << 20,
             kept_results: 16,
+            kept_bytes: 1 << 30,
             loopback_only: true,
             token: None,
         }

@@ -1,7 +1,6 @@
 //! The workspace folder: the only place the studio reads and writes. Names coming from requests
 //! are plain file names; paths inside scenes are relative and never climb out.
 
-use std::io::Write;
 use std::path::{Component, Path, PathBuf};
 
 use axum::http::StatusCode;
@@ -61,7 +60,7 @@ impl Workspace {
     /// Saves `text` as scene `name`, atomically.
     pub(crate) fn write_scene(&self, name: &str, text: &str) -> Result<(), ApiError> {
         let path = self.scene_path(name)?;
-        self.write_atomic(&path, text.as_bytes())
+        write_atomic(&path, text.as_bytes())
     }
 
     /// Saves an uploaded input file `name`, atomically.
@@ -72,7 +71,7 @@ impl Workspace {
             let error = format!("{name}: an input is one of .{}", INPUT_EXTENSIONS.join(", ."));
             return Err(ApiError::new(StatusCode::UNSUPPORTED_MEDIA_TYPE, error));
         }
-        self.write_atomic(&self.root.join(name), bytes)
+        write_atomic(&self.root.join(name), bytes)
     }
 
     /// Refuses a scene that reads a file outside the workspace: every input path must be
@@ -98,13 +97,12 @@ impl Workspace {
         Ok(self.root.join(name))
     }
 
-    /// Writes a temporary file beside `path`, then renames it over `path`.
-    fn write_atomic(&self, path: &Path, bytes: &[u8]) -> Result<(), ApiError> {
-        let mut file = tempfile::NamedTempFile::new_in(&self.root).map_err(ApiError::internal)?;
-        file.write_all(bytes).and_then(|()| file.as_file().sync_all()).map_err(ApiError::internal)?;
-        file.persist(path).map_err(|e| ApiError::internal(e.error))?;
-        Ok(())
-    }
+}
+
+/// Writes a temporary file beside `path`, then renames it over `path`; the library's atomic
+/// write, which also removes what a killed studio's writes left (`.<name>.<pid>.….tmp`).
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), ApiError> {
+    relief::io::write_atomic(path, bytes).map_err(ApiError::internal)
 }
 
 /// Whether `name` ends in `.json` (any case).

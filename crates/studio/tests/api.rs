@@ -387,6 +387,22 @@ fn scenes_save_and_load_inside_the_workspace_only() {
     assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
     let (status, _) = studio.send("GET", "/api/scenes/missing.json", Body::empty());
     assert_eq!(status, StatusCode::NOT_FOUND);
+    // Nor through an upload: a scene uploaded must be valid, any .json must be JSON, and a saved
+    // scene is not replaced by something else.
+    let (status, body) = studio.json("PUT", "/api/files/bad.json", r#"{"version": 1, "generator": {"nope": {}}}"#);
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{body}");
+    assert!(body["path"].as_str().is_some_and(|p| p.starts_with("generator")), "{body}");
+    let (status, _) = studio.send("PUT", "/api/files/text.json", "not json");
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    let lines = r#"{"type": "FeatureCollection", "features": []}"#;
+    let (status, _) = studio.send("PUT", "/api/files/my-island.json", lines);
+    assert_eq!(status, StatusCode::CONFLICT);
+    assert_eq!(parsed(&studio.json("GET", "/api/scenes/my-island.json", Body::empty()).1), parsed(&scene));
+    assert_eq!(studio.send("PUT", "/api/files/lines.geojson", lines).0, StatusCode::NO_CONTENT);
+    assert_eq!(studio.send("PUT", "/api/files/other.json", scene.to_string()).0, StatusCode::NO_CONTENT);
+    for name in ["bad.json", "text.json"] {
+        assert!(!studio.dir.path().join("ws").join(name).exists(), "{name}");
+    }
 }
 
 #[test]

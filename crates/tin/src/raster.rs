@@ -10,11 +10,17 @@ use crate::{Tin, TinError};
 /// (the result does not either: see [`Tin::rasterize`]).
 const BAND_ROWS: usize = 16;
 
+/// How far beyond a triangle, in cells, a sample still takes its plane: a millionth, enough for
+/// the rounding of `origin + i·cell` (a grid built on the hull's extent may put its last sample
+/// an ulp outside it) and far too little to reach past a real gap.
+const SLACK: f64 = 1e-6;
+
 impl Tin {
     /// Rasterizes per-node `values` onto `grid` by linear interpolation in each triangle, in
     /// parallel over bands of rows.
     ///
-    /// Samples outside the mesh are no-data; a NaN node value makes its triangles no-data. Each
+    /// Samples outside the mesh are no-data (those within a millionth of a cell of it, the grid's
+    /// rounding of a hull on its edge, take the nearest triangle's plane); a NaN node value makes its triangles no-data. Each
     /// triangle is scan-converted row by row; where two triangles meet, both compute the crossing
     /// of their shared edge with the same formula on the same inputs, so no sample between them is
     /// missed. A sample covered by several triangles (on a shared edge) takes the value of the
@@ -107,16 +113,26 @@ impl Tin {
         let span = self.row_span(t, grid);
         let (first_row, nx) = (rows.start, grid.nx());
         let (ox, dx) = (grid.origin().x, grid.cell_size().x);
+        let (y_lo, y_hi) =
+            pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p.y), hi.max(p.y)));
+        let slack = grid.cell_size() * SLACK;
         for j in span.start.max(rows.start)..span.end.min(rows.end) {
             let y = grid.position(0, j).y;
-            let Some((xl, xr)) = row_interval(tri, pts, y) else { continue };
-            let i0 = ((xl - ox) / dx).ceil().max(0.0);
-            let i1 = ((xr - ox) / dx).floor().min((nx - 1) as f64);
+            // A row a rounding error beyond the triangle's corner (the grid's last row, whose
+            // `origin + (n − 1)·cell` may overshoot the extent the hull was built on) meets it there.
+            let y_on = y.clamp(y_lo, y_hi);
+            if (y - y_on).abs() > slack.y {
+                continue;
+            }
+            let Some((xl, xr)) = row_interval(tri, pts, y_on) else { continue };
+            let i0 = ((xl - slack.x - ox) / dx).ceil().max(0.0);
+            let i1 = ((xr + slack.x - ox) / dx).floor().min((nx - 1) as f64);
             if i1 < i0 {
                 continue;
             }
+            let (i0, i1) = (i0 as usize, i1 as usize);
             let row = &mut out[(j - first_row) * nx..(j - first_row + 1) * nx];
-            for (i, sample) in row.iter_mut().enumerate().take(i1 as usize + 1).skip(i0 as usize) {
+            for (i, sample) in row.iter_mut().enumerate().take(i1 + 1).skip(i0) {
                 let p = DVec2::new(grid.position(i, j).x, y);
                 *sample = (h[0] + g.dot(p - pts[0])) as f32;
             }

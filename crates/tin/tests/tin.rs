@@ -150,6 +150,30 @@ fn lattice_raster_has_no_gaps_on_shared_edges() {
     assert_eq!(dem.get(20, 4), Some(7.0));
 }
 
+/// A hull on the grid's last column and row covers them at every size, though `x / dx` there
+/// may round below the column's index (24 000 m over 256 samples: 254.99…); samples beyond the
+/// hull stay empty.
+#[test]
+fn a_hull_on_the_grid_edge_covers_the_last_column_and_row() {
+    let side = 24_000.0;
+    let points = pts(&[(0.0, 0.0), (side, 0.0), (side, side), (0.0, side), (9_000.0, 13_000.0)]);
+    let tin = Tin::new(points.clone()).unwrap();
+    let values: Vec<f64> = points.iter().map(|p| 1.0 + p.x * 1e-3 + p.y * 2e-3).collect();
+    for n in (2..=64).chain([255, 256, 257, 600, 1000]) {
+        let grid = GridSpec::from_extent(n, n, Extent::new(DVec2::ZERO, DVec2::splat(side))).unwrap();
+        let dem = tin.rasterize(&values, &grid).unwrap();
+        assert_eq!(dem.no_data_count(), 0, "{n} samples a side");
+        assert_eq!(dem.samples(), tin.rasterize_serial(&values, &grid).unwrap().samples());
+        let corner = dem.get(n - 1, 0).unwrap();
+        assert!((corner - 25.0).abs() < 1e-3, "{n}: {corner}");
+    }
+    // A grid wider than the hull: the columns beyond it stay empty, the one on it does not.
+    let grid = GridSpec::new(5, 1, DVec2::new(side - 2.0, 0.0), DVec2::ONE).unwrap();
+    let dem = tin.rasterize(&values, &grid).unwrap();
+    let filled: Vec<bool> = dem.samples().iter().map(|v| v.is_finite()).collect();
+    assert_eq!(filled, [true, true, true, false, false]);
+}
+
 #[test]
 fn bad_input_is_rejected_with_the_culprit_named() {
     assert_eq!(Tin::new(pts(&[(0.0, 0.0), (1.0, 0.0)])), Err(TinError::TooFewPoints { count: 2 }));

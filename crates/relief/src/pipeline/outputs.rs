@@ -76,6 +76,7 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
     if let Some(mesh) = &outputs.mesh {
         check_mesh(mesh)?;
     }
+    check_inside(outputs)?;
     let layers = outputs.island_layers.as_deref().map(layer_files).unwrap_or_default();
     let mut names: Vec<&Path> = outputs.heightfield.iter().map(PathBuf::as_path).collect();
     names.extend(layers.iter().map(PathBuf::as_path));
@@ -103,11 +104,16 @@ pub fn check_outputs(outputs: &Outputs) -> Result<(), ReliefError> {
 }
 
 /// Writes the outputs of `terrain` under `out_dir` (created if needed) and returns the files
-/// written, in order. Every file is written atomically. The summary, written last, includes the
-/// time spent writing the others and lists the files written. When `out_dir` holds the summary of
-/// an earlier run, the files it listed that this run does not write again are removed, so the
-/// folder ends with exactly this run's files (files the earlier summary did not list are left
-/// alone).
+/// written, in order. The summary, written last, includes the time spent writing the others and
+/// lists the files written. When `out_dir` holds the summary of an earlier run, the files it
+/// listed that this run does not write again are removed, so the folder ends with exactly this
+/// run's files (files the earlier summary did not list are left alone).
+///
+/// The set is replaced as a whole: every file is first written to a hidden staging folder inside
+/// `out_dir` (`.relief-staging.<pid>.<random>`), and only once all of them are complete are they
+/// renamed into place, the summary last. A run that fails or is killed while writing leaves the
+/// earlier set untouched; the staging folder a killed run leaves is removed by the next run into
+/// the same folder once its process is gone.
 ///
 /// # Errors
 /// [`ReliefError::Scene`] for an output path with an unknown extension or two outputs naming one
@@ -122,19 +128,21 @@ pub fn write_outputs(
     check_outputs(outputs)?;
     std::fs::create_dir_all(out_dir).map_err(|source| ReliefError::File { path: out_dir.to_owned(), source })?;
     let earlier = outputs.summary.as_ref().map(|p| earlier_files(&out_dir.join(p))).unwrap_or_default();
+    let staging = Staging::new(out_dir, outputs)?;
     let mut timer = Timer::new(progress);
-    let mut written = timer.step("write", || write_files(terrain, outputs, out_dir))?;
+    let mut staged = timer.step("write", || write_files(terrain, outputs, staging.path()))?;
     if let Some(p) = &outputs.summary {
-        let path = out_dir.join(p);
+        let path = staging.path().join(p);
         let mut summary = terrain.summary.clone();
         summary.timings_ms.extend(timer.timings);
-        let files = written.iter().chain([&path]).filter_map(|f| f.strip_prefix(out_dir).ok());
+        let files = staged.iter().chain([&path]).filter_map(|f| f.strip_prefix(staging.path()).ok());
         summary.files = files.map(Path::to_path_buf).collect();
         let mut text = serde_json::to_string_pretty(&summary).map_err(|e| E::step("summary", e))?;
         text.push('\n');
         crate::io::write_atomic(&path, text.as_bytes())?;
-        written.push(path);
+        staged.push(path);
     }
+    let written = staging.publish(&staged, out_dir)?;
     for stale in earlier.iter().map(|f| out_dir.join(f)).filter(|f| !written.contains(f)) {
         match std::fs::remove_file(&stale) {
             Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
@@ -144,6 +152,85 @@ pub fn write_outputs(
         }
     }
     Ok(written)
+}
+
+/// The hidden folder a run's outputs are written to before they replace the earlier set. Dropped
+/// (the run failed), it is removed with whatever it holds.
+struct Staging(tempfile::TempDir);
+
+/// The name every staging folder starts with; the process id follows.
+const STAGING: &str = ".relief-staging.";
+
+impl Staging {
+    /// A new staging folder in `out_dir`, after removing those that killed runs left, holding
+    /// the folders the outputs' paths name.
+    fn new(out_dir: &Path, outputs: &Outputs) -> Result<Self, ReliefError> {
+        remove_abandoned_staging(out_dir);
+        let prefix = format!("{STAGING}{}.", std::process::id());
+        let dir = tempfile::Builder::new()
+            .prefix(&prefix)
+            .tempdir_in(out_dir)
+            .map_err(|source| ReliefError::File { path: out_dir.to_owned(), source })?;
+        for (_, path) in output_paths(outputs) {
+            if let Some(parent) = dir.path().join(path).parent() {
+                std::fs::create_dir_all(parent).map_err(|source| ReliefError::File { path: parent.into(), source })?;
+            }
+        }
+        Ok(Self(dir))
+    }
+
+    fn path(&self) -> &Path {
+        self.0.path()
+    }
+
+    /// Renames the `staged` files (complete, in order) to the same places under `out_dir`,
+    /// creating the folders they need, and returns their final paths.
+    fn publish(self, staged: &[PathBuf], out_dir: &Path) -> Result<Vec<PathBuf>, ReliefError> {
+        let mut written = Vec::with_capacity(staged.len());
+        for file in staged {
+            let relative = file.strip_prefix(self.path()).map_err(|_| E::step("write", "a file outside staging"))?;
+            let target = out_dir.join(relative);
+            if let Some(parent) = target.parent() {
+                std::fs::create_dir_all(parent).map_err(|source| ReliefError::File { path: parent.into(), source })?;
+            }
+            std::fs::rename(file, &target).map_err(|source| ReliefError::File { path: target.clone(), source })?;
+            written.push(target);
+        }
+        debug_assert!(holds_no_file(self.path()), "every file staged is listed and published");
+        Ok(written)
+    }
+}
+
+/// Whether the folder `dir` (and its subfolders) holds no file.
+fn holds_no_file(dir: &Path) -> bool {
+    std::fs::read_dir(dir).into_iter().flatten().filter_map(Result::ok).all(|e| {
+        let path = e.path();
+        path.is_dir() && holds_no_file(&path)
+    })
+}
+
+/// Removes the staging folders in `out_dir` whose run's process is no longer running (Linux's
+/// `/proc`; elsewhere, those older than a day). Best effort: a folder that cannot be removed
+/// only takes space.
+fn remove_abandoned_staging(out_dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(out_dir) else { return };
+    let proc_fs = Path::new("/proc/self").exists();
+    for entry in entries.filter_map(Result::ok) {
+        let name = entry.file_name();
+        let Some(rest) = name.to_str().and_then(|n| n.strip_prefix(STAGING)) else { continue };
+        let pid = rest.split_once('.').and_then(|(pid, _)| pid.parse::<u32>().ok());
+        let gone = match pid {
+            Some(pid) if pid == std::process::id() => false,
+            Some(pid) if proc_fs => !Path::new("/proc").join(pid.to_string()).exists(),
+            _ => entry
+                .metadata()
+                .and_then(|m| m.modified())
+                .is_ok_and(|t| t.elapsed().is_ok_and(|age| age > std::time::Duration::from_secs(24 * 3600))),
+        };
+        if gone && entry.file_type().is_ok_and(|t| t.is_dir()) {
+            let _ = std::fs::remove_dir_all(entry.path());
+        }
+    }
 }
 
 /// The files an earlier run's summary at `path` lists, if it is one: plain relative names only
@@ -238,6 +325,40 @@ fn write_files(terrain: &Terrain, outputs: &Outputs, out_dir: &Path) -> Result<V
         written.push(path);
     }
     Ok(written)
+}
+
+/// Refuses an output that would land outside the output folder: every path is relative and made
+/// of plain names (no `..`, no root, no drive), so `--out` bounds what a scene can write.
+fn check_inside(outputs: &Outputs) -> Result<(), E> {
+    for (field, path) in output_paths(outputs) {
+        let plain =
+            path.components().all(|c| matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir));
+        if !plain || path.as_os_str().is_empty() {
+            return Err(E::at(field, SceneError::OutsideOutputFolder { path }));
+        }
+    }
+    Ok(())
+}
+
+/// Every path the outputs name (files, and engine folders), each with its JSON path.
+fn output_paths(outputs: &Outputs) -> Vec<(String, PathBuf)> {
+    let mut paths: Vec<(String, PathBuf)> =
+        outputs.heightfield.iter().enumerate().map(|(i, p)| (format!("outputs.heightfield[{i}]"), p.clone())).collect();
+    let single = [
+        ("island_layers", &outputs.island_layers),
+        ("contours_geojson", &outputs.contours_geojson),
+        ("contours_svg", &outputs.contours_svg),
+        ("divide_tree", &outputs.divide_tree),
+        ("vector_terrain", &outputs.vector_terrain),
+        ("skeleton", &outputs.skeleton),
+        ("atlas", &outputs.atlas),
+        ("preview", &outputs.preview),
+        ("summary", &outputs.summary),
+    ];
+    paths.extend(single.into_iter().filter_map(|(f, p)| p.clone().map(|p| (format!("outputs.{f}"), p))));
+    paths.extend(outputs.engines.iter().enumerate().map(|(k, e)| (format!("outputs.engines[{k}].dir"), e.folder())));
+    paths.extend(outputs.mesh.iter().map(|m| ("outputs.mesh.file".to_owned(), m.file.clone())));
+    paths
 }
 
 /// A mesh output's file ends in `.glb` and its options pass [`crate::engine::MeshOptions::validate`].

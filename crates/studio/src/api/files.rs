@@ -57,11 +57,35 @@ pub(super) async fn open_file(State(app): Shared, Path(name): Path<String>) -> R
 /// the first scene that reads it.
 pub(super) async fn upload(State(app): Shared, Path(name): Path<String>, body: Bytes) -> Result<StatusCode, ApiError> {
     crate::workspace::check_name(&name)?;
+    check_json_upload(&app, &name, &body)?;
     let (max_cells, checked_name, checked) = (app.budget.max_cells, name.clone(), body.clone());
     let fits = tokio::task::spawn_blocking(move || raster_fits(&checked_name, &checked, max_cells)).await;
     fits.map_err(ApiError::internal)??;
     app.workspace.write_input(&name, &body)?;
     Ok(StatusCode::NO_CONTENT)
+}
+
+/// A `.json`/`.geojson` upload must be JSON; one that is a scene (an object with a `generator`)
+/// must be a valid one (422 at its JSON path), and an upload may not replace a saved scene with
+/// anything else (409): the scene list offers every `.json`, and each must load.
+fn check_json_upload(app: &super::App, name: &str, body: &[u8]) -> Result<(), ApiError> {
+    let extension = std::path::Path::new(name).extension().and_then(|e| e.to_str()).unwrap_or_default();
+    if !(extension.eq_ignore_ascii_case("json") || extension.eq_ignore_ascii_case("geojson")) {
+        return Ok(());
+    }
+    let value: Value = serde_json::from_slice(body)
+        .map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, format!("{name} is not JSON: {e}")))?;
+    if value.get("generator").is_some() {
+        parse_scene(body)?;
+        return Ok(());
+    }
+    let existing = std::fs::read_to_string(app.workspace.root().join(name)).ok();
+    if existing.is_some_and(|text| relief::Scene::from_json(&text).is_ok()) {
+        let error =
+            format!("{name} is a saved scene: save scenes with PUT /api/scenes/{name}, or upload under another name");
+        return Err(ApiError::new(StatusCode::CONFLICT, error));
+    }
+    Ok(())
 }
 
 /// Refuses a raster upload (by its extension; raw files have no header) that announces more

@@ -59,7 +59,7 @@ impl App {
         Self {
             workspace,
             budget: config.budget,
-            results: Mutex::new(Results::new(config.kept_results)),
+            results: Mutex::new(Results::new(config.kept_results, config.kept_bytes)),
             jobs: Jobs::default(),
             edits: EditSessions::default(),
             closing: AtomicBool::new(false),
