@@ -490,6 +490,39 @@ pub fn read_bytes(
     override_grid(hf, options).map_err(at)
 }
 
+/// How many cells the file held in `bytes` announces, read from its header without decoding
+/// a sample: the check a server makes on an upload before keeping it (a 486 KB PNG may announce
+/// 16000² pixels, gigabytes once decoded).
+///
+/// Every reader compares the header's size with [`Limits::max_cells`] before it allocates, so
+/// this reads under a limit of zero cells and takes the size from that refusal. A raw file has no
+/// header: its cells are its length over the sample size (a partial last sample does not count).
+///
+/// # Errors
+/// As [`read_bytes`], for a header that cannot be read (a decoding problem beyond the header is
+/// not seen).
+pub fn announced_cells(
+    bytes: &[u8],
+    format: Format,
+    name: impl AsRef<Path>,
+    options: &ReadOptions,
+) -> Result<u64, IoError> {
+    let name = name.as_ref();
+    if let Some(bytes_per_sample) = match format {
+        Format::R16 => Some(2),
+        Format::R32 => Some(4),
+        _ => None,
+    } {
+        return Ok(bytes.len() as u64 / bytes_per_sample);
+    }
+    let header_only = ReadOptions { limits: Limits::default().with_max_cells(0), ..options.clone() };
+    match decode_bytes(bytes, format, name, &header_only) {
+        Err(IoErrorKind::TooLarge { cells, .. }) => Ok(cells),
+        Err(kind) => Err(IoError::new(name, kind)),
+        Ok(hf) => Ok(hf.samples().len() as u64),
+    }
+}
+
 fn decode_bytes(bytes: &[u8], format: Format, name: &Path, options: &ReadOptions) -> Result<Heightfield, IoErrorKind> {
     let limits = options.limits;
     match format {

@@ -722,3 +722,32 @@ fn a_sidecar_without_min_and_max_must_mark_no_data() {
     let err = read(&path).unwrap_err();
     assert!(matches!(err.kind(), IoErrorKind::InvalidMetadata(m) if m.contains("min and max")), "{err}");
 }
+
+/// The cells a file announces come from its header alone: every format gives the grid's count,
+/// and a PNG cut after its header (no pixel data at all, unreadable as a whole) still gives it.
+#[test]
+fn announced_cells_read_the_header_only() {
+    use relief_heightfield_io::announced_cells;
+    let grid = GridSpec::new(37, 23, DVec2::new(500.0, 200.0), DVec2::splat(30.0)).unwrap();
+    let hf = Heightfield::from_fn_indexed(grid, |i, j| (i + 2 * j) as f32).unwrap();
+    let options = ReadOptions::default();
+    for format in [Format::Png16, Format::Png8, Format::Exr, Format::GeoTiff, Format::Asc, Format::R16, Format::R32] {
+        let bytes = write_bytes(&hf, format).unwrap();
+        assert_eq!(announced_cells(&bytes, format, "f", &options).unwrap(), 37 * 23, "{format:?}");
+    }
+    // Signature and IHDR: 33 bytes.
+    let png = write_bytes(&hf, Format::Png16).unwrap();
+    assert!(read_bytes(&png[..33], Format::Png16, "cut.png", &options).is_err());
+    assert_eq!(announced_cells(&png[..33], Format::Png16, "cut.png", &options).unwrap(), 851);
+    // A colour image's header, read by the image crate.
+    let mut colour = Vec::new();
+    image::RgbImage::new(40, 30).write_to(&mut std::io::Cursor::new(&mut colour), image::ImageFormat::Png).unwrap();
+    assert_eq!(announced_cells(&colour, Format::Png8, "c.png", &options).unwrap(), 1200);
+    // An ASCII grid's header with no values; a header that cannot be read is an error naming it.
+    let header = b"ncols 4000\nnrows 3000\nxllcorner 0\nyllcorner 0\ncellsize 30\n";
+    assert_eq!(announced_cells(header, Format::Asc, "h.asc", &options).unwrap(), 12_000_000);
+    let err = announced_cells(b"not a grid", Format::Asc, "bad.asc", &options).unwrap_err();
+    assert!(err.to_string().contains("bad.asc"), "{err}");
+    // Raw files: their length over the sample size.
+    assert_eq!(announced_cells(&[0u8; 11], Format::R16, "r.r16", &options).unwrap(), 5);
+}

@@ -10,8 +10,11 @@ use axum::http::StatusCode;
 
 use crate::error::ApiError;
 
-/// At most this many generations run at once (each holds a blocking thread).
-const MAX_RUNNING: usize = 64;
+/// How many generations and other heavy requests run at once by default: twice the cores,
+/// at least 4 (each holds a blocking thread and up to a budget's memory).
+pub(crate) fn default_max_jobs() -> usize {
+    std::thread::available_parallelism().map_or(4, |n| 2 * n.get()).max(4)
+}
 
 /// Where a generation is.
 #[derive(Debug, Default, Clone)]
@@ -66,11 +69,13 @@ impl relief::Progress for JobProgress {
     }
 }
 
-/// The running generations of named sessions, and how many run in all.
-#[derive(Debug, Default)]
+/// The running generations of named sessions, and how many jobs run in all (generations, and
+/// the other work that holds a blocking thread: parsing, uploads, opening, peaks, downloads).
+#[derive(Debug)]
 pub(crate) struct Jobs {
     by_session: Mutex<HashMap<String, Arc<Job>>>,
     running: Mutex<usize>,
+    max_running: usize,
 }
 
 /// A job while its request is being answered. Dropping it (the request answered, or abandoned
@@ -91,6 +96,11 @@ impl Drop for Running<'_> {
 }
 
 impl Jobs {
+    /// No jobs yet; at most `max_running` at once (at least one).
+    pub(crate) fn new(max_running: usize) -> Self {
+        Self { by_session: Mutex::default(), running: Mutex::default(), max_running: max_running.max(1) }
+    }
+
     /// A new job for `session`, cancelling the one it replaces; 503 when too many run. The job
     /// ends when the returned guard drops.
     pub(crate) fn run(&self, session: Option<&str>) -> Result<Running<'_>, ApiError> {
@@ -101,8 +111,8 @@ impl Jobs {
     /// A new job for `session`, cancelling the one it replaces; 503 when too many run.
     fn start(&self, session: Option<&str>) -> Result<Arc<Job>, ApiError> {
         let mut running = self.running.lock().unwrap_or_else(PoisonError::into_inner);
-        if *running >= MAX_RUNNING {
-            let error = format!("{MAX_RUNNING} generations are running: try again when one ends");
+        if *running >= self.max_running {
+            let error = format!("{} jobs are running: try again when one ends", self.max_running);
             return Err(ApiError::new(StatusCode::SERVICE_UNAVAILABLE, error));
         }
         *running += 1;
@@ -140,7 +150,7 @@ mod tests {
 
     #[test]
     fn a_newer_job_cancels_the_older_one_of_its_session_only() {
-        let jobs = Jobs::default();
+        let jobs = Jobs::new(8);
         let first = jobs.start(Some("a")).unwrap();
         let other = jobs.start(Some("b")).unwrap();
         let anonymous = jobs.start(None).unwrap();
@@ -160,7 +170,7 @@ mod tests {
 
     #[test]
     fn a_dropped_guard_cancels_its_job_and_frees_its_place() {
-        let jobs = Jobs::default();
+        let jobs = Jobs::new(8);
         let running = jobs.run(Some("a")).unwrap();
         let job = Arc::clone(&running.job);
         assert!(jobs.get("a").is_some() && !job.cancelled.load(Ordering::Relaxed));
@@ -182,8 +192,8 @@ mod tests {
 
     #[test]
     fn too_many_running_jobs_are_refused() {
-        let jobs = Jobs::default();
-        let held: Vec<_> = (0..MAX_RUNNING).map(|_| jobs.start(None).unwrap()).collect();
+        let jobs = Jobs::new(8);
+        let held: Vec<_> = (0..8).map(|_| jobs.start(None).unwrap()).collect();
         assert!(jobs.start(Some("x")).is_err());
         jobs.end(None, &held[0]);
         assert!(jobs.start(Some("x")).is_ok());

@@ -72,6 +72,10 @@ pub struct Config {
     pub max_body_bytes: usize,
     /// How many generated heightfields are kept for download (default 16).
     pub kept_results: usize,
+    /// How many generations and other heavy requests (parsing a scene, checking an upload,
+    /// opening a DEM, finding peaks, encoding a download) run at once; more get 503. Default
+    /// twice the cores, at least 4.
+    pub max_jobs: usize,
     /// The most bytes of samples the kept heightfields take together (default 1 GiB, four
     /// 8192² results); the oldest go first, and the newest is always kept.
     pub kept_bytes: u64,
@@ -94,6 +98,7 @@ impl Config {
             max_body_bytes: 64 << 20,
             kept_results: 16,
             kept_bytes: 1 << 30,
+            max_jobs: jobs::default_max_jobs(),
             loopback_only: true,
             token: None,
         }

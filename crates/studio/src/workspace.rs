@@ -96,7 +96,6 @@ impl Workspace {
         }
         Ok(self.root.join(name))
     }
-
 }
 
 /// Writes a temporary file beside `path`, then renames it over `path`; the library's atomic

@@ -337,16 +337,19 @@ fn scenes_run_under_the_budget_and_bodies_are_capped() {
     assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{error}");
     assert!(error["error"].as_str().unwrap().contains("budget"), "{error}");
     assert_eq!(error["path"], "reconstruction.resolution", "{error}");
-    // A raster upload over the budget is refused as it arrives and not kept; one within it, a
-    // raw file (no header) and a file that does not decode (left to the scene that reads it)
-    // are kept.
-    let (status, error) = studio.json("PUT", "/api/files/big.png", image_bytes(101, |_, _| 7));
-    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE, "{error}");
-    assert!(error["error"].as_str().unwrap().contains("10201 cells"), "{error}");
-    assert!(!studio.dir.path().join("ws/big.png").exists());
+    // A raster upload over the budget is refused as it arrives and not kept, by its header alone
+    // (a PNG cut after its header announces as many), and a raw file by its length; one within
+    // it and a file that does not decode (left to the scene that reads it) are kept.
+    let (big, raw) = (image_bytes(101, |_, _| 7), vec![0; 101 * 101 * 2]);
+    for (name, bytes) in [("big.png", &big[..]), ("cut.png", &big[..33]), ("raw.r16", &raw[..])] {
+        let (status, error) = studio.json("PUT", &format!("/api/files/{name}"), bytes.to_vec());
+        assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE, "{name}: {error}");
+        assert!(error["error"].as_str().unwrap().contains("10201 cells"), "{error}");
+        assert!(!studio.dir.path().join("ws").join(name).exists());
+    }
     for (name, bytes) in [
         ("fits.png", image_bytes(100, |_, _| 7)),
-        ("raw.r16", vec![0; 202 * 202 * 2]),
+        ("raw.r16", vec![0; 100 * 100 * 2]),
         ("junk.png", b"not a PNG".to_vec()),
     ] {
         let (status, _) = studio.send("PUT", &format!("/api/files/{name}"), bytes);
@@ -559,14 +562,58 @@ fn an_abandoned_request_frees_its_generation() {
             let body = studio.router.clone().oneshot(request).await.unwrap().into_body().collect().await.unwrap();
             serde_json::from_slice::<Value>(&body.to_bytes()).unwrap()
         };
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
         while progress().await["running"] != true {
             assert!(!task.is_finished(), "it ended before it was seen running");
+            assert!(std::time::Instant::now() < deadline, "never seen running");
             tokio::time::sleep(std::time::Duration::from_millis(5)).await;
         }
         task.abort();
         assert!(task.await.unwrap_err().is_cancelled());
         assert_eq!(progress().await["running"], false, "the abandoned job is gone");
     });
+}
+
+/// Parsing, uploads, downloads and generations share one cap on running jobs: while the only
+/// place runs a generation, an upload, a download and another session's scene get 503, and all
+/// are served once it ends.
+#[test]
+fn heavy_requests_share_the_job_cap() {
+    let studio = Studio::with(|mut c| {
+        c.max_jobs = 1;
+        c
+    });
+    let small = studio.template("island");
+    let (status, result) = studio.json("POST", "/api/generate", small.to_string());
+    assert_eq!(status, StatusCode::OK, "{result}");
+    let download = format!("/api/results/{}/download/exr", result["id"]);
+    let mut slow = studio.template("contours");
+    slow["generator"]["contours"]["particles"] = 600_000.into();
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    let request = Request::post("/api/generate")
+        .header("content-type", "application/json")
+        .header("x-relief-session", "busy")
+        .body(Body::from(slow.to_string()));
+    let task = runtime.spawn(studio.router.clone().oneshot(request.unwrap()));
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    let running = || {
+        let (_, body) = studio.send_as(Some("busy"), "GET", "/api/progress", Body::empty());
+        serde_json::from_slice::<Value>(&body).unwrap()["running"] == true
+    };
+    while !running() {
+        assert!(!task.is_finished() && std::time::Instant::now() < deadline, "never seen running");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let refused = [
+        studio.send("PUT", "/api/files/m.png", image_bytes(8, |_, _| 1)).0,
+        studio.send("GET", &download, Body::empty()).0,
+        studio.json("POST", "/api/generate", small.to_string()).0,
+    ];
+    assert_eq!(refused, [StatusCode::SERVICE_UNAVAILABLE; 3]);
+    task.abort();
+    let _ = runtime.block_on(task);
+    assert_eq!(studio.send("PUT", "/api/files/m.png", image_bytes(8, |_, _| 1)).0, StatusCode::NO_CONTENT);
+    assert_eq!(studio.send("GET", &download, Body::empty()).0, StatusCode::OK);
 }
 
 /// The page's event stream: a DEM's vectorization reports each fitting iteration as it runs,

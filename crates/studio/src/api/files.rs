@@ -29,7 +29,7 @@ pub(super) async fn write_scene(
     Path(name): Path<String>,
     body: Bytes,
 ) -> Result<StatusCode, ApiError> {
-    let scene = parse_scene(&body)?;
+    let scene = super::parse_scene_blocking(&app, body).await?;
     app.workspace.write_scene(&name, &scene.to_json())?;
     Ok(StatusCode::NO_CONTENT)
 }
@@ -43,8 +43,9 @@ pub(super) async fn open_file(State(app): Shared, Path(name): Path<String>) -> R
     }
     let options = read_options(app.budget.max_cells);
     let start = Instant::now();
-    let read = tokio::task::spawn_blocking(move || relief::io::read_with(&path, &options)).await;
-    let hf = read.map_err(ApiError::internal)?.map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))?;
+    let read =
+        move || relief::io::read_with(&path, &options).map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e));
+    let hf = super::blocking(&app, read).await?;
     let mut result = app.keep(hf, None)?;
     result["ms"] = (start.elapsed().as_secs_f64() * 1e3).into();
     result["timings"] = json!([]);
@@ -57,11 +58,13 @@ pub(super) async fn open_file(State(app): Shared, Path(name): Path<String>) -> R
 /// the first scene that reads it.
 pub(super) async fn upload(State(app): Shared, Path(name): Path<String>, body: Bytes) -> Result<StatusCode, ApiError> {
     crate::workspace::check_name(&name)?;
-    check_json_upload(&app, &name, &body)?;
-    let (max_cells, checked_name, checked) = (app.budget.max_cells, name.clone(), body.clone());
-    let fits = tokio::task::spawn_blocking(move || raster_fits(&checked_name, &checked, max_cells)).await;
-    fits.map_err(ApiError::internal)??;
-    app.workspace.write_input(&name, &body)?;
+    let worker = std::sync::Arc::clone(&app);
+    super::blocking(&app, move || {
+        check_json_upload(&worker, &name, &body)?;
+        raster_fits(&name, &body, worker.budget.max_cells)?;
+        worker.workspace.write_input(&name, &body)
+    })
+    .await?;
     Ok(StatusCode::NO_CONTENT)
 }
 
@@ -88,18 +91,18 @@ fn check_json_upload(app: &super::App, name: &str, body: &[u8]) -> Result<(), Ap
     Ok(())
 }
 
-/// Refuses a raster upload (by its extension; raw files have no header) that announces more
-/// than `max_cells` cells. Other decoding problems are left to the scene that reads the file: a
-/// colour label image, say, is not a DEM but is a fine upload.
+/// Refuses a raster upload (by its extension) whose header announces more than `max_cells`
+/// cells. Only the header is read ([`relief::io::announced_cells`]): a small compressed image can
+/// announce gigabytes of pixels. Other problems are left to the scene that reads the file: a
+/// colour label image, say, is not a DEM but is a fine upload, and a raw file (no header) is
+/// counted by its length.
 fn raster_fits(name: &str, bytes: &[u8], max_cells: u64) -> Result<(), ApiError> {
-    use relief::io::{Format, IoErrorKind};
+    use relief::io::Format;
     let Some(format) = Format::from_extension(std::path::Path::new(name)) else { return Ok(()) };
-    if matches!(format, Format::R16 | Format::R32) {
-        return Ok(());
-    }
-    match relief::io::read_bytes(bytes, format, name, &read_options(max_cells)) {
-        Err(e) if matches!(e.kind(), IoErrorKind::TooLarge { .. } | IoErrorKind::FileTooLarge { .. }) => {
-            Err(ApiError::new(StatusCode::PAYLOAD_TOO_LARGE, format!("{e} (the studio's budget)")))
+    match relief::io::announced_cells(bytes, format, name, &relief::io::ReadOptions::default()) {
+        Ok(cells) if cells > max_cells => {
+            let error = format!("{name} announces {cells} cells, more than the studio's budget of {max_cells}");
+            Err(ApiError::new(StatusCode::PAYLOAD_TOO_LARGE, error))
         }
         _ => Ok(()),
     }

@@ -60,7 +60,7 @@ impl App {
             workspace,
             budget: config.budget,
             results: Mutex::new(Results::new(config.kept_results, config.kept_bytes)),
-            jobs: Jobs::default(),
+            jobs: Jobs::new(config.max_jobs),
             edits: EditSessions::default(),
             closing: AtomicBool::new(false),
         }
@@ -154,6 +154,21 @@ async fn template(Path(name): Path<String>) -> Result<Response, ApiError> {
         .find(|(n, _)| *n == name)
         .ok_or_else(|| ApiError::not_found(format!("no template {name}")))?;
     Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response())
+}
+
+/// Runs `work` on a blocking thread, counted among the running jobs (503 when too many run): the
+/// async workers that answer every other request never parse, decode or analyse.
+pub(crate) async fn blocking<T: Send + 'static>(
+    app: &App,
+    work: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
+) -> Result<T, ApiError> {
+    let _slot = app.jobs.run(None)?;
+    tokio::task::spawn_blocking(work).await.map_err(ApiError::internal)?
+}
+
+/// Parses a request body as a scene, on a blocking thread.
+pub(crate) async fn parse_scene_blocking(app: &App, body: axum::body::Bytes) -> Result<Scene, ApiError> {
+    blocking(app, move || parse_scene(&body)).await
 }
 
 /// Parses a request body as a scene.

@@ -23,7 +23,7 @@ fn north_up_bytes(hf: &Heightfield) -> Vec<u8> {
 /// `GET /api/results/{id}/elevation`: the samples for the views.
 pub(super) async fn elevation(State(app): Shared, Path(id): Path<u64>) -> Result<Response, ApiError> {
     let hf = app.result(id)?;
-    let bytes = tokio::task::spawn_blocking(move || north_up_bytes(&hf)).await.map_err(ApiError::internal)?;
+    let bytes = super::blocking(&app, move || Ok(north_up_bytes(&hf))).await?;
     Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
 }
 
@@ -48,14 +48,13 @@ pub(super) async fn download(
     let hf = app.result(id)?;
     let file = format!("terrain.{extension}");
     let name = file.clone();
-    let bytes = tokio::task::spawn_blocking(move || -> Result<Vec<u8>, ApiError> {
+    let bytes = super::blocking(&app, move || {
         let dir = tempfile::tempdir().map_err(ApiError::internal)?;
         let path = dir.path().join(&name);
         relief::io::write(&path, &hf).map_err(ApiError::internal)?;
         std::fs::read(&path).map_err(ApiError::internal)
     })
-    .await
-    .map_err(ApiError::internal)??;
+    .await?;
     Ok(super::attachment(&file, content_type, bytes))
 }
 
@@ -73,15 +72,14 @@ pub(super) async fn peaks(
     axum::extract::Query(query): axum::extract::Query<PeaksQuery>,
 ) -> Result<Json<Value>, ApiError> {
     let hf = app.result(id)?;
-    let analysed = tokio::task::spawn_blocking(move || {
+    let (orometry, min_prominence) = super::blocking(&app, move || {
         let (lo, hi) = hf.min_max().unwrap_or((0.0, 0.0));
         let min_prominence = query.min_prominence.unwrap_or(0.05 * f64::from(hi - lo));
         let options = relief::orometry::AnalysisOptions { min_prominence, ridge_lines: true, ..Default::default() };
-        relief::orometry::analyze(&hf, &options).map(|o| (o, min_prominence))
+        let analysed = relief::orometry::analyze(&hf, &options);
+        analysed.map(|o| (o, min_prominence)).map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))
     })
-    .await
-    .map_err(ApiError::internal)?;
-    let (orometry, min_prominence) = analysed.map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))?;
+    .await?;
     let peaks: Vec<Value> = orometry
         .peaks
         .iter()

@@ -15,14 +15,14 @@ use futures_util::Stream;
 use serde::Deserialize;
 use serde_json::{Value, json};
 
-use super::{App, Shared, parse_scene, session};
+use super::{App, Shared, parse_scene_blocking, session};
 use crate::error::ApiError;
 use crate::jobs::Job;
 use relief::Scene;
 
 /// `POST /api/generate`: the scene in the body as a preview, kept as a result.
 pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes) -> Result<Json<Value>, ApiError> {
-    let scene = parse_scene(&body)?;
+    let scene = parse_scene_blocking(&app, body).await?;
     let start = Instant::now();
     let session = session(&headers)?;
     let guard = app.jobs.run(session.as_deref())?;
@@ -117,7 +117,7 @@ pub(super) async fn export(
         let names: Vec<&str> = EXPORTS.iter().map(|(n, ..)| *n).collect();
         ApiError::not_found(format!("no export {file}: one of {}", names.join(", ")))
     })?;
-    let mut scene = parse_scene(&body)?;
+    let mut scene = parse_scene_blocking(&app, body).await?;
     only_output(&mut scene, field, &file)?;
     let session = session(&headers)?;
     let guard = app.jobs.run(session.as_deref())?;
