@@ -19,7 +19,7 @@ pub enum StudioError {
         #[source]
         source: std::io::Error,
     },
-    /// The server failed (binding, accepting).
+    /// An I/O error of the server's own (binding its listener, say).
     #[error("serving: {0}")]
     Serve(#[from] std::io::Error),
     /// No random secret could be drawn for [`crate::Config::token`].

@@ -22,7 +22,12 @@
 //! - A studio other machines can reach asks for a secret ([`Config::token`], [`new_token`]):
 //!   `relief serve --host 0.0.0.0` prints an address carrying it.
 //! - Request bodies are capped ([`Config::max_body_bytes`]); scenes run under the same
-//!   [`relief::Budget`] as the CLI's.
+//!   [`relief::Budget`] as the CLI's; an upload is checked by its header alone; heavy work runs on
+//!   blocking threads under one cap ([`Config::max_jobs`]) and stops when its client goes; kept
+//!   results are capped in bytes ([`Config::kept_bytes`]).
+//! - Connections are bounded ([`Config::max_connections`]) and closed when a request's header
+//!   (or the next request on a kept-alive connection) does not arrive within
+//!   [`Config::header_timeout`], so idle connections cannot lock the studio out.
 //! - Files live in the workspace folder only: names are plain (`[A-Za-z0-9_.-]`, no leading dot,
 //!   no separators), and a scene's input paths must be relative and stay inside it.
 //! - Writes are atomic (a temporary file in the same folder, then a rename), so two sessions
@@ -48,6 +53,7 @@
 
 mod api;
 mod assets;
+mod connections;
 mod edits;
 mod error;
 mod guard;
@@ -76,6 +82,12 @@ pub struct Config {
     /// opening a DEM, finding peaks, encoding a download) run at once; more get 503. Default
     /// twice the cores, at least 4.
     pub max_jobs: usize,
+    /// Most connections open at once (default 256); more wait in the listen queue.
+    pub max_connections: usize,
+    /// Longest a request's header may take to arrive, the wait for the next request on a
+    /// kept-alive connection included (default 30 s); the connection is closed then, so idle
+    /// connections cannot hold every place.
+    pub header_timeout: std::time::Duration,
     /// The most bytes of samples the kept heightfields take together (default 1 GiB, four
     /// 8192² results); the oldest go first, and the newest is always kept.
     pub kept_bytes: u64,
@@ -99,6 +111,8 @@ impl Config {
             kept_results: 16,
             kept_bytes: 1 << 30,
             max_jobs: jobs::default_max_jobs(),
+            max_connections: 256,
+            header_timeout: std::time::Duration::from_secs(30),
             loopback_only: true,
             token: None,
         }
@@ -151,7 +165,8 @@ pub fn new_token() -> Result<String, StudioError> {
 /// Serves the studio on `listener` until Ctrl-C.
 ///
 /// # Errors
-/// As [`router`], and [`StudioError::Serve`] when the server fails.
+/// As [`router`]. A connection that cannot be accepted (out of file descriptors) is waited
+/// out, not returned.
 pub async fn serve(listener: tokio::net::TcpListener, config: Config) -> Result<(), StudioError> {
     serve_until(listener, config, async {
         // Without a signal handler the server runs until the process is killed.
@@ -167,20 +182,21 @@ pub async fn serve(listener: tokio::net::TcpListener, config: Config) -> Result<
 /// the shutdown.
 ///
 /// # Errors
-/// As [`router`], and [`StudioError::Serve`] when the server fails.
+/// As [`router`]. A connection that cannot be accepted (out of file descriptors) is waited
+/// out, not returned.
 pub async fn serve_until(
     listener: tokio::net::TcpListener,
     config: Config,
     shutdown: impl std::future::Future<Output = ()> + Send + 'static,
 ) -> Result<(), StudioError> {
     let (routes, state) = build(&config)?;
-    axum::serve(listener, routes)
-        .with_graceful_shutdown(async move {
-            shutdown.await;
-            state.close();
-        })
-        .await
-        .map_err(StudioError::Serve)
+    let limits = connections::Limits { max_connections: config.max_connections, header_timeout: config.header_timeout };
+    connections::serve(listener, routes, limits, async move {
+        shutdown.await;
+        state.close();
+    })
+    .await;
+    Ok(())
 }
 
 /// The crate README's example, compiled and run as a doc test.

@@ -717,6 +717,46 @@ fn shutting_down_ends_the_open_event_streams() {
     });
 }
 
+/// Connections that send nothing, or stay idle after their request, are closed after the header
+/// timeout: more of them than the studio takes at once delay a real request by about that long
+/// instead of locking it out.
+#[test]
+fn idle_connections_cannot_lock_the_studio_out() {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let dir = tempfile::tempdir().unwrap();
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    runtime.block_on(async {
+        let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+        let address = listener.local_addr().unwrap();
+        let mut config = Config::new(dir.path().join("ws"));
+        config.max_connections = 4;
+        config.header_timeout = std::time::Duration::from_millis(300);
+        let server = tokio::spawn(relief_studio::serve_until(listener, config, std::future::pending()));
+        // Ten silent connections, and one kept alive after its answer.
+        let mut idle = Vec::new();
+        for _ in 0..10 {
+            idle.push(tokio::net::TcpStream::connect(address).await.unwrap());
+        }
+        let ask = async || {
+            let mut client = tokio::net::TcpStream::connect(address).await.unwrap();
+            client.write_all(b"GET /api/info HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n").await.unwrap();
+            let mut buffer = [0; 4096];
+            let n = client.read(&mut buffer).await.unwrap();
+            (client, String::from_utf8_lossy(&buffer[..n]).into_owned())
+        };
+        let answered = tokio::time::timeout(std::time::Duration::from_secs(20), ask()).await;
+        let (mut kept, answer) = answered.expect("idle connections locked the studio out");
+        assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
+        // The kept-alive connection and the silent ones are closed by the server (EOF).
+        for stream in idle.iter_mut().chain([&mut kept]) {
+            let mut buffer = [0; 64];
+            let read = tokio::time::timeout(std::time::Duration::from_secs(20), stream.read(&mut buffer)).await;
+            assert!(matches!(read, Ok(Ok(0) | Err(_))), "an idle connection stayed open: {read:?}");
+        }
+        server.abort();
+    });
+}
+
 /// A gray PNG of `size`² pixels.
 fn image_bytes(size: u32, pixel: impl Fn(u32, u32) -> u8) -> Vec<u8> {
     let mut bytes = Vec::new();
