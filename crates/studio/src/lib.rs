@@ -85,7 +85,7 @@ pub struct Config {
     /// Most connections open at once (default 256); more wait in the listen queue.
     pub max_connections: usize,
     /// Longest a request's header may take to arrive, the wait for the next request on a
-    /// kept-alive connection included (default 30 s); the connection is closed then, so idle
+    /// kept-alive connection included (default 10 s); the connection is closed then, so idle
     /// connections cannot hold every place.
     pub header_timeout: std::time::Duration,
     /// The most bytes of samples the kept heightfields take together (default 1 GiB, four
@@ -112,7 +112,7 @@ impl Config {
             kept_bytes: 1 << 30,
             max_jobs: jobs::default_max_jobs(),
             max_connections: 256,
-            header_timeout: std::time::Duration::from_secs(30),
+            header_timeout: std::time::Duration::from_secs(10),
             loopback_only: true,
             token: None,
         }
