@@ -109,7 +109,7 @@ impl Jobs {
     }
 
     /// A new job for `session`, cancelling the one it replaces; 503 when too many run.
-    fn start(&self, session: Option<&str>) -> Result<Arc<Job>, ApiError> {
+    pub(crate) fn start(&self, session: Option<&str>) -> Result<Arc<Job>, ApiError> {
         let mut running = self.running.lock().unwrap_or_else(PoisonError::into_inner);
         if *running >= self.max_running {
             let error = format!("{} jobs are running: try again when one ends", self.max_running);
@@ -127,7 +127,7 @@ impl Jobs {
     }
 
     /// `job` ended: it is no longer `session`'s running job (unless a newer one replaced it).
-    fn end(&self, session: Option<&str>, job: &Arc<Job>) {
+    pub(crate) fn end(&self, session: Option<&str>, job: &Arc<Job>) {
         *self.running.lock().unwrap_or_else(PoisonError::into_inner) -= 1;
         if let Some(session) = session {
             let mut jobs = self.by_session.lock().unwrap_or_else(PoisonError::into_inner);
@@ -135,6 +135,12 @@ impl Jobs {
                 jobs.remove(session);
             }
         }
+    }
+
+    /// How many jobs run.
+    #[cfg(test)]
+    pub(crate) fn running(&self) -> usize {
+        *self.running.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
     /// `session`'s running job.

@@ -156,18 +156,36 @@ async fn template(Path(name): Path<String>) -> Result<Response, ApiError> {
     Ok(([(header::CONTENT_TYPE, "application/json")], text).into_response())
 }
 
-/// Runs `work` on a blocking thread, counted among the running jobs (503 when too many run): the
-/// async workers that answer every other request never parse, decode or analyse.
+/// Runs `work` on a blocking thread, counted among the running jobs (503 when too many run) until
+/// it ends, even when its client has gone (the thread cannot be stopped, so its place stays
+/// taken): the async workers that answer every other request never parse, decode or analyse.
 pub(crate) async fn blocking<T: Send + 'static>(
-    app: &App,
+    app: &Arc<App>,
     work: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
 ) -> Result<T, ApiError> {
-    let _slot = app.jobs.run(None)?;
-    tokio::task::spawn_blocking(work).await.map_err(ApiError::internal)?
+    let slot = Slot { job: app.jobs.start(None)?, app: Arc::clone(app) };
+    tokio::task::spawn_blocking(move || {
+        let _slot = slot;
+        work()
+    })
+    .await
+    .map_err(ApiError::internal)?
+}
+
+/// A place among the running jobs held by blocking work; freed when it drops.
+struct Slot {
+    app: Arc<App>,
+    job: Arc<crate::jobs::Job>,
+}
+
+impl Drop for Slot {
+    fn drop(&mut self) {
+        self.app.jobs.end(None, &self.job);
+    }
 }
 
 /// Parses a request body as a scene, on a blocking thread.
-pub(crate) async fn parse_scene_blocking(app: &App, body: axum::body::Bytes) -> Result<Scene, ApiError> {
+pub(crate) async fn parse_scene_blocking(app: &Arc<App>, body: axum::body::Bytes) -> Result<Scene, ApiError> {
     blocking(app, move || parse_scene(&body)).await
 }
 
@@ -190,4 +208,40 @@ pub(crate) fn session(headers: &HeaderMap) -> Result<Option<String>, ApiError> {
 /// Whether `name` can name a session: 1 to 64 ASCII letters, digits or `-`.
 pub(crate) fn session_name_ok(name: &str) -> bool {
     (1..=64).contains(&name.len()) && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Blocking work abandoned by its client keeps its place until it ends: its thread still
+    /// runs, and the cap must count it.
+    #[test]
+    fn abandoned_blocking_work_holds_its_place_until_it_ends() {
+        let dir = tempfile::tempdir().unwrap();
+        let workspace = Workspace::open(dir.path()).unwrap();
+        let app = Arc::new(App::new(workspace, &crate::Config::new(dir.path())));
+        let runtime = tokio::runtime::Runtime::new().unwrap();
+        let (release, wait) = std::sync::mpsc::channel::<()>();
+        let (started, seen) = std::sync::mpsc::channel::<()>();
+        let worker = Arc::clone(&app);
+        let request = runtime.spawn(async move {
+            blocking(&worker, move || {
+                started.send(()).unwrap();
+                wait.recv().ok();
+                Ok(())
+            })
+            .await
+        });
+        seen.recv().unwrap();
+        request.abort();
+        assert!(runtime.block_on(request).unwrap_err().is_cancelled());
+        assert_eq!(app.jobs.running(), 1, "the abandoned work still runs");
+        release.send(()).unwrap();
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+        while app.jobs.running() != 0 {
+            assert!(std::time::Instant::now() < deadline, "its place was never freed");
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+    }
 }
