@@ -40,6 +40,10 @@ pub(crate) struct Cli {
     /// Most divide-tree peaks an orometry scene may ask for (default 200 000).
     #[arg(long, global = true, value_name = "N")]
     max_peaks: Option<u64>,
+    /// Most bytes of memory a generation is estimated to take, and 32 a cell of any raster read
+    /// (default half this machine's memory).
+    #[arg(long, global = true, value_name = "N")]
+    max_bytes: Option<u64>,
     /// What a plain 8/16-bit heightmap's (or a sidecar-less .r16's) lowest and highest codes
     /// stand for, in elevation units (default 0 and 1); refused for files that store elevations.
     #[arg(long, global = true, value_parser = parse_range, allow_hyphen_values = true, value_name = "MIN,MAX")]
@@ -73,8 +77,9 @@ pub(crate) struct Cli {
 impl Cli {
     /// The resource budget the flags set, defaults elsewhere.
     pub(crate) fn budget(&self) -> relief::Budget {
-        let d = relief::Budget::default();
+        let d = relief::Budget::for_this_machine();
         d.with_max_cells(self.max_cells.unwrap_or(d.max_cells))
+            .with_max_bytes(self.max_bytes.unwrap_or(d.max_bytes))
             .with_max_particles(self.max_particles.unwrap_or(d.max_particles))
             .with_max_primitives(self.max_primitives.unwrap_or(d.max_primitives))
             .with_max_peaks(self.max_peaks.unwrap_or(d.max_peaks))
@@ -88,7 +93,7 @@ impl Cli {
     pub(crate) fn read_options(&self) -> relief::io::ReadOptions {
         let budget = self.budget();
         let read = relief::io::ReadOptions::default()
-            .with_limits(relief::io::Limits::default().with_max_cells(budget.max_cells));
+            .with_limits(relief::io::Limits::default().with_max_cells(budget.max_read_cells()));
         // The same fields as a scene's `inputs` block, applied the same way.
         let flags = relief::scene::InputOptions {
             z_range: self.z_range.map(|r| r.map(f64::from)),

@@ -617,6 +617,12 @@ fn vectorize_then_rasterize_a_real_dem() {
     assert!(err.contains("--primitives") && err.contains("--max-primitives"), "{err}");
     let err = fails(&["--force", "--max-cells", "5000", "vectorize", dem, "--resolution", "96", "-o", json], 1);
     assert!(err.contains("--resolution") && err.contains("9216"), "{err}");
+    // The memory estimate: 4096² cells at 80 bytes for a contour scene, refused before any work.
+    let out = tmp.path().join("mesa");
+    let args = ["--max-bytes", "1000000000", "generate", "fixtures/scenes/mesa.json", "--resolution", "4096"];
+    let err = fails(&[&args[..], &["--out", out.to_str().unwrap()]].concat(), 1);
+    assert!(err.contains("1342177280 bytes") && err.contains("--max-bytes"), "{err}");
+    assert!(std::fs::read_dir(&out).map_or(true, |d| d.count() == 0), "something was written");
 }
 
 /// A coast whose sea is stored as 0: by default the terrain gets a floor at sea level and the

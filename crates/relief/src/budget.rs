@@ -1,7 +1,14 @@
 //! Resource budgets: caps on what a scene may make the pipeline allocate (raster cells, growth
-//! particles, Gaussian primitives, divide-tree peaks), checked before the work that would
-//! allocate it. Scene files are untrusted input; the budget belongs to whoever runs them (the
-//! CLI's `--max-cells`, `--max-particles`, `--max-primitives` and `--max-peaks`).
+//! particles, Gaussian primitives, divide-tree peaks, and the memory a generation is estimated to
+//! take), checked before the work that would allocate it. Scene files are untrusted input; the
+//! budget belongs to whoever runs them (the CLI's `--max-cells`, `--max-particles`,
+//! `--max-primitives`, `--max-peaks` and `--max-bytes`).
+//!
+//! The memory estimate is the output grid's cells times what one cell costs the scene's
+//! generator at its peak ([`bytes_per_cell`], measured), and 32 bytes per cell of every raster
+//! read (a colour image decodes to 16 bytes a pixel beside the decoder's own buffer). The
+//! library's default leaves memory unbounded; [`Budget::for_this_machine`], which the CLI and the
+//! studio start from, caps it at half the machine's memory.
 
 use std::path::Path;
 
@@ -23,15 +30,79 @@ pub struct Budget {
     pub max_primitives: u64,
     /// Most peaks of a generated divide tree. Default 200 000.
     pub max_peaks: u64,
+    /// Most bytes of memory a generation is estimated to take (see the module's documentation),
+    /// and 32 bytes a cell of any raster read. Default unbounded; half the machine's memory from
+    /// [`Budget::for_this_machine`].
+    pub max_bytes: u64,
 }
 
 impl Default for Budget {
     fn default() -> Self {
-        Self { max_cells: 1 << 28, max_particles: 50_000_000, max_primitives: 1 << 22, max_peaks: 200_000 }
+        Self {
+            max_cells: 1 << 28,
+            max_particles: 50_000_000,
+            max_primitives: 1 << 22,
+            max_peaks: 200_000,
+            max_bytes: u64::MAX,
+        }
     }
 }
 
+/// Bytes a raster read may take per cell while it is decoded (a colour image: 16 bytes a pixel
+/// of RGBA f32 beside the decoder's buffer).
+pub const READ_BYTES_PER_CELL: u64 = 32;
+
+/// What one output cell costs `generator` at the peak of a whole run (generation, drainage,
+/// contours, outputs), bytes. Measured as the slope of the peak resident memory between 1024²
+/// and 2048² runs of the gallery scenes (`/usr/bin/time -f %M`, 2026-12-07): contours 53
+/// (mesa), 61 (volcanic island) and 71 (a label image), island 62 (craggy island), feature
+/// curves 79 (mountain), Gaussian 54 (massif), orometry 47 (Jacksboro); a tenth or more added.
+pub fn bytes_per_cell(generator: &Generator) -> u64 {
+    match generator {
+        Generator::Contours(_) => 80,
+        Generator::Diffusion(_) => 96,
+        Generator::Island(_) => 72,
+        Generator::Gaussian(_) => 64,
+        Generator::Orometry(_) => 56,
+    }
+}
+
+/// The machine's physical memory, bytes, where the system says (Linux's `/proc/meminfo`).
+pub fn physical_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
 impl Budget {
+    /// The default budget with [`Budget::max_bytes`] at half the machine's physical memory
+    /// (unbounded where it cannot be told): what the CLI and the studio run under unless told.
+    pub fn for_this_machine() -> Self {
+        Self::default().with_max_bytes(physical_memory().map_or(u64::MAX, |bytes| bytes / 2))
+    }
+
+    /// The same budget with at most `bytes` of estimated memory.
+    #[must_use]
+    pub fn with_max_bytes(mut self, bytes: u64) -> Self {
+        self.max_bytes = bytes;
+        self
+    }
+
+    /// The most cells a raster read may have: [`Budget::max_cells`], and no more than
+    /// [`Budget::max_bytes`] allows at [`READ_BYTES_PER_CELL`].
+    pub fn max_read_cells(&self) -> u64 {
+        self.max_cells.min(self.max_bytes / READ_BYTES_PER_CELL)
+    }
+
+    /// Checks `requested` bytes of estimated memory against the cap; `at` names what asked.
+    ///
+    /// # Errors
+    /// [`ReliefError::OverBudget`] when over the cap.
+    pub fn bytes(&self, requested: u64, at: &str) -> Result<(), ReliefError> {
+        over(requested, self.max_bytes, "bytes", at)
+    }
+
     /// The same budget with at most `cells` raster cells.
     #[must_use]
     pub fn with_max_cells(mut self, cells: u64) -> Self {
@@ -71,6 +142,8 @@ impl Budget {
     pub fn check(&self, scene: &Scene) -> Result<(), ReliefError> {
         let [nx, ny] = scene.reconstruction.resolution;
         self.cells(cells(nx, ny), "reconstruction.resolution")?;
+        let estimate = cells(nx, ny).saturating_mul(bytes_per_cell(&scene.generator));
+        self.bytes(estimate, "reconstruction.resolution")?;
         match &scene.generator {
             Generator::Contours(g) => {
                 if let Some(n) = g.particles {

@@ -50,7 +50,8 @@ pub enum ReliefError {
     OverBudget {
         /// JSON path of the offending value.
         path: String,
-        /// What is counted: `cells`, `particles`, `primitives` or `peaks`.
+        /// What is counted: `cells`, `particles`, `primitives`, `peaks` or `bytes` (of estimated
+        /// memory).
         what: &'static str,
         /// How many the scene asks for.
         requested: u64,

@@ -175,6 +175,40 @@ fn the_default_budget_refuses_requests_that_would_exhaust_memory() {
     assert_over(&refused(&v, Budget::default()), "peaks", "generator.orometry.tree.peaks", 1 << 33);
 }
 
+/// The memory estimate (output cells × the generator's measured bytes a cell) is refused before
+/// anything is generated, at the resolution's path; a raster read is capped at 32 bytes a cell.
+#[test]
+fn the_memory_estimate_is_refused_before_generating() {
+    for (name, per_cell) in [
+        ("mesa.json", 80),
+        ("mountain.json", 96),
+        ("craggy-island.json", 72),
+        ("gaussian-massif.json", 64),
+        ("orometry-jacksboro.json", 56),
+    ] {
+        let mut v = fixture(name);
+        v["reconstruction"]["resolution"] = json!([4096, 2048]);
+        let estimate = 4096 * 2048 * per_cell;
+        assert_eq!(relief::budget::bytes_per_cell(&scene(&v).generator), per_cell, "{name}");
+        let e = refused(&v, Budget::default().with_max_bytes(estimate - 1));
+        assert_over(&e, "bytes", "reconstruction.resolution", estimate);
+        assert!(Budget::default().with_max_bytes(estimate).check(&scene(&v)).is_ok(), "{name}: at the cap");
+    }
+    // The label image of this scene (a raster read) over what 32 bytes a cell allows.
+    let mut v = fixture("range-label.json");
+    v["reconstruction"]["resolution"] = json!([10, 10]);
+    let budget = Budget::default().with_max_bytes(32 * 1000);
+    assert_eq!(budget.max_read_cells(), 1000);
+    let e = refused(&v, budget);
+    assert!(e.to_string().contains("limit of 1000"), "{e}");
+    assert!(generate_with(&scene(&v), &scenes(), &Budget::default(), &mut Quiet).is_ok());
+    // For this machine: half its memory, where Linux tells it.
+    if let Some(total) = relief::budget::physical_memory() {
+        assert_eq!(Budget::for_this_machine().max_bytes, total / 2);
+        assert!(total > 1 << 20, "{total} bytes of memory");
+    }
+}
+
 #[test]
 fn primitives_added_by_the_tools_are_capped() {
     // The listed source fits the cap exactly; the stamp that copies part of it does not.

@@ -72,7 +72,8 @@ pub use error::StudioError;
 pub struct Config {
     /// The folder scenes are saved to and inputs uploaded to (created if missing).
     pub workspace: PathBuf,
-    /// The caps every generated scene runs under (the CLI's `--max-cells`, …).
+    /// The caps every generated scene and upload runs under (the CLI's `--max-cells`, …; by
+    /// default [`relief::Budget::for_this_machine`], memory bounded at half the machine's).
     pub budget: relief::Budget,
     /// The largest request body accepted, bytes (default 64 MiB: a 4096² f32 DEM upload).
     pub max_body_bytes: usize,
@@ -106,7 +107,7 @@ impl Config {
     pub fn new(workspace: impl Into<PathBuf>) -> Self {
         Self {
             workspace: workspace.into(),
-            budget: relief::Budget::default(),
+            budget: relief::Budget::for_this_machine(),
             max_body_bytes: 64 << 20,
             kept_results: 16,
             kept_bytes: 1 << 30,

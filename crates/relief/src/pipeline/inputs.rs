@@ -30,7 +30,8 @@ impl Env<'_> {
     }
 
     fn options(&self) -> ReadOptions {
-        self.inputs.apply(ReadOptions::default().with_limits(Limits::default().with_max_cells(self.budget.max_cells)))
+        self.inputs
+            .apply(ReadOptions::default().with_limits(Limits::default().with_max_cells(self.budget.max_read_cells())))
     }
 
     /// Reads a heightfield, refusing one over the cell budget before decoding it.

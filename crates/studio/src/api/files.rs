@@ -41,7 +41,7 @@ pub(super) async fn open_file(State(app): Shared, Path(name): Path<String>) -> R
     if !path.is_file() {
         return Err(ApiError::not_found(format!("no file {name}: upload it first")));
     }
-    let options = read_options(app.budget.max_cells);
+    let options = read_options(app.budget.max_read_cells());
     let start = Instant::now();
     let read =
         move || relief::io::read_with(&path, &options).map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e));
@@ -61,7 +61,7 @@ pub(super) async fn upload(State(app): Shared, Path(name): Path<String>, body: B
     let worker = std::sync::Arc::clone(&app);
     super::blocking(&app, move || {
         check_json_upload(&worker, &name, &body)?;
-        raster_fits(&name, &body, worker.budget.max_cells)?;
+        raster_fits(&name, &body, worker.budget.max_read_cells())?;
         worker.workspace.write_input(&name, &body)
     })
     .await?;
@@ -92,7 +92,7 @@ fn check_json_upload(app: &super::App, name: &str, body: &[u8]) -> Result<(), Ap
 }
 
 /// Refuses a raster upload (by its extension) whose header announces more than `max_cells`
-/// cells. Only the header is read ([`relief::io::announced_cells`]): a small compressed image can
+/// cells (the budget's cells, and no more than its memory allows a read). Only the header is read ([`relief::io::announced_cells`]): a small compressed image can
 /// announce gigabytes of pixels. Other problems are left to the scene that reads the file: a
 /// colour label image, say, is not a DEM but is a fine upload, and a raw file (no header) is
 /// counted by its length.
