@@ -203,6 +203,7 @@ fn the_memory_estimate_is_refused_before_generating() {
     assert!(e.to_string().contains("limit of 1000"), "{e}");
     assert!(generate_with(&scene(&v), &scenes(), &Budget::default(), &mut Quiet).is_ok());
     // For this machine: half its memory, where Linux tells it.
+    assert_eq!(relief::budget::physical_memory().is_some(), cfg!(target_os = "linux"));
     if let Some(total) = relief::budget::physical_memory() {
         assert_eq!(Budget::for_this_machine().max_bytes, total / 2);
         assert!(total > 1 << 20, "{total} bytes of memory");
