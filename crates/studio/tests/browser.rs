@@ -497,6 +497,19 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     assert_ne!(js(client, sample).await, unsloped, "the slope curve changed nothing");
     radius.clear().await.unwrap();
     radius.send_keys("800").await.unwrap();
+
+    // Move relief and Copy relief take the contour of the height setting, as Delete does.
+    height.clear().await.unwrap();
+    height.send_keys("600").await.unwrap();
+    for (k, tool) in [(3, "cut"), (4, "paste")] {
+        choose_tool(client, tool).await;
+        drag(client, map, &[(-25.0, -15.0), (-15.0, -15.0), (-5.0, -15.0)]).await;
+        id = next_result(client, id).await;
+        let edit = doc(client).await["edits"][k][tool].clone();
+        assert_eq!(edit["height"].as_f64(), Some(600.0), "{tool}: {edit}");
+    }
+    height.clear().await.unwrap();
+    height.send_keys("900").await.unwrap();
     id
 }
 

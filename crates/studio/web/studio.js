@@ -652,7 +652,8 @@ function onPointerUp(event) {
   } else if (CONTOUR_CLICKS[t]) {
     addEdit(CONTOUR_CLICKS[t](start));
   } else if ((t === "cut" || t === "paste") && points.length >= 2) {
-    addEdit({ [t]: { at: start, to: end } });
+    // The relief inside the contour around the press of the height setting, as Delete picks it.
+    addEdit({ [t]: { at: start, height: Number($("height").value), to: end } });
   } else if (CURVE_TOOLS[t]) {
     CURVE_TOOLS[t](start, end, points);
   } else if (PRESETS[t] && points.length >= 3) {
