@@ -361,6 +361,16 @@ async fn island_gestures(client: &Client, workspace: &std::path::Path, mut id: u
     assert_eq!(doc(client).await["generator"]["island"]["operations"].as_array().unwrap().len(), 1);
     assert_eq!(area(js(client, land).await), before);
 
+    // A stroke out in the sea is refused; the page undoes it and says so, and the next gestures
+    // work on the island as it was.
+    choose_tool(client, "stroke").await;
+    let at_sea: Vec<(f64, f64)> = (0..=8).map(|k| (-300.0 + 10.0 * f64::from(k), 290.0)).collect();
+    drag(client, &map, &at_sea).await;
+    wait_for(client, "document.body.dataset.state === 'refused'").await;
+    let message = js(client, "return document.getElementById('message').textContent").await;
+    assert!(message.as_str().unwrap().contains("refused and undone"), "{message}");
+    assert_eq!(doc(client).await["generator"]["island"]["operations"].as_array().unwrap().len(), 1);
+
     // A crater in the hill: a hollow (negative hill) dragged at its centre.
     choose_tool(client, "hollow").await;
     drag(client, &map, &[(60.0, -40.0), (75.0, -40.0), (90.0, -40.0)]).await;

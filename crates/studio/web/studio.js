@@ -24,11 +24,29 @@ function setDoc(next, record = true) {
   scheduleGenerate();
 }
 
+// The document a map gesture made (undone if the server refuses it), and the text of the
+// document whose result is shown.
+let gestureDoc = null;
+let shownDoc = null;
+
 /** Applies `edit` to a copy of the document and records it. */
 function editDoc(edit) {
   const next = JSON.parse(JSON.stringify(doc));
   edit(next);
   setDoc(next);
+  gestureDoc = next;
+}
+
+/** The server refused the document the last gesture made: that gesture is undone (not kept for
+ * redo), so the next gestures apply to a document that generates, and the refusal is shown. */
+function refuseGesture(text) {
+  doc = JSON.parse(past.undo.pop());
+  gestureDoc = null;
+  $("scene").value = JSON.stringify(doc, null, 1);
+  updateButtons();
+  $("message").textContent = `that gesture was refused and undone: ${text}`;
+  setState("refused", "gesture refused");
+  if (JSON.stringify(doc) !== shownDoc) scheduleGenerate();
 }
 
 function undo() {
@@ -93,18 +111,22 @@ async function generate() {
   setState("generating", "generating…");
   const start = performance.now();
   listen();
+  const sent = doc;
   try {
-    const response = await fetch("/api/generate", { method: "POST", body: JSON.stringify(doc), headers, signal });
+    const response = await fetch("/api/generate", { method: "POST", body: JSON.stringify(sent), headers, signal });
     const body = await response.json();
     if (mine !== generation || response.status === 409) return;
     if (!response.ok) {
-      $("message").textContent = (body.path ? body.path + ": " : "") + body.error;
+      const text = (body.path ? body.path + ": " : "") + body.error;
+      if (response.status === 422 && sent === gestureDoc && sent === doc && past.undo.length) return refuseGesture(text);
+      $("message").textContent = text;
       setState("error", "error " + response.status);
       return;
     }
     const samples = await fetch(`/api/results/${body.id}/elevation`, { signal });
     const z = new Float32Array(await samples.arrayBuffer());
     if (mine !== generation) return;
+    shownDoc = JSON.stringify(sent);
     showResult(Object.assign(body, { z }));
     const total = performance.now() - start;
     timings.push({ server_ms: body.ms, total_ms: total });
