@@ -379,6 +379,14 @@ async fn island_gestures(client: &Client, workspace: &std::path::Path, mut id: u
     assert!(crater["height"].as_f64().unwrap() < 0.0, "{crater}");
     screenshot(client, "studio-island").await;
 
+    // Reloading the page keeps the unsaved island (and says so).
+    let unsaved = doc(client).await;
+    client.refresh().await.unwrap();
+    id = next_result(client, id).await;
+    assert_eq!(doc(client).await, unsaved);
+    let message = js(client, "return document.getElementById('message').textContent").await;
+    assert!(message.as_str().unwrap().contains("restored"), "{message}");
+
     save_and_reload(client, workspace, id).await
 }
 

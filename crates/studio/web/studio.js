@@ -21,7 +21,40 @@ function setDoc(next, record = true) {
   doc = next;
   $("scene").value = JSON.stringify(doc, null, 1);
   updateButtons();
+  keepDraft();
   scheduleGenerate();
+}
+
+// A reload restores the document when it differs from the one last saved, loaded or started
+// from a template: it is kept in the browser's storage as it changes.
+const DRAFT = "relief-studio-draft";
+let cleanText = null;
+let restored = false;
+
+/** The document as it is now is saved (or a template's): nothing to restore. */
+function markClean() {
+  cleanText = JSON.stringify(doc);
+  keepDraft();
+}
+
+function keepDraft() {
+  try {
+    const text = JSON.stringify(doc);
+    if (text === cleanText) localStorage.removeItem(DRAFT);
+    else localStorage.setItem(DRAFT, JSON.stringify({ doc: text, name: $("name").value }));
+  } catch (_) {
+    // Storage full or disabled: a reload starts afresh, as without it.
+  }
+}
+
+/** The unsaved document a reload left, if any. */
+function readDraft() {
+  try {
+    const draft = JSON.parse(localStorage.getItem(DRAFT));
+    return draft && typeof draft.doc === "string" ? draft : null;
+  } catch (_) {
+    return null;
+  }
 }
 
 // The document a map gesture made (undone if the server refuses it), and the text of the
@@ -158,7 +191,8 @@ function stopListening() {
 /** Makes `r` (a result with its samples `z`) the current one and draws it. */
 function showResult(r) {
   result = r;
-  $("message").textContent = "";
+  $("message").textContent = restored ? "restored the unsaved scene this page held before it was reloaded" : "";
+  restored = false;
   $("download").href = `/api/results/${result.id}/download/${$("format").value}`;
   $("summary").textContent = summaryText(r);
   renderRelief();
@@ -916,12 +950,14 @@ async function loadTemplate(name) {
   past.redo.length = 0;
   doc = null;
   setDoc(await response.json(), false);
+  markClean();
 }
 
 async function save() {
   const name = $("name").value.trim();
   const response = await fetch(`/api/scenes/${encodeURIComponent(name)}`, { method: "PUT", body: JSON.stringify(doc), headers: jsonBody });
   if (response.ok) {
+    markClean();
     setState(document.body.dataset.state, `saved ${name}`);
     await listScenes();
   } else {
@@ -942,6 +978,7 @@ async function load(name) {
   if (!response.ok) return;
   $("name").value = name;
   setDoc(await response.json());
+  markClean();
 }
 
 /** Generates the scene in full on the server and downloads the chosen output. */
@@ -1088,7 +1125,14 @@ async function start() {
   });
   setup3d($("view3d"));
   await listScenes();
-  await loadTemplate("demo");
+  const draft = readDraft();
+  if (draft) {
+    $("name").value = draft.name || "";
+    restored = true;
+    startFrom(JSON.parse(draft.doc));
+  } else {
+    await loadTemplate("demo");
+  }
 }
 
 // For the browser tests and the console.
