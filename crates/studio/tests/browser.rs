@@ -652,6 +652,12 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     client.find(Locator::Id("show-peaks")).await.unwrap().click().await.unwrap();
     wait_for(client, "Number(document.body.dataset.peaks || 0) >= 5").await;
     screenshot(client, "studio-peaks").await;
+    // The map shows the DEM, not the scene: a gesture changes nothing and says why.
+    let scene = doc(client).await;
+    choose_tool(client, "smooth").await;
+    drag(client, map, &[(10.0, 10.0)]).await;
+    wait_for(client, "document.getElementById('message').textContent.includes('opened DEM')").await;
+    assert_eq!(doc(client).await, scene, "a gesture on the opened DEM edited the hidden scene");
 
     // A terrain synthesized from its divide tree; one tree peak raised to 1500 m by a click.
     client.find(Locator::Id("show-peaks")).await.unwrap().click().await.unwrap();

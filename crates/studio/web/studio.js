@@ -61,6 +61,9 @@ function readDraft() {
 // document whose result is shown.
 let gestureDoc = null;
 let shownDoc = null;
+// The map shows an uploaded DEM opened as it is (Open DEM), not the scene's result: gestures
+// are refused until the scene is generated again.
+let viewingUpload = false;
 
 /** Applies `edit` to a copy of the document and records it. */
 function editDoc(edit) {
@@ -160,6 +163,7 @@ async function generate() {
     const z = new Float32Array(await samples.arrayBuffer());
     if (mine !== generation) return;
     shownDoc = JSON.stringify(sent);
+    viewingUpload = false;
     showResult(Object.assign(body, { z }));
     const total = performance.now() - start;
     timings.push({ server_ms: body.ms, total_ms: total });
@@ -630,6 +634,12 @@ async function finishPainting() {
 
 function onPointerDown(event) {
   if (!result) return;
+  if (viewingUpload) {
+    // The map shows a DEM opened as it is: its coordinates are not the scene's.
+    $("message").textContent =
+      "the map shows the opened DEM, not the scene: Vectorize, Synthesize or Trace it, or start a scene, to edit";
+    return;
+  }
   const p = pointerWorld(event);
   const t = tool();
   if (t === "paint") {
@@ -1044,6 +1054,7 @@ async function openUpload() {
   }
   const z = new Float32Array(await (await fetch(`/api/results/${body.id}/elevation`)).arrayBuffer());
   showResult(Object.assign(body, { z }));
+  viewingUpload = true;
   setState("idle", `${uploaded}: ${body.width}×${body.height}`);
 }
 
