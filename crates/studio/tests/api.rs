@@ -281,9 +281,14 @@ fn downloads_read_back_as_the_generated_heightfield() {
             assert_eq!(f64::from(back.min_max().unwrap().1), result["max"].as_f64().unwrap());
         }
     }
+    // A RAW16's sidecar: the elevations its lowest and highest codes stand for.
+    let (status, sidecar) = studio.json("GET", &format!("/api/results/{id}/download/r16.json"), Body::empty());
+    assert_eq!(status, StatusCode::OK, "{sidecar}");
+    assert_eq!(sidecar["max"].as_f64(), result["max"].as_f64(), "{sidecar}");
+    assert_eq!(sidecar["min"].as_f64(), result["min"].as_f64(), "{sidecar}");
     let (status, error) = studio.json("GET", &format!("/api/results/{id}/download/bmp"), Body::empty());
     assert_eq!(status, StatusCode::NOT_FOUND);
-    assert!(error["error"].as_str().unwrap().contains("exr, png, tif, asc, r16"), "{error}");
+    assert!(error["error"].as_str().unwrap().contains("exr, png, tif, asc, r16, r16.json"), "{error}");
     let (status, _) = studio.json("GET", "/api/results/999/elevation", Body::empty());
     assert_eq!(status, StatusCode::NOT_FOUND);
 }

@@ -460,6 +460,17 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     .await;
     assert_eq!(exr[1], json!([0x76, 0x2f, 0x31, 0x01]), "{exr}");
     assert!(exr[0].as_u64().unwrap() > 512 * 512, "{exr}");
+    // RAW16 comes with its sidecar: the elevations its codes stand for.
+    client.find(Locator::Id("format")).await.unwrap().select_by_value("r16").await.unwrap();
+    wait_for(client, "!document.getElementById('download-sidecar').hidden").await;
+    let sidecar = js(
+        client,
+        "return fetch(document.getElementById('download-sidecar').href).then(r => r.json())          .then(s => [s.max, window.studio.result.max])",
+    )
+    .await;
+    assert_eq!(sidecar[0], sidecar[1], "{sidecar}");
+    client.find(Locator::Id("format")).await.unwrap().select_by_value("exr").await.unwrap();
+    wait_for(client, "document.getElementById('download-sidecar').hidden").await;
 
     // A warp stroke dragged across the range becomes an edit, and generates.
     choose_tool(client, "warp").await;

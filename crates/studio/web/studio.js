@@ -197,7 +197,7 @@ function showResult(r) {
   result = r;
   $("message").textContent = restored ? "restored the unsaved scene this page held before it was reloaded" : "";
   restored = false;
-  $("download").href = `/api/results/${result.id}/download/${$("format").value}`;
+  downloadLinks();
   $("summary").textContent = summaryText(r);
   renderRelief();
   peaks = null;
@@ -210,6 +210,14 @@ function showResult(r) {
   loadPeaks();
   loadSkeleton();
   document.body.dataset.resultId = String(result.id);
+}
+
+/** Points the Download link at the result in the chosen format; a RAW16 also gets its sidecar. */
+function downloadLinks() {
+  const format = $("format").value;
+  $("download").href = `/api/results/${result.id}/download/${format}`;
+  $("download-sidecar").href = `/api/results/${result.id}/download/r16.json`;
+  $("download-sidecar").hidden = format !== "r16";
 }
 
 /** Shows the server's step while a generation runs: `state` is an event of the session's
@@ -1109,7 +1117,7 @@ async function start() {
   $("cancel").onclick = cancel;
   $("apply").onclick = applyText;
   $("export-button").onclick = exportOutput;
-  $("format").onchange = () => result && ($("download").href = `/api/results/${result.id}/download/${$("format").value}`);
+  $("format").onchange = () => result && downloadLinks();
   $("upload").onchange = upload;
   $("vectorize").onclick = vectorizeUpload;
   $("synthesize").onclick = synthesizeUpload;

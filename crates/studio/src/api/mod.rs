@@ -6,7 +6,7 @@
 //! | `GET /api/templates/{name}` | a starter scene |
 //! | `POST /api/generate` | generate the scene in the body (a preview: no drainage analysis or raster contours); the result's id, size, range, step times, warnings |
 //! | `GET /api/results/{id}/elevation` | its samples, f32 little-endian, north row first |
-//! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16` |
+//! | `GET /api/results/{id}/download/{format}` | its heightfield as `exr`, `png` (16-bit), `tif`, `asc` or `r16`, or `r16.json` the RAW16 sidecar |
 //! | `GET /api/scenes`, `GET`/`PUT /api/scenes/{name}` | saved scenes |
 //! | `PUT /api/files/{name}` | upload an input (DEM, image, vector terrain); a raster over the budget gets 413 |
 //! | `POST /api/files/{name}/open` | an uploaded DEM as a result (to view, analyse, download) |

@@ -27,35 +27,34 @@ pub(super) async fn elevation(State(app): Shared, Path(id): Path<u64>) -> Result
     Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
 }
 
-/// The download formats: `(name in the route, extension, content type)`.
-const DOWNLOADS: [(&str, &str, &str); 5] = [
-    ("exr", "exr", "image/x-exr"),
-    ("png", "png", "image/png"),
-    ("tif", "tif", "image/tiff"),
-    ("asc", "asc", "text/plain"),
-    ("r16", "r16", "application/octet-stream"),
+/// The download formats: `(name in the route, file written, file sent, content type)`. A RAW16
+/// file holds codes only: its sidecar (`r16.json`) says what elevations they stand for.
+const DOWNLOADS: [(&str, &str, &str, &str); 6] = [
+    ("exr", "terrain.exr", "terrain.exr", "image/x-exr"),
+    ("png", "terrain.png", "terrain.png", "image/png"),
+    ("tif", "terrain.tif", "terrain.tif", "image/tiff"),
+    ("asc", "terrain.asc", "terrain.asc", "text/plain"),
+    ("r16", "terrain.r16", "terrain.r16", "application/octet-stream"),
+    ("r16.json", "terrain.r16", "terrain.r16.json", "application/json"),
 ];
 
-/// `GET /api/results/{id}/download/{format}`: the heightfield as a file.
+/// `GET /api/results/{id}/download/{format}`: the heightfield as a file (or a RAW16's sidecar).
 pub(super) async fn download(
     State(app): Shared,
     Path((id, format)): Path<(u64, String)>,
 ) -> Result<Response, ApiError> {
-    let (_, extension, content_type) = DOWNLOADS.iter().find(|(name, ..)| *name == format).ok_or_else(|| {
+    let (_, written, sent, content_type) = DOWNLOADS.iter().find(|(name, ..)| *name == format).ok_or_else(|| {
         let names: Vec<&str> = DOWNLOADS.iter().map(|(n, ..)| *n).collect();
         ApiError::not_found(format!("no format {format}: one of {}", names.join(", ")))
     })?;
     let hf = app.result(id)?;
-    let file = format!("terrain.{extension}");
-    let name = file.clone();
     let bytes = super::blocking(&app, move || {
         let dir = tempfile::tempdir().map_err(ApiError::internal)?;
-        let path = dir.path().join(&name);
-        relief::io::write(&path, &hf).map_err(ApiError::internal)?;
-        std::fs::read(&path).map_err(ApiError::internal)
+        relief::io::write(dir.path().join(written), &hf).map_err(ApiError::internal)?;
+        std::fs::read(dir.path().join(sent)).map_err(ApiError::internal)
     })
     .await?;
-    Ok(super::attachment(&file, content_type, bytes))
+    Ok(super::attachment(sent, content_type, bytes))
 }
 
 /// `?min_prominence=M` (default: 5 % of the result's relief).
