@@ -451,26 +451,7 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     .unwrap();
     let rim = at_corners(client, 4).await;
     assert!(rim.iter().all(|&z| z > floor + 20.0), "the crater's floor {floor} m, its rim {rim:?}");
-    // The Download link fetches the heightfield as OpenEXR, 512² f32 samples.
-    let exr = js(
-        client,
-        "return fetch(document.getElementById('download').href).then(r => r.arrayBuffer()) \
-         .then(b => [b.byteLength, Array.from(new Uint8Array(b, 0, 4))])",
-    )
-    .await;
-    assert_eq!(exr[1], json!([0x76, 0x2f, 0x31, 0x01]), "{exr}");
-    assert!(exr[0].as_u64().unwrap() > 512 * 512, "{exr}");
-    // RAW16 comes with its sidecar: the elevations its codes stand for.
-    client.find(Locator::Id("format")).await.unwrap().select_by_value("r16").await.unwrap();
-    wait_for(client, "!document.getElementById('download-sidecar').hidden").await;
-    let sidecar = js(
-        client,
-        "return fetch(document.getElementById('download-sidecar').href).then(r => r.json())          .then(s => [s.max, window.studio.result.max])",
-    )
-    .await;
-    assert_eq!(sidecar[0], sidecar[1], "{sidecar}");
-    client.find(Locator::Id("format")).await.unwrap().select_by_value("exr").await.unwrap();
-    wait_for(client, "document.getElementById('download-sidecar').hidden").await;
+    downloads(client).await;
 
     // A warp stroke dragged across the range becomes an edit, and generates.
     choose_tool(client, "warp").await;
@@ -527,7 +508,38 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     radius.clear().await.unwrap();
     radius.send_keys("800").await.unwrap();
 
-    // Move relief and Copy relief take the contour of the height setting, as Delete does.
+    move_and_copy_relief(client, map, id).await
+}
+
+/// The Download link: OpenEXR, and RAW16 with its sidecar.
+async fn downloads(client: &Client) {
+    // The Download link fetches the heightfield as OpenEXR, 512² f32 samples.
+    let exr = js(
+        client,
+        "return fetch(document.getElementById('download').href).then(r => r.arrayBuffer()) \
+         .then(b => [b.byteLength, Array.from(new Uint8Array(b, 0, 4))])",
+    )
+    .await;
+    assert_eq!(exr[1], json!([0x76, 0x2f, 0x31, 0x01]), "{exr}");
+    assert!(exr[0].as_u64().unwrap() > 512 * 512, "{exr}");
+    // RAW16 comes with its sidecar: the elevations its codes stand for.
+    client.find(Locator::Id("format")).await.unwrap().select_by_value("r16").await.unwrap();
+    wait_for(client, "!document.getElementById('download-sidecar').hidden").await;
+    let sidecar = js(
+        client,
+        "return fetch(document.getElementById('download-sidecar').href).then(r => r.json()) \
+         .then(s => [s.max, window.studio.result.max])",
+    )
+    .await;
+    assert_eq!(sidecar[0], sidecar[1], "{sidecar}");
+    client.find(Locator::Id("format")).await.unwrap().select_by_value("exr").await.unwrap();
+    wait_for(client, "document.getElementById('download-sidecar').hidden").await;
+}
+
+/// Move relief and Copy relief dragged from the summit: each takes the contour of the height
+/// setting, as Delete does; the last result's id.
+async fn move_and_copy_relief(client: &Client, map: &Element, mut id: u64) -> u64 {
+    let height = client.find(Locator::Id("height")).await.unwrap();
     height.clear().await.unwrap();
     height.send_keys("600").await.unwrap();
     for (k, tool) in [(3, "cut"), (4, "paste")] {
@@ -578,6 +590,15 @@ async fn at_corners(client: &Client, k: usize) -> Vec<f64> {
            return r.z[j * r.width + i]; }})"
     );
     js(client, &script).await.as_array().unwrap().iter().map(|z| z.as_f64().unwrap()).collect()
+}
+
+/// The map shows an opened DEM, not the scene: a gesture changes nothing and says why.
+async fn gesture_on_the_opened_dem(client: &Client, map: &Element) {
+    let scene = doc(client).await;
+    choose_tool(client, "smooth").await;
+    drag(client, map, &[(10.0, 10.0)]).await;
+    wait_for(client, "document.getElementById('message').textContent.includes('opened DEM')").await;
+    assert_eq!(doc(client).await, scene, "a gesture on the opened DEM edited the hidden scene");
 }
 
 /// A ridge dragged on the feature-curve template; a mask uploaded and traced as an island's
@@ -663,12 +684,7 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     client.find(Locator::Id("show-peaks")).await.unwrap().click().await.unwrap();
     wait_for(client, "Number(document.body.dataset.peaks || 0) >= 5").await;
     screenshot(client, "studio-peaks").await;
-    // The map shows the DEM, not the scene: a gesture changes nothing and says why.
-    let scene = doc(client).await;
-    choose_tool(client, "smooth").await;
-    drag(client, map, &[(10.0, 10.0)]).await;
-    wait_for(client, "document.getElementById('message').textContent.includes('opened DEM')").await;
-    assert_eq!(doc(client).await, scene, "a gesture on the opened DEM edited the hidden scene");
+    gesture_on_the_opened_dem(client, map).await;
 
     // A terrain synthesized from its divide tree; one tree peak raised to 1500 m by a click.
     client.find(Locator::Id("show-peaks")).await.unwrap().click().await.unwrap();
