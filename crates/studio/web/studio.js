@@ -43,7 +43,12 @@ function keepDraft() {
     if (text === cleanText) localStorage.removeItem(DRAFT);
     else localStorage.setItem(DRAFT, JSON.stringify({ doc: text, name: $("name").value }));
   } catch (_) {
-    // Storage full or disabled: a reload starts afresh, as without it.
+    // Storage full (a scene of megabytes) or disabled: no draft, rather than an older one.
+    try {
+      localStorage.removeItem(DRAFT);
+    } catch (_) {
+      // Disabled: there is none.
+    }
   }
 }
 
