@@ -97,9 +97,13 @@ fn island_scene(studio: &Studio) -> Value {
 #[test]
 fn the_page_and_its_scripts_are_served() {
     let studio = Studio::new();
-    for (path, needle) in
-        [("/", "<canvas"), ("/studio.js", "fetch("), ("/view3d.js", "export function"), ("/studio.css", "{")]
-    {
+    for (path, needle) in [
+        ("/", "<canvas"),
+        ("/studio.js", "fetch("),
+        ("/view3d.js", "export function"),
+        ("/shapes.js", "export function"),
+        ("/studio.css", "{"),
+    ] {
         let (status, body) = studio.send("GET", path, Body::empty());
         assert_eq!(status, StatusCode::OK, "{path}");
         assert!(String::from_utf8(body).unwrap().contains(needle), "{path}");
@@ -318,6 +322,50 @@ fn every_output_is_exported_from_a_full_run() {
     assert!(error["error"].as_str().unwrap().contains("does not write skeleton.geojson"), "{error}");
     let (status, _) = studio.send("POST", "/api/export/passwd", scene);
     assert_eq!(status, StatusCode::NOT_FOUND);
+}
+
+/// The names and bytes of every file in a zip.
+fn unzip(bytes: Vec<u8>) -> Vec<(String, Vec<u8>)> {
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+    (0..zip.len())
+        .map(|k| {
+            let mut file = zip.by_index(k).unwrap();
+            let mut bytes = Vec::new();
+            std::io::Read::read_to_end(&mut file, &mut bytes).unwrap();
+            (file.name().unwrap().into_owned(), bytes)
+        })
+        .collect()
+}
+
+#[test]
+fn an_engine_export_is_one_zip_of_its_files() {
+    let studio = Studio::new();
+    let mut scene = island_scene(&studio);
+    // Without an engine output in the scene: the nearest legal size, with splat maps.
+    let (status, bytes) = studio.send("POST", "/api/export/engine/unity", scene.to_string());
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+    let files = unzip(bytes);
+    let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["heightmap.import.json", "heightmap.raw", "heightmap_masks.png", "heightmap_splat.png"]);
+    let sidecar: Value = serde_json::from_slice(&files[0].1).unwrap();
+    let n = sidecar["settings"]["samples"][0].as_u64().unwrap();
+    assert!(n.is_power_of_two() || (n - 1).is_power_of_two(), "{sidecar}");
+    assert_eq!(files[1].1.len() as u64, 2 * n * n, "a 16-bit RAW of {n}² samples");
+    // The scene's own entry sets the size and tiles, without splat maps: 256² samples are at
+    // least 2 × 2 Unreal tiles of 127.
+    scene["reconstruction"]["resolution"] = serde_json::json!([256, 256]);
+    scene["outputs"]["engines"] = serde_json::json!([{ "for": "unreal", "tile": 127 }]);
+    let (status, bytes) = studio.send("POST", "/api/export/engine/unreal", scene.to_string());
+    assert_eq!(status, StatusCode::OK);
+    let files = unzip(bytes);
+    let tiles = files.iter().filter(|(n, _)| n.starts_with("heightmap_x")).count();
+    assert!(tiles >= 4, "{:?}", files.iter().map(|(n, _)| n).collect::<Vec<_>>());
+    assert_eq!(files.len(), tiles + 1, "the tiles and the sidecar");
+    assert!(files.iter().filter(|(n, _)| n.starts_with("heightmap_x")).all(|(_, b)| &b[1..4] == b"PNG"));
+    // An engine it does not know.
+    let (status, error) = studio.json("POST", "/api/export/engine/cryengine", scene.to_string());
+    assert_eq!(status, StatusCode::NOT_FOUND);
+    assert!(error["error"].as_str().unwrap().contains("unity, unreal, godot, blender"), "{error}");
 }
 
 #[test]

@@ -402,6 +402,17 @@ async fn save_and_reload(client: &Client, workspace: &std::path::Path, mut id: u
     client.find(Locator::Id("export")).await.unwrap().select_by_value("contours.geojson").await.unwrap();
     client.find(Locator::Id("export-button")).await.unwrap().click().await.unwrap();
     wait_for(client, "document.getElementById('status').textContent === 'exported contours.geojson'").await;
+    // A game engine's files, as one zip: the page hands the browser what the server sent.
+    js(
+        client,
+        "window.blobs = []; const made = URL.createObjectURL; \
+         URL.createObjectURL = (b) => { window.blobs.push(b.type); return made(b); }; return null",
+    )
+    .await;
+    client.find(Locator::Id("export")).await.unwrap().select_by_value("engine/godot").await.unwrap();
+    client.find(Locator::Id("export-button")).await.unwrap().click().await.unwrap();
+    wait_for(client, "document.getElementById('status').textContent === 'exported engine/godot'").await;
+    assert_eq!(js(client, "return window.blobs").await, json!(["application/zip"]));
     let scene = |v: &Value| relief::Scene::from_json(&v.to_string()).unwrap();
     let on_disk = relief::pipeline::load_scene(workspace.join("e2e-island.json")).unwrap();
     assert_eq!(on_disk, scene(&saved));
@@ -451,6 +462,7 @@ async fn contour_gestures(client: &Client, map: &Element, mut id: u64) -> u64 {
     .unwrap();
     let rim = at_corners(client, 4).await;
     assert!(rim.iter().all(|&z| z > floor + 20.0), "the crater's floor {floor} m, its rim {rim:?}");
+    id = reedit_regions(client, map, id).await;
     downloads(client).await;
 
     // A warp stroke dragged across the range becomes an edit, and generates.
@@ -580,6 +592,74 @@ async fn draw_region(client: &Client, map: &Element, tool: &str, h: &str, corner
     next_result(client, id).await
 }
 
+/// The summit region drawn earlier (region 2, 900 m) gets a new height, then its own back, and a
+/// moved corner; the crater (region 4) is removed; the last result's id.
+async fn reedit_regions(client: &Client, map: &Element, mut id: u64) -> u64 {
+    let height = client.find(Locator::Id("height")).await.unwrap();
+    choose_tool(client, "region-height").await;
+    for h in ["1000", "900"] {
+        height.clear().await.unwrap();
+        height.send_keys(h).await.unwrap();
+        drag(client, map, &[(-25.0, -15.0)]).await;
+        id = next_result(client, id).await;
+        let h: f64 = h.parse().unwrap();
+        assert_eq!(doc(client).await["generator"]["contours"]["regions"][2]["height"].as_f64(), Some(h));
+        for z in at_corners(client, 2).await {
+            assert!((z - h).abs() < 40.0, "a corner at {z} m, the region's height is now {h} m");
+        }
+    }
+    // The corner at (10, 0) px dragged 20 px east: the 900 m contour follows it.
+    choose_tool(client, "move-corner").await;
+    let before = doc(client).await["generator"]["contours"]["regions"][2]["polygon"]["exterior"][2].clone();
+    drag(client, map, &[(10.0, 0.0), (20.0, 0.0), (30.0, 0.0)]).await;
+    id = next_result(client, id).await;
+    let after = doc(client).await["generator"]["contours"]["regions"][2]["polygon"]["exterior"][2].clone();
+    let moved = after[0].as_f64().unwrap() - before[0].as_f64().unwrap();
+    assert!(
+        moved > 0.0 && (after[1].as_f64().unwrap() - before[1].as_f64().unwrap()).abs() < moved / 4.0,
+        "{before} → {after}"
+    );
+    for z in at_corners(client, 2).await {
+        assert!((z - 900.0).abs() < 40.0, "a corner at {z} m after the move");
+    }
+    // Clicking inside the crater removes it (the innermost region there), not the range.
+    choose_tool(client, "remove-region").await;
+    drag(client, map, &[(147.0, 60.0)]).await;
+    id = next_result(client, id).await;
+    let regions = doc(client).await["generator"]["contours"]["regions"].clone();
+    assert_eq!(regions.as_array().unwrap().len(), 4, "{regions}");
+    assert!(regions.as_array().unwrap().iter().all(|r| r["depression"] != true), "{regions}");
+    id
+}
+
+/// The ridge drawn on the curve template: its middle point dragged 60 px south carries the crest
+/// there; then the ridge is removed and the crest goes; the last result's id.
+async fn reedit_ridge(client: &Client, map: &Element, mut id: u64) -> u64 {
+    let z_at = |dy: f64| {
+        format!(
+            "const r = window.studio.result; const j = Math.round((320 + {dy}) / 640 * (r.height - 1)); \
+             return r.z[j * r.width + Math.round((r.width - 1) / 2)]"
+        )
+    };
+    choose_tool(client, "move-feature").await;
+    drag(client, map, &[(0.0, -220.0), (0.0, -200.0), (0.0, -180.0), (0.0, -160.0)]).await;
+    id = next_result(client, id).await;
+    let ridge = &doc(client).await["generator"]["diffusion"]["presets"][1]["ridge"];
+    let ys: Vec<f64> = ridge["points"].as_array().unwrap().iter().map(|p| p[1].as_f64().unwrap()).collect();
+    assert_eq!(ys.iter().filter(|&&y| y != ys[0]).count(), 1, "one point moved: {ridge}");
+    let (old, new) = (js(client, &z_at(-220.0)).await, js(client, &z_at(-160.0)).await);
+    assert!((new.as_f64().unwrap() - 900.0).abs() < 90.0, "the moved crest is at {new} m");
+    assert!(old.as_f64().unwrap() < new.as_f64().unwrap() - 50.0, "the old crest {old} m, the moved one {new} m");
+    choose_tool(client, "remove-feature").await;
+    drag(client, map, &[(-150.0, -220.0)]).await;
+    id = next_result(client, id).await;
+    let presets = doc(client).await["generator"]["diffusion"]["presets"].clone();
+    assert_eq!(presets.as_array().unwrap().len(), 1, "{presets}");
+    let gone = js(client, &z_at(-160.0)).await;
+    assert!(gone.as_f64().unwrap() < new.as_f64().unwrap() - 150.0, "the crest at {new} m, {gone} m once removed");
+    id
+}
+
 /// The elevations at the corners of the scene's region `k`.
 async fn at_corners(client: &Client, k: usize) -> Vec<f64> {
     let script = format!(
@@ -622,6 +702,7 @@ async fn curve_and_upload_gestures(client: &Client, map: &Element, workspace: &s
     )
     .await;
     assert!((crest.as_f64().unwrap() - 900.0).abs() < 90.0, "the crest is at {crest} m");
+    id = reedit_ridge(client, map, id).await;
     id = bezier_gestures(client, map, id).await;
     screenshot(client, "studio-curves").await;
 

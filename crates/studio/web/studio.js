@@ -3,6 +3,7 @@
 // the 3D view. Plain JavaScript, no build step: the server ships this file as it is.
 import { setup3d, show3d } from "/view3d.js";
 import { centreLine, moveControl, nearestOnLine, placeConstraint, pointAt, smoothThrough } from "/bezier.js";
+import { distanceToLine, movePresetPoint, presetLines, presetPoints, regionAt, regionCorners } from "/shapes.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -424,6 +425,7 @@ function drawInputs(ctx) {
       polyline(ctx, region.polygon.exterior, true);
     }
     ctx.setLineDash([]);
+    if (tool() === "move-corner") drawHandles(ctx, regionCorners(doc.generator.contours.regions));
     ctx.strokeStyle = "rgba(255, 150, 80, 0.9)";
     for (const edit of doc.edits || []) {
       if (edit.warp) polyline(ctx, edit.warp.stroke, false);
@@ -439,6 +441,7 @@ function drawInputs(ctx) {
     }
     for (const curve of g.curves || []) polyline(ctx, centreLine(curve.points), false);
     if (tool() === "move-control" || tool() === "constrain") drawCurveHandles(ctx, g.curves || []);
+    if (tool() === "move-feature") drawHandles(ctx, presetPoints(g.presets));
   }
   if (kind === "orometry" && result.divide_tree) drawTree(ctx, result.divide_tree);
   if (kind === "gaussian" && skeleton && tool() === "move-crest") drawSkeleton(ctx);
@@ -580,7 +583,7 @@ function drawPeaks(ctx) {
 // ---------------------------------------------------------------------------------------------
 // Tools: each gesture becomes one scene edit.
 
-const pending = { points: [], start: null, hill: -1, control: null };
+const pending = { points: [], start: null, hill: -1, control: null, shape: null };
 
 function tool() {
   return document.querySelector('input[name="tool"]:checked').value;
@@ -673,6 +676,8 @@ function onPointerDown(event) {
     pending.hill = hills.length ? hills.indexOf(hills.reduce((a, b) => (near(a) <= near(b) ? a : b))) : -1;
   }
   if (t === "move-control") pending.control = nearestControl(p);
+  if (t === "move-feature") pending.shape = nearest(presetPoints(doc.generator.diffusion.presets), p, 12, (a) => a.q);
+  if (t === "move-corner") pending.shape = nearest(regionCorners(doc.generator.contours.regions), p, 12, (a) => a.q);
 }
 
 function onPointerMove(event) {
@@ -735,6 +740,8 @@ function onPointerUp(event) {
     addEdit({ [t]: { at: start, height: Number($("height").value), to: end } });
   } else if (CURVE_TOOLS[t]) {
     CURVE_TOOLS[t](start, end, points);
+  } else if (SHAPE_TOOLS[t]) {
+    SHAPE_TOOLS[t](start, end);
   } else if (PRESETS[t] && points.length >= 3) {
     const preset = PRESETS[t](simplified(points), Math.abs(Number($("height").value)));
     editDoc((d) => (d.generator.diffusion.presets = (d.generator.diffusion.presets || []).concat([preset])));
@@ -807,6 +814,52 @@ const CURVE_TOOLS = {
     });
   },
 };
+
+// Re-editing what was drawn: a feature's points and a region's corners dragged, a feature or a
+// region removed, a region's height set. A change the generator refuses (a region crossing
+// another) comes back as a refusal and is undone.
+const SHAPE_TOOLS = {
+  "move-feature": (start, end) => {
+    const near = pending.shape;
+    pending.shape = null;
+    if (!near) return refuse("press on a point of a ridge, riverbed, cliff, hill crest or crack (shown as squares)");
+    editDoc((d) => movePresetPoint(d.generator.diffusion.presets, near.item, roundWorld(end)));
+  },
+  "remove-feature": (start) => {
+    const g = doc.generator.diffusion;
+    const lines = (g.presets || []).map((preset, k) => ({ key: "presets", k, lines: presetLines(preset) }))
+      .concat((g.curves || []).map((curve, k) => ({ key: "curves", k, lines: [centreLine(curve.points)] })));
+    const distance = (f) => Math.min(...f.lines.map((line) => distanceToLine(line, start)));
+    const near = lines.filter((f) => distance(f) * view.scale <= 16).sort((a, b) => distance(a) - distance(b))[0];
+    if (!near) return refuse("click on a drawn feature or Bézier curve to remove it");
+    editDoc((d) => d.generator.diffusion[near.key].splice(near.k, 1));
+  },
+  "move-corner": (start, end) => {
+    const near = pending.shape;
+    pending.shape = null;
+    if (!near) return refuse("press on a region's corner (shown as squares)");
+    editDoc((d) => (d.generator.contours.regions[near.item.region].polygon.exterior[near.item.k] = roundWorld(end)));
+  },
+  "region-height": (start) => {
+    const k = regionAt(doc.generator.contours.regions, start);
+    if (k < 0 || doc.generator.contours.regions[k].depression) return refuse("click inside a region (not a depression) to give it the height setting");
+    editDoc((d) => (d.generator.contours.regions[k].height = Number($("height").value)));
+  },
+  "remove-region": (start) => {
+    const k = regionAt(doc.generator.contours.regions, start);
+    if (k < 0) return refuse("click inside a region or depression to remove it");
+    editDoc((d) => d.generator.contours.regions.splice(k, 1));
+  },
+};
+
+/** Small squares on the points `{ q }` a drag can move. */
+function drawHandles(ctx, points) {
+  ctx.fillStyle = "#fff";
+  for (const { q } of points) {
+    const [x, y] = worldToCanvas(q);
+    ctx.fillRect(x - 3, y - 3, 7, 7);
+  }
+}
 
 /** A constraint at `u` from the settings: the groups ticked, with their values. */
 function curveConstraint(u) {
@@ -1018,7 +1071,8 @@ async function exportOutput() {
   }
   const link = document.createElement("a");
   link.href = URL.createObjectURL(await response.blob());
-  link.download = file;
+  // An engine's files (heightmaps, splat maps, the import numbers) come as one zip.
+  link.download = file.startsWith("engine/") ? `terrain-${file.slice(7)}.zip` : file;
   link.click();
   setTimeout(() => URL.revokeObjectURL(link.href), 10000);
   setState(document.body.dataset.state, `exported ${file}`);

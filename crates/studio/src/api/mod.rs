@@ -115,6 +115,7 @@ pub(crate) fn routes(app: Arc<App>, max_body_bytes: usize) -> Router {
         .route("/api/templates/{name}", get(template))
         .route("/api/generate", post(run::generate))
         .route("/api/export/{file}", post(run::export))
+        .route("/api/export/engine/{engine}", post(run::export_engine))
         .route("/api/progress", get(run::progress))
         .route("/api/events", get(run::events))
         .route("/api/cancel", post(run::cancel))

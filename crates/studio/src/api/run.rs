@@ -94,9 +94,8 @@ const EXPORTS: [(&str, &str, &str); 8] = [
     ("terrain.glb", "mesh", "model/gltf-binary"),
 ];
 
-/// The scene's outputs replaced by `file` alone.
-fn only_output(scene: &mut Scene, field: &str, file: &str) -> Result<(), ApiError> {
-    let value = if field == "mesh" { json!({ "file": file }) } else { json!(file) };
+/// The scene's outputs replaced by the one `field` set to `value`.
+fn only_output(scene: &mut Scene, field: &str, value: &Value) -> Result<(), ApiError> {
     let outputs = json!({
         "heightfield": [], "contours_geojson": null, "contours_svg": null, "preview": null, "summary": null,
         field: value,
@@ -118,26 +117,91 @@ pub(super) async fn export(
         ApiError::not_found(format!("no export {file}: one of {}", names.join(", ")))
     })?;
     let mut scene = parse_scene_blocking(&app, body).await?;
-    only_output(&mut scene, field, &file)?;
-    let session = session(&headers)?;
+    let value = if *field == "mesh" { json!({ "file": file }) } else { json!(file) };
+    only_output(&mut scene, field, &value)?;
+    let name = file.clone();
+    let bytes = run_full(&app, &headers, scene, move |dir| Ok(std::fs::read(dir.join(&name)).ok())).await?;
+    let bytes = bytes.ok_or_else(|| {
+        let generator = "this scene's generator does not write";
+        ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, format!("{generator} {file}"))
+    })?;
+    Ok(super::attachment(&file, content_type, bytes))
+}
+
+/// `POST /api/export/engine/{engine}`: generates the scene in full and returns the engine's
+/// files (heightmaps or tiles, splat maps, `heightmap.import.json`) as one zip. The scene's own
+/// `outputs.engines` entry for that engine sets the size, tiles and splat maps; without one, the
+/// engine's nearest legal size with the default splat maps.
+pub(super) async fn export_engine(
+    State(app): Shared,
+    Path(engine): Path<String>,
+    headers: HeaderMap,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let found = relief::engine::Engine::ALL.into_iter().find(|e| e.name() == engine).ok_or_else(|| {
+        let names: Vec<&str> = relief::engine::Engine::ALL.iter().map(|e| e.name()).collect();
+        ApiError::not_found(format!("no engine {engine}: one of {}", names.join(", ")))
+    })?;
+    let mut scene = parse_scene_blocking(&app, body).await?;
+    let output = engine_output(&scene, found);
+    only_output(&mut scene, "engines", &json!([output]))?;
+    let zipped =
+        run_full(&app, &headers, scene, move |dir| zip_folder(&dir.join(found.name())).map_err(ApiError::internal))
+            .await?;
+    Ok(super::attachment(&format!("terrain-{engine}.zip"), "application/zip", zipped))
+}
+
+/// The scene's own export for `engine` in its own folder, or the defaults with splat maps.
+fn engine_output(scene: &Scene, engine: relief::engine::Engine) -> relief::scene::EngineOutput {
+    let own = scene.outputs.engines.iter().find(|e| e.engine == engine).cloned();
+    let mut output = own.unwrap_or(relief::scene::EngineOutput {
+        engine,
+        dir: None,
+        size: None,
+        tile: None,
+        splat: Some(relief::engine::SplatOptions::default()),
+    });
+    output.dir = Some(engine.name().into());
+    output
+}
+
+/// Every file of `dir` (an engine's flat folder), by name, deflated into one zip.
+fn zip_folder(dir: &std::path::Path) -> Result<Vec<u8>, Box<dyn std::error::Error + Send + Sync>> {
+    use std::io::Write;
+    let mut names: Vec<_> = std::fs::read_dir(dir)?.map(|e| e.map(|e| e.file_name())).collect::<Result<_, _>>()?;
+    names.sort();
+    let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let options = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    for name in names {
+        zip.start_file(name.to_string_lossy(), options)?;
+        zip.write_all(&std::fs::read(dir.join(&name))?)?;
+    }
+    Ok(zip.finish()?.into_inner())
+}
+
+/// Runs `scene` in full into a temporary folder under the session's job, then `read` takes what
+/// it needs from the folder.
+async fn run_full<T: Send + 'static>(
+    app: &Arc<App>,
+    headers: &HeaderMap,
+    scene: Scene,
+    read: impl FnOnce(&std::path::Path) -> Result<T, ApiError> + Send + 'static,
+) -> Result<T, ApiError> {
+    let session = session(headers)?;
     let guard = app.jobs.run(session.as_deref())?;
-    let (worker, running, name) = (Arc::clone(&app), Arc::clone(&guard.job), file.clone());
-    let written = tokio::task::spawn_blocking(move || -> Result<Option<Vec<u8>>, ApiError> {
+    let (worker, running) = (Arc::clone(app), Arc::clone(&guard.job));
+    let written = tokio::task::spawn_blocking(move || -> Result<T, ApiError> {
         let dir = tempfile::tempdir().map_err(ApiError::internal)?;
         let mut progress = crate::jobs::JobProgress(running);
         match relief::pipeline::run_with(&scene, worker.workspace.root(), dir.path(), &worker.budget, &mut progress) {
             Err(relief::ReliefError::Cancelled) => Err(ApiError::new(StatusCode::CONFLICT, "cancelled")),
             Err(error) => Err(error.into()),
-            Ok(_) => Ok(std::fs::read(dir.path().join(&name)).ok()),
+            Ok(_) => read(dir.path()),
         }
     })
     .await;
     drop(guard);
-    let bytes = written.map_err(ApiError::internal)??.ok_or_else(|| {
-        let generator = "this scene's generator does not write";
-        ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, format!("{generator} {file}"))
-    })?;
-    Ok(super::attachment(&file, content_type, bytes))
+    written.map_err(ApiError::internal)?
 }
 
 /// `GET /api/progress`: where the session's running generation is.
