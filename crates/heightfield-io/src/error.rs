@@ -34,6 +34,12 @@ impl IoError {
         &self.kind
     }
 
+    /// Whether the file was refused for announcing (or holding) more than [`crate::Limits`]
+    /// allows, before it was decoded.
+    pub fn is_over_limit(&self) -> bool {
+        matches!(self.kind, IoErrorKind::TooLarge { .. } | IoErrorKind::FileTooLarge { .. })
+    }
+
     /// Consumes the error, returning what went wrong.
     pub fn into_kind(self) -> IoErrorKind {
         self.kind

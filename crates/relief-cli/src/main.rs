@@ -42,9 +42,18 @@ fn main() -> ExitCode {
             {
                 eprintln!("{}", snippet.caret());
             }
-            ExitCode::FAILURE
+            if over_budget(&e) { ExitCode::from(2) } else { ExitCode::FAILURE }
         }
     }
+}
+
+/// Whether `e` refused work over the budget (`--max-cells`, `--max-bytes`, `--max-primitives`,
+/// a raster bigger than the read limit): exit 2, as for a usage error, since nothing was tried.
+fn over_budget(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<relief::ReliefError>().is_some_and(relief::ReliefError::is_over_budget)
+            || c.downcast_ref::<relief::io::IoError>().is_some_and(relief::io::IoError::is_over_limit)
+    })
 }
 
 fn run(cli: &Cli) -> Result<()> {

@@ -605,24 +605,28 @@ fn vectorize_then_rasterize_a_real_dem() {
     std::fs::write(&bad, r#"{"primitives":[{"center":[0,0],"sigma":[-1,1],"amplitude":1}]}"#).unwrap();
     let err = fails(&["--force", "rasterize", bad.to_str().unwrap(), "--size", "64", "-o", exr.to_str().unwrap()], 1);
     assert!(err.contains("sigma.x"), "{err}");
-    // The budget flags cap what the commands would allocate, before they do: the raster's cells,
+    // The budget flags cap what the commands would allocate, before they do (exit 2, as nothing
+    // was tried): the raster's cells,
     // the terrain's primitives, and a fit's primitives and working grid (`--force`: the outputs
     // exist from above, and must not be what stops them).
     let (json, exr, dem) = (json.to_str().unwrap(), exr.to_str().unwrap(), dem.to_str().unwrap());
-    let err = fails(&["--force", "--max-cells", "10000", "rasterize", json, "--size", "120x100", "-o", exr], 1);
+    let err = fails(&["--force", "--max-cells", "10000", "rasterize", json, "--size", "120x100", "-o", exr], 2);
     assert!(err.contains("--size") && err.contains("12000") && err.contains("--max-cells"), "{err}");
-    let err = fails(&["--force", "--max-primitives", "10", "rasterize", json, "--size", "64", "-o", exr], 1);
+    let err = fails(&["--force", "--max-primitives", "10", "rasterize", json, "--size", "64", "-o", exr], 2);
     assert!(err.contains("--max-primitives"), "{err}");
-    let err = fails(&["--force", "--max-primitives", "100", "vectorize", dem, "--primitives", "150", "-o", json], 1);
+    let err = fails(&["--force", "--max-primitives", "100", "vectorize", dem, "--primitives", "150", "-o", json], 2);
     assert!(err.contains("--primitives") && err.contains("--max-primitives"), "{err}");
-    let err = fails(&["--force", "--max-cells", "5000", "vectorize", dem, "--resolution", "96", "-o", json], 1);
+    let err = fails(&["--force", "--max-cells", "5000", "vectorize", dem, "--resolution", "96", "-o", json], 2);
     assert!(err.contains("--resolution") && err.contains("9216"), "{err}");
+    // A DEM bigger than the read limit: refused from its header, exit 2 too.
+    let err = fails(&["--max-cells", "100", "info", dem], 2);
+    assert!(err.contains("exceed the limit of 100"), "{err}");
     // The memory estimate: 4096² cells at 80 bytes for a contour scene, refused before any work.
     let out = tmp.path().join("mesa");
     let args = ["--max-bytes", "1000000000", "generate", "fixtures/scenes/mesa.json", "--resolution", "4096"];
-    let err = fails(&[&args[..], &["--out", out.to_str().unwrap()]].concat(), 1);
+    let err = fails(&[&args[..], &["--out", out.to_str().unwrap()]].concat(), 2);
     assert!(err.contains("1342177280 bytes") && err.contains("--max-bytes"), "{err}");
-    assert!(std::fs::read_dir(&out).map_or(true, |d| d.count() == 0), "something was written");
+    assert!(!out.exists(), "the output folder was made for a refused scene");
 }
 
 /// A coast whose sea is stored as 0: by default the terrain gets a floor at sea level and the

@@ -67,6 +67,13 @@ pub fn bytes_per_cell(generator: &Generator) -> u64 {
     }
 }
 
+/// The memory generating `scene` is estimated to take at its peak, bytes: its output cells times
+/// [`bytes_per_cell`] (what [`Budget::check`] holds against [`Budget::max_bytes`]).
+pub fn estimated_bytes(scene: &Scene) -> u64 {
+    let [nx, ny] = scene.reconstruction.resolution;
+    cells(nx, ny).saturating_mul(bytes_per_cell(&scene.generator))
+}
+
 /// The machine's physical memory, bytes, where the system says (Linux's `/proc/meminfo`).
 pub fn physical_memory() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
@@ -142,8 +149,7 @@ impl Budget {
     pub fn check(&self, scene: &Scene) -> Result<(), ReliefError> {
         let [nx, ny] = scene.reconstruction.resolution;
         self.cells(cells(nx, ny), "reconstruction.resolution")?;
-        let estimate = cells(nx, ny).saturating_mul(bytes_per_cell(&scene.generator));
-        self.bytes(estimate, "reconstruction.resolution")?;
+        self.bytes(estimated_bytes(scene), "reconstruction.resolution")?;
         match &scene.generator {
             Generator::Contours(g) => {
                 if let Some(n) = g.particles {

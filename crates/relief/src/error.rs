@@ -101,6 +101,16 @@ impl ReliefError {
             _ => None,
         }
     }
+
+    /// Whether the request was refused for asking more than a budget or read limit allows
+    /// (before any of it was allocated), rather than failing: the CLI exits 2 for these.
+    pub fn is_over_budget(&self) -> bool {
+        match self {
+            Self::OverBudget { .. } => true,
+            Self::Io(e) => e.is_over_limit(),
+            _ => false,
+        }
+    }
 }
 
 /// A rule of the scene format (rather than of a library) that a scene breaks.

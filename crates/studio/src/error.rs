@@ -49,6 +49,12 @@ impl ApiError {
         self.status
     }
 
+    /// What is wrong.
+    #[cfg(test)]
+    pub(crate) fn message(&self) -> &str {
+        &self.error
+    }
+
     /// 400: the request itself is malformed.
     pub(crate) fn bad_request(error: impl std::fmt::Display) -> Self {
         Self::new(StatusCode::BAD_REQUEST, error)

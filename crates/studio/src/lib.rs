@@ -23,7 +23,8 @@
 //!   `relief serve --host 0.0.0.0` prints an address carrying it.
 //! - Request bodies are capped ([`Config::max_body_bytes`]); scenes run under the same
 //!   [`relief::Budget`] as the CLI's; an upload is checked by its header alone; heavy work runs on
-//!   blocking threads under one cap ([`Config::max_jobs`]) and stops when its client goes; kept
+//!   blocking threads under one cap ([`Config::max_jobs`]) and stops when its client goes; the
+//!   generations running at once share the budget's memory ([`Config::memory_wait`]); kept
 //!   results are capped in bytes ([`Config::kept_bytes`]).
 //! - Connections are bounded ([`Config::max_connections`]) and closed when a request's header
 //!   (or the next request on a kept-alive connection) does not arrive within
@@ -58,6 +59,7 @@ mod edits;
 mod error;
 mod guard;
 mod jobs;
+mod memory;
 mod results;
 mod workspace;
 
@@ -89,9 +91,14 @@ pub struct Config {
     /// kept-alive connection included (default 10 s); the connection is closed then, so idle
     /// connections cannot hold every place.
     pub header_timeout: std::time::Duration,
-    /// The most bytes of samples the kept heightfields take together (default 1 GiB, four
-    /// 8192² results); the oldest go first, and the newest is always kept.
+    /// The most bytes of samples the kept heightfields take together (default an eighth of the
+    /// machine's memory, 1 GiB where it cannot be told); the oldest go first, and the newest is
+    /// always kept.
     pub kept_bytes: u64,
+    /// How long a generation, export or peak search waits for its share of the memory budget
+    /// while others hold it (default 30 s), before 503: the running work's estimates together
+    /// never pass [`relief::Budget::max_bytes`].
+    pub memory_wait: std::time::Duration,
     /// Answer only requests addressed to a loopback name (`localhost`, `127.x.x.x`, `[::1]`):
     /// a web page elsewhere cannot reach the studio by pointing its own domain at 127.0.0.1
     /// (DNS rebinding). Default `true`; `relief serve --host` with another address turns it off.
@@ -110,7 +117,8 @@ impl Config {
             budget: relief::Budget::for_this_machine(),
             max_body_bytes: 64 << 20,
             kept_results: 16,
-            kept_bytes: 1 << 30,
+            kept_bytes: relief::budget::physical_memory().map_or(1 << 30, |bytes| bytes / 8),
+            memory_wait: std::time::Duration::from_secs(30),
             max_jobs: jobs::default_max_jobs(),
             max_connections: 256,
             header_timeout: std::time::Duration::from_secs(10),

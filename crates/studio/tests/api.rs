@@ -669,6 +669,50 @@ fn heavy_requests_share_the_job_cap() {
     assert_eq!(studio.send("GET", &download, Body::empty()).0, StatusCode::OK);
 }
 
+/// Two generations that each fit the memory budget but not together: the second waits for its
+/// share, then gets 503 naming the memory; once the first ends, it runs.
+#[test]
+fn concurrent_generations_share_one_memory_budget() {
+    let mut slow = Studio::new().template("contours");
+    slow["generator"]["contours"]["particles"] = 600_000.into();
+    let estimate = relief::budget::estimated_bytes(&relief::Scene::from_json(&slow.to_string()).unwrap());
+    let studio = Studio::with(|mut c| {
+        c.budget = c.budget.with_max_bytes(estimate * 3 / 2);
+        c.memory_wait = std::time::Duration::from_millis(200);
+        c
+    });
+    let runtime = tokio::runtime::Runtime::new().unwrap();
+    let request = Request::post("/api/generate")
+        .header("content-type", "application/json")
+        .header("x-relief-session", "busy")
+        .body(Body::from(slow.to_string()));
+    let task = runtime.spawn(studio.router.clone().oneshot(request.unwrap()));
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    let running = || {
+        let (_, body) = studio.send_as(Some("busy"), "GET", "/api/progress", Body::empty());
+        serde_json::from_slice::<Value>(&body).unwrap()["running"] == true
+    };
+    while !running() {
+        assert!(!task.is_finished() && std::time::Instant::now() < deadline, "never seen running");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let (status, body) = studio.send_as(Some("other"), "POST", "/api/generate", Body::from(slow.to_string()));
+    let error: Value = serde_json::from_slice(&body).unwrap();
+    assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE, "{error}");
+    assert!(error["error"].as_str().unwrap().contains("MiB of memory"), "{error}");
+    // A smaller scene fits beside it.
+    let mut small = slow.clone();
+    small["reconstruction"]["resolution"] = serde_json::json!([64, 64]);
+    small["generator"]["contours"]["particles"] = Value::Null;
+    let (status, _) = studio.send_as(Some("other"), "POST", "/api/generate", Body::from(small.to_string()));
+    assert_eq!(status, StatusCode::OK);
+    // Once the first has ended, the second runs.
+    let first = runtime.block_on(task).unwrap().unwrap();
+    assert_eq!(first.status(), StatusCode::OK);
+    let (status, _) = studio.send_as(Some("other"), "POST", "/api/generate", Body::from(slow.to_string()));
+    assert_eq!(status, StatusCode::OK);
+}
+
 /// The page's event stream: a DEM's vectorization reports each fitting iteration as it runs,
 /// the cancel button stops it mid-fit, and the stream then says nothing runs.
 #[test]

@@ -152,9 +152,10 @@ fn run_file(scene: &Scene, path: &Path, out: Option<&Path>, ui: &mut Ui) -> Resu
 }
 
 /// Runs `scene` (read from `file`, inputs relative to `base`) into `out` and reports what it made.
-/// Before any work: the outputs' formats, and that none replaces an input or, without `--force`,
-/// an existing file.
+/// Before any work: the budget, the outputs' formats, and that none replaces an input or, without
+/// `--force`, an existing file (only then is the output folder made).
 fn run_scene(scene: &Scene, file: Option<&Path>, base: &Path, out: &Path, ui: &mut Ui) -> Result<()> {
+    ui.budget().check(scene)?;
     pipeline::check_outputs(&scene.outputs)?;
     let mut writes = ui.writes();
     writes.reads_all(

@@ -48,6 +48,8 @@ pub(crate) struct App {
     budget: relief::Budget,
     results: Mutex<Results>,
     jobs: Jobs,
+    /// The memory budget the running generations share.
+    memory: crate::memory::Memory,
     /// Each session's editing state between its previews.
     pub(crate) edits: EditSessions,
     /// The server is shutting down: event streams end.
@@ -61,6 +63,7 @@ impl App {
             budget: config.budget,
             results: Mutex::new(Results::new(config.kept_results, config.kept_bytes)),
             jobs: Jobs::new(config.max_jobs),
+            memory: crate::memory::Memory::new(config.budget.max_bytes, config.memory_wait),
             edits: EditSessions::default(),
             closing: AtomicBool::new(false),
         }

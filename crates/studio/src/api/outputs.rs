@@ -57,6 +57,10 @@ pub(super) async fn download(
     Ok(super::attachment(sent, content_type, bytes))
 }
 
+/// What the peak search takes per cell of the result, bytes: as an orometry generation's
+/// (`relief::budget::bytes_per_cell`), whose analysis it is.
+const PEAKS_BYTES_PER_CELL: u64 = 56;
+
 /// `?min_prominence=M` (default: 5 % of the result's relief).
 #[derive(Debug, serde::Deserialize)]
 pub(super) struct PeaksQuery {
@@ -71,7 +75,9 @@ pub(super) async fn peaks(
     axum::extract::Query(query): axum::extract::Query<PeaksQuery>,
 ) -> Result<Json<Value>, ApiError> {
     let hf = app.result(id)?;
+    let held = app.memory.hold(hf.samples().len() as u64 * PEAKS_BYTES_PER_CELL, "this peak search").await?;
     let (orometry, min_prominence) = super::blocking(&app, move || {
+        let _held = held;
         let (lo, hi) = hf.min_max().unwrap_or((0.0, 0.0));
         let min_prominence = query.min_prominence.unwrap_or(0.05 * f64::from(hi - lo));
         let options = relief::orometry::AnalysisOptions { min_prominence, ridge_lines: true, ..Default::default() };

@@ -26,6 +26,7 @@ pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes
     let start = Instant::now();
     let session = session(&headers)?;
     let guard = app.jobs.run(session.as_deref())?;
+    let held = app.memory.hold(relief::budget::estimated_bytes(&scene), "this generation").await?;
     let (worker, running) = (Arc::clone(&app), Arc::clone(&guard.job));
     // The session's editing state: its next island edit applies to what its last preview left.
     // It is locked on the blocking thread, so an abandoned request's generation keeps it until it
@@ -33,6 +34,7 @@ pub(super) async fn generate(State(app): Shared, headers: HeaderMap, body: Bytes
     let island = matches!(scene.generator, relief::scene::Generator::Island(_));
     let edit = session.as_deref().filter(|_| island).map(|name| app.edits.get(name));
     let generated = tokio::task::spawn_blocking(move || {
+        let _held = held;
         let mut progress = crate::jobs::JobProgress(running);
         let (root, budget) = (worker.workspace.root(), &worker.budget);
         match edit {
@@ -189,8 +191,10 @@ async fn run_full<T: Send + 'static>(
 ) -> Result<T, ApiError> {
     let session = session(headers)?;
     let guard = app.jobs.run(session.as_deref())?;
+    let held = app.memory.hold(relief::budget::estimated_bytes(&scene), "this export").await?;
     let (worker, running) = (Arc::clone(app), Arc::clone(&guard.job));
     let written = tokio::task::spawn_blocking(move || -> Result<T, ApiError> {
+        let _held = held;
         let dir = tempfile::tempdir().map_err(ApiError::internal)?;
         let mut progress = crate::jobs::JobProgress(running);
         match relief::pipeline::run_with(&scene, worker.workspace.root(), dir.path(), &worker.budget, &mut progress) {
