@@ -58,25 +58,29 @@ const STALE_AGE: std::time::Duration = std::time::Duration::from_secs(3600);
 fn remove_stale(dir: &Path, name: &str) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
     let prefix = format!(".{name}.");
-    let proc_fs = Path::new("/proc/self").exists();
     for entry in entries.filter_map(Result::ok) {
         let file = entry.file_name();
         let Some(middle) = file.to_str().and_then(|f| f.strip_prefix(&prefix)).and_then(|f| f.strip_suffix(".tmp"))
         else {
             continue;
         };
-        // `<pid>.<random>`; a name of its own (`a.b` beside `a`'s temporaries) has no number.
-        let pid = middle.split_once('.').and_then(|(pid, _)| pid.parse::<u32>().ok());
-        let gone = match pid {
-            Some(pid) if pid == std::process::id() => false,
-            Some(pid) if proc_fs => !Path::new("/proc").join(pid.to_string()).exists(),
-            _ => {
-                entry.metadata().and_then(|m| m.modified()).is_ok_and(|t| t.elapsed().is_ok_and(|age| age > STALE_AGE))
-            }
-        };
-        if gone {
+        if abandoned(middle, &entry, STALE_AGE) {
             let _ = std::fs::remove_file(entry.path());
         }
+    }
+}
+
+/// Whether the temporary file or folder `entry`, whose name (less its own prefix) starts
+/// `<pid>.`, was abandoned by the process that made it: that process is no longer running
+/// (Linux's `/proc`), or, where that cannot be told (no `/proc`, no number), `entry` is older than
+/// `max_age`. This process's own are never abandoned. Atomic writes ([`write`]) and the facade's
+/// output staging share this rule for cleaning up after a killed process.
+pub fn abandoned(rest: &str, entry: &std::fs::DirEntry, max_age: std::time::Duration) -> bool {
+    // `<pid>.<random>`; a name of its own (`a.b` beside `a`'s temporaries) has no number.
+    match rest.split_once('.').and_then(|(pid, _)| pid.parse::<u32>().ok()) {
+        Some(pid) if pid == std::process::id() => false,
+        Some(pid) if Path::new("/proc/self").exists() => !Path::new("/proc").join(pid.to_string()).exists(),
+        _ => entry.metadata().and_then(|m| m.modified()).is_ok_and(|t| t.elapsed().is_ok_and(|age| age > max_age)),
     }
 }
 

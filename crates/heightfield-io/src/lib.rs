@@ -89,6 +89,7 @@
 
 mod asc;
 mod atomic;
+pub use atomic::abandoned;
 mod codes;
 mod crs;
 mod error;

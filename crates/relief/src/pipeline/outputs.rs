@@ -214,20 +214,11 @@ fn holds_no_file(dir: &Path) -> bool {
 /// only takes space.
 fn remove_abandoned_staging(out_dir: &Path) {
     let Ok(entries) = std::fs::read_dir(out_dir) else { return };
-    let proc_fs = Path::new("/proc/self").exists();
     for entry in entries.filter_map(Result::ok) {
         let name = entry.file_name();
         let Some(rest) = name.to_str().and_then(|n| n.strip_prefix(STAGING)) else { continue };
-        let pid = rest.split_once('.').and_then(|(pid, _)| pid.parse::<u32>().ok());
-        let gone = match pid {
-            Some(pid) if pid == std::process::id() => false,
-            Some(pid) if proc_fs => !Path::new("/proc").join(pid.to_string()).exists(),
-            _ => entry
-                .metadata()
-                .and_then(|m| m.modified())
-                .is_ok_and(|t| t.elapsed().is_ok_and(|age| age > std::time::Duration::from_secs(24 * 3600))),
-        };
-        if gone && entry.file_type().is_ok_and(|t| t.is_dir()) {
+        let day = std::time::Duration::from_secs(24 * 3600);
+        if crate::io::abandoned(rest, &entry, day) && entry.file_type().is_ok_and(|t| t.is_dir()) {
             let _ = std::fs::remove_dir_all(entry.path());
         }
     }
