@@ -14,10 +14,13 @@
 //!   GeoTIFF beside `gdal_translate` (needs `gdal-bin`) and prints the sections `bench` puts in
 //!   the report (see `gdal.rs`).
 //! - `gallery`: renders the demo and every fixture scene and writes `docs/gallery.md`.
+//! - `artefacts`: generates every fixture scene and prints (and writes to `docs/artefacts.md`)
+//!   the artefact measures of its summary beside the real Jacksboro DEM's (see `artefacts.rs`).
 //!
 //! Dependency-light on purpose (`anyhow`, `serde_json`): it builds in seconds and never needs the
 //! crates it measures.
 
+mod artefacts;
 mod bench;
 mod fuzz;
 mod gallery;
@@ -42,6 +45,7 @@ fn main() -> Result<()> {
             bench::run(&root, flag("--quick"), &packages, flag("--report-only"))
         }
         Some("gallery") => gallery::run(&root),
+        Some("artefacts") => artefacts::run(&root),
         Some("gdal-contours") => {
             print!("{}", gdal::contour_runs(&root, false)?);
             print!("{}", gdal::geotiff_runs(&root, false)?);
@@ -58,7 +62,7 @@ fn main() -> Result<()> {
         }
         Some("help" | "--help" | "-h") | None => {
             println!(
-                "usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gdal-contours | prominence | gallery | fuzz [SECONDS] [TARGET]...>"
+                "usage: cargo xtask <ci | bench [--quick] [-p PACKAGE]... [--report-only] | gdal-contours | prominence | gallery | artefacts | fuzz [SECONDS] [TARGET]...>"
             );
             Ok(())
         }

@@ -50,6 +50,7 @@
 //! ```
 #![forbid(unsafe_code)]
 
+mod artefacts;
 mod depressions;
 mod descriptors;
 mod emd;
@@ -58,6 +59,7 @@ mod error;
 mod flow;
 mod grid8;
 
+pub use artefacts::{Artefacts, measure as measure_artefacts};
 pub use depressions::{Basin, Depressions, NoData, Outlets, depressions, endorheic_nodes, fill, has_endorheic_basins};
 pub use descriptors::{CountHistogram, DescriptorDistance, DescriptorOptions, Descriptors, MAX_BINS};
 pub use emd::{CdfShape, earth_movers_distance};

@@ -23,6 +23,8 @@ struct Analysis {
     orometry: Orometry,
     /// The DEM's orometric descriptor (Table 1 histograms).
     oro_descriptor: Descriptor,
+    /// Its artefact measures (border trench, pits, slots, planar facets).
+    artefacts: relief::hydrology::Artefacts,
     /// The nearest `--classify` reference: label and mean EMD.
     nearest: Option<(String, f64)>,
 }
@@ -86,7 +88,9 @@ fn compute(args: &AnalyzeArgs, ui: &mut Ui) -> Result<Analysis> {
         ui.step("write", || relief::io::write(out, &dem))?;
     }
     let distance = other.as_ref().map(|o| descriptors.distance(o));
-    Ok(Analysis { closed, descriptors, distance, orometry, oro_descriptor, nearest })
+    let sea = args.sea_level.map(f64::from);
+    let artefacts = ui.step("artefacts", || relief::hydrology::measure_artefacts(&dem, sea))?;
+    Ok(Analysis { closed, descriptors, distance, orometry, oro_descriptor, artefacts, nearest })
 }
 
 /// Orometry of `dem` and its descriptor, with the peaks, divide tree and descriptor files the
@@ -145,6 +149,7 @@ fn json(args: &AnalyzeArgs, a: &Analysis) -> serde_json::Value {
         "descriptors": a.descriptors,
         "compared_with": args.compare,
         "distance": a.distance,
+        "artefacts": a.artefacts,
         "orometry": {
             "peaks": a.orometry.peaks.len(),
             "min_prominence": args.min_prominence,
@@ -176,6 +181,17 @@ fn print_text(args: &AnalyzeArgs, a: &Analysis) {
     println!("  max Strahler    {} (streams from {:.4e} m²)", d.max_strahler, d.stream_area_m2);
     println!("  median slope    {:.2}°", median(&d.slope_deg));
     println!("  median log10 A  {:.3} (drainage area in m², Freeman MFD)", median(&d.log10_drainage_area));
+    let t = &a.artefacts;
+    let step = |m: Option<f64>| m.map_or_else(|| "–".to_owned(), |m| format!("{m:.2} m"));
+    println!(
+        "  artefacts       border step {} (next step in {}); pits over 1 m {}, over 20 m {}; slots {}; planar {:.1} %",
+        step(t.border_step_m),
+        step(t.next_step_m),
+        t.pits_over_1m,
+        t.pits_over_20m,
+        t.slots,
+        100.0 * t.planar_share
+    );
     println!("  peaks           {} (prominence ≥ {} m)", a.orometry.peaks.len(), args.min_prominence);
     let mut by_prominence: Vec<&Peak> = a.orometry.peaks.iter().collect();
     by_prominence.sort_by(|x, y| y.prominence.total_cmp(&x.prominence));

@@ -85,5 +85,6 @@ pub(super) fn drainage(hf: &Heightfield, sea_level: Option<f64>) -> Result<Drain
         closed_basins: closed.basins.len(),
         closed_volume: closed.basins.iter().map(|b| b.volume_m3).sum(),
         max_strahler,
+        artefacts: hydrology::measure_artefacts(hf, sea_level).map_err(fail)?,
     })
 }

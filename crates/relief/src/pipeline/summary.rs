@@ -174,6 +174,10 @@ pub struct DrainageSummary {
     pub closed_volume: f64,
     /// Largest Strahler order of the D8 stream network (streams from 0.5 % of the land area).
     pub max_strahler: u8,
+    /// Measures of what generated terrain shows and real ground does not (a border trench,
+    /// closed pits, one-cell slots, planar facets): `cargo xtask artefacts` prints them for
+    /// every gallery scene.
+    pub artefacts: crate::hydrology::Artefacts,
 }
 
 /// How well the elevations match the scene's histogram: Kolmogorov–Smirnov distances (the largest
