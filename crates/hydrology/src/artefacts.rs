@@ -124,8 +124,7 @@ fn planar_share(hf: &Heightfield, land: &impl Fn(f32) -> bool) -> f64 {
         let (dx, dy) = spacing(hf, j);
         for i in 1..nx - 1 {
             let z = |di: isize, dj: isize| f64::from(hf.value(i.wrapping_add_signed(di), j.wrapping_add_signed(dj)));
-            let around = [(-1, -1), (0, -1), (1, -1), (-1, 0), (0, 0), (1, 0), (-1, 1), (0, 1), (1, 1)];
-            if !around.iter().all(|&(di, dj)| land(z(di, dj) as f32)) {
+            if !(-1..=1).all(|dj| (-1..=1).all(|di| land(z(di, dj) as f32))) {
                 continue;
             }
             let gradient = ((z(1, 0) - z(-1, 0)) / (2.0 * dx)).hypot((z(0, 1) - z(0, -1)) / (2.0 * dy));
@@ -144,13 +143,16 @@ fn planar_share(hf: &Heightfield, land: &impl Fn(f32) -> bool) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use relief_heightfield::GridSpec;
+    use relief_heightfield::{GridSpec, Units};
 
-    /// A grid of `n`² samples 10 m apart from `f(i, j)`.
+    /// A grid of `nx × ny` samples 10 m apart from `f(i, j)`.
+    fn grid_of(nx: usize, ny: usize, f: impl Fn(usize, usize) -> f32) -> Heightfield {
+        let spec = GridSpec::new(nx, ny, glam::DVec2::ZERO, glam::DVec2::splat(10.0)).unwrap();
+        Heightfield::from_samples(spec, (0..nx * ny).map(|k| f(k % nx, k / nx)).collect()).unwrap()
+    }
+
     fn grid(n: usize, f: impl Fn(usize, usize) -> f32) -> Heightfield {
-        let spec = GridSpec::new(n, n, glam::DVec2::ZERO, glam::DVec2::splat(10.0)).unwrap();
-        let samples = (0..n * n).map(|k| f(k % n, k / n)).collect();
-        Heightfield::from_samples(spec, samples).unwrap()
+        grid_of(n, n, f)
     }
 
     #[test]
@@ -163,14 +165,47 @@ mod tests {
         assert_eq!(smooth.border_step_m, smooth.next_step_m);
         assert!((trenched.border_step_m.unwrap() - 50.0).abs() < 2.5, "{trenched:?}");
         assert!(trenched.next_step_m.unwrap() <= 2.0, "{trenched:?}");
-        // Sea on the border is not land: no border step to measure.
+        // Sea on the border is not land, nor is ground exactly at sea level.
         assert_eq!(measure(&trench, Some(170.0)).unwrap().border_step_m, None);
+        assert_eq!(measure(&grid(8, |_, _| 100.0), Some(100.0)).unwrap().border_step_m, None);
+    }
+
+    #[test]
+    fn each_side_of_the_border_is_measured_against_its_own_next_step() {
+        // Land along one side only (a strip four samples deep and 12 long, away from the
+        // corners; the rest sea at 0): its border samples sit 22.7 to 54.7 m below the ground
+        // inward (41.3 m at the median), which rises 1 m a sample inward and then 3 m.
+        let n = 16;
+        for side in 0..4 {
+            let inward = |i: usize, j: usize| [i, j, n - 1 - i, n - 1 - j][side];
+            let along = |i: usize, j: usize| [j, i, j, i][side];
+            let hf = grid(n, |i, j| {
+                let (d, a) = (inward(i, j), along(i, j));
+                match d {
+                    _ if !(2..n - 2).contains(&a) => 0.0,
+                    0 => 500.0 - 20.0 - 40.0 * a as f32 / (n - 1) as f32,
+                    1 => 500.0,
+                    2 => 501.0,
+                    3 => 504.0,
+                    _ => 0.0,
+                }
+            });
+            let a = measure(&hf, Some(0.0)).unwrap();
+            assert!((a.border_step_m.unwrap() - (20.0 + 40.0 * 8.0 / 15.0)).abs() < 1e-3, "side {side}: {a:?}");
+            assert_eq!(a.next_step_m, Some(1.0), "side {side}: {a:?}");
+        }
+        // Grids too small to have a first and second sample inward have no border step.
+        assert_eq!(measure(&grid(3, |i, _| i as f32), None).unwrap().border_step_m, Some(1.0));
+        for (nx, ny) in [(2, 5), (5, 2)] {
+            assert_eq!(measure(&grid_of(nx, ny, |i, j| (i + j) as f32), None).unwrap().border_step_m, None);
+        }
     }
 
     #[test]
     fn pits_slots_and_facets_are_counted() {
         // A plane tilted 2 % with a pit 30 m deep at (10, 10) (one sample), a one-sample slot
-        // 25 m deep along column 20 and a 5 m dip at (5, 25).
+        // 25 m deep along column 20, a 5 m dip at (5, 25), a slot 8 m deep along row 28, and a
+        // ledge along column 26 (3 m below its west neighbour, 30 m below its east one).
         let f = |i: usize, j: usize| {
             let mut z = 100.0 + 0.2 * i as f32 + 0.1 * j as f32;
             if (i, j) == (10, 10) {
@@ -182,18 +217,85 @@ mod tests {
             if (i, j) == (5, 25) {
                 z -= 5.0;
             }
+            if j == 28 && (3..9).contains(&i) {
+                z -= 8.0;
+            }
+            if i > 26 && (16..24).contains(&j) {
+                z += 27.0;
+            }
+            if i == 26 && (16..24).contains(&j) {
+                z -= 3.0;
+            }
             z
         };
         let a = measure(&grid(32, f), None).unwrap();
-        assert_eq!((a.pits_over_1m, a.pits_over_20m), (3, 2), "{a:?}");
         assert!((a.deepest_pit_m - 30.0).abs() < 0.5, "{a:?}");
-        // The pit and the 25 m slot are steeper than 30° on both sides (tan 30° × 10 m = 5.8 m);
-        // the 5 m dip is not.
-        assert_eq!(a.slots, 1 + 10, "{a:?}");
-        // Away from the three, the tilted plane is planar everywhere.
+        // The pit, the 25 m slot and the 8 m slot are steeper than 30° on both sides (tan 30° ×
+        // 10 m = 5.8 m); the 5 m dip and the ledge are not.
+        assert_eq!(a.slots, 1 + 10 + 6, "{a:?}");
+        // Away from them, the tilted plane is planar everywhere.
         assert!(a.planar_share > 0.8 && a.planar_share < 1.0, "{a:?}");
         let bump = |i: usize, j: usize| 0.5 * (1.7 * i as f32).sin() * (2.3 * j as f32).cos();
         let bumpy = measure(&grid(32, |i, j| f(i, j) + bump(i, j)), None).unwrap();
         assert!(bumpy.planar_share < 0.05, "{bumpy:?}");
+    }
+
+    #[test]
+    fn pits_count_beyond_exactly_1_and_20_m() {
+        // Flat ground at 100 m with single-sample pits exactly 1, 20 and 21 m deep and one 0.5 m.
+        let hf = grid(16, |i, j| match (i, j) {
+            (3, 3) => 99.0,
+            (8, 3) => 80.0,
+            (3, 8) => 79.0,
+            (8, 8) => 99.5,
+            _ => 100.0,
+        });
+        let a = measure(&hf, None).unwrap();
+        assert_eq!((a.pits_over_1m, a.pits_over_20m, a.deepest_pit_m), (2, 1, 21.0), "{a:?}");
+    }
+
+    #[test]
+    fn gentle_and_steep_ground_are_told_apart_along_either_axis() {
+        // A plane sloping 0.8 % (under the 1 % a facet needs) counts no sloping sample along x
+        // or y; at 2 % every interior sample is sloping and planar.
+        for (sx, sy) in [(0.08, 0.0), (0.0, 0.08)] {
+            let gentle = grid(12, |i, j| 100.0 + sx * i as f32 + sy * j as f32);
+            assert_eq!(measure(&gentle, None).unwrap().planar_share, 0.0, "{sx} {sy}");
+            let steep = grid(12, |i, j| 100.0 + 2.5 * sx * i as f32 + 2.5 * sy * j as f32);
+            assert_eq!(measure(&steep, None).unwrap().planar_share, 1.0, "{sx} {sy}");
+        }
+        // A sample next to the sea is not land's: a hole of sea in a bumpy plane leaves only its
+        // planar patch around, which is then all there is.
+        let hf = grid(12, |i, j| {
+            if (4..8).contains(&i) && (4..8).contains(&j) {
+                100.0 + 2.0 * i as f32
+            } else if (i, j) == (9, 9) {
+                -5.0
+            } else {
+                100.0 + ((i * 7 + j * 3) % 5) as f32
+            }
+        });
+        assert!(measure(&hf, Some(0.0)).unwrap().planar_share > 0.0);
+    }
+
+    #[test]
+    fn slots_are_measured_in_metres_on_geographic_grids() {
+        // 0.0001° samples at the equator: about 11.1 m apart, so a slot needs more than 6.4 m
+        // on both sides. Column 8 is 7 m deep, column 4 only 6 m.
+        let spec = GridSpec::new(16, 16, glam::DVec2::ZERO, glam::DVec2::splat(0.0001)).unwrap();
+        let spec = spec.with_units(Units::Degrees).unwrap();
+        let samples = (0..256)
+            .map(|k| {
+                let (i, j) = (k % 16, k / 16);
+                let depth = if (4..12).contains(&j) {
+                    [(8, 7.0), (4, 6.0)].iter().find(|s| s.0 == i).map_or(0.0, |s| s.1)
+                } else {
+                    0.0
+                };
+                100.0 - depth
+            })
+            .collect();
+        let a = measure(&Heightfield::from_samples(spec, samples).unwrap(), None).unwrap();
+        assert_eq!(a.slots, 8, "{a:?}");
     }
 }
