@@ -226,12 +226,19 @@ mod tests {
             if i == 26 && (16..24).contains(&j) {
                 z -= 3.0;
             }
+            // A ledge facing the other way: 30 m below its west neighbour, 3 m below its east one.
+            if i < 3 && (16..24).contains(&j) {
+                z += 27.0;
+            }
+            if i == 3 && (16..24).contains(&j) {
+                z -= 3.0;
+            }
             z
         };
         let a = measure(&grid(32, f), None).unwrap();
         assert!((a.deepest_pit_m - 30.0).abs() < 0.5, "{a:?}");
         // The pit, the 25 m slot and the 8 m slot are steeper than 30° on both sides (tan 30° ×
-        // 10 m = 5.8 m); the 5 m dip and the ledge are not.
+        // 10 m = 5.8 m); the 5 m dip and the ledges are not.
         assert_eq!(a.slots, 1 + 10 + 6, "{a:?}");
         // Away from them, the tilted plane is planar everywhere.
         assert!(a.planar_share > 0.8 && a.planar_share < 1.0, "{a:?}");
@@ -264,24 +271,16 @@ mod tests {
             let steep = grid(12, |i, j| 100.0 + 2.5 * sx * i as f32 + 2.5 * sy * j as f32);
             assert_eq!(measure(&steep, None).unwrap().planar_share, 1.0, "{sx} {sy}");
         }
-        // A sample next to the sea is not land's: a hole of sea in a bumpy plane leaves only its
-        // planar patch around, which is then all there is.
-        let hf = grid(12, |i, j| {
-            if (4..8).contains(&i) && (4..8).contains(&j) {
-                100.0 + 2.0 * i as f32
-            } else if (i, j) == (9, 9) {
-                -5.0
-            } else {
-                100.0 + ((i * 7 + j * 3) % 5) as f32
-            }
-        });
-        assert!(measure(&hf, Some(0.0)).unwrap().planar_share > 0.0);
+        // A sample with the sea in its 3 × 3 neighbourhood is not counted: a plane with one sea
+        // sample stays wholly planar.
+        let holed = grid(12, |i, j| if (i, j) == (5, 5) { -5.0 } else { 100.0 + 0.2 * i as f32 });
+        assert_eq!(measure(&holed, Some(0.0)).unwrap().planar_share, 1.0);
     }
 
     #[test]
     fn slots_are_measured_in_metres_on_geographic_grids() {
         // 0.0001° samples at the equator: about 11.1 m apart, so a slot needs more than 6.4 m
-        // on both sides. Column 8 is 7 m deep, column 4 only 6 m.
+        // on both sides. Column 8 is 7 m deep, column 4 and row 14 only 6 m.
         let spec = GridSpec::new(16, 16, glam::DVec2::ZERO, glam::DVec2::splat(0.0001)).unwrap();
         let spec = spec.with_units(Units::Degrees).unwrap();
         let samples = (0..256)
@@ -292,7 +291,8 @@ mod tests {
                 } else {
                     0.0
                 };
-                100.0 - depth
+                let row = if j == 14 && (2..6).contains(&i) { 6.0 } else { 0.0 };
+                100.0 - depth - row
             })
             .collect();
         let a = measure(&Heightfield::from_samples(spec, samples).unwrap(), None).unwrap();
