@@ -280,7 +280,7 @@ mod tests {
     #[test]
     fn slots_are_measured_in_metres_on_geographic_grids() {
         // 0.0001° samples at the equator: about 11.1 m apart, so a slot needs more than 6.4 m
-        // on both sides. Column 8 is 7 m deep, column 4 and row 14 only 6 m.
+        // on both sides. Column 8 and row 1 are 7 m deep, column 4 and row 14 only 6 m.
         let spec = GridSpec::new(16, 16, glam::DVec2::ZERO, glam::DVec2::splat(0.0001)).unwrap();
         let spec = spec.with_units(Units::Degrees).unwrap();
         let samples = (0..256)
@@ -291,11 +291,15 @@ mod tests {
                 } else {
                     0.0
                 };
-                let row = if j == 14 && (2..6).contains(&i) { 6.0 } else { 0.0 };
+                let row = match j {
+                    14 if (2..6).contains(&i) => 6.0,
+                    1 if (9..13).contains(&i) => 7.0,
+                    _ => 0.0,
+                };
                 100.0 - depth - row
             })
             .collect();
         let a = measure(&Heightfield::from_samples(spec, samples).unwrap(), None).unwrap();
-        assert_eq!(a.slots, 8, "{a:?}");
+        assert_eq!(a.slots, 8 + 4, "{a:?}");
     }
 }
