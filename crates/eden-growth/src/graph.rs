@@ -97,6 +97,12 @@ impl Graph {
 
     /// The graph over a label map (the paper's input images).
     ///
+    /// Land that reaches the image's edge is taken to go on beyond it: the edge pixels' levels
+    /// continue over the inner half of the sampled margin (2r at the default margin), and the sea
+    /// begins after that. The frame then cuts the terrain; the growth does not start from it,
+    /// which would drop every level to the sea within the last sample (a trench along the
+    /// border). Sea inside the image seeds its coast as before.
+    ///
     /// # Errors
     /// As [`Graph::from_regions`], with [`EdenError::LevelTooSmall`] for a label level that holds
     /// no node.
@@ -112,8 +118,12 @@ impl Graph {
             .sample_tagged(&domain, |_| false)
             .map_err(|e| sparse(e, labels.omega_area(), r, requested))?;
         let tin = Tin::new(points)?;
-        let level: Vec<u16> = tin.points().par_iter().map(|&p| labels.depth_at(p)).collect();
-        let depression: Vec<bool> = tin.points().par_iter().map(|&p| labels.depression_at(p)).collect();
+        // Land reaching the image's edge goes on beyond it, its coast in the outer half of the
+        // margin: the frame cuts the terrain instead of the growth starting from it, which would
+        // drop every level to the sea within the last sample (a trench along the border).
+        let open = 0.5 * margin;
+        let level: Vec<u16> = tin.points().par_iter().map(|&p| labels.depth_beyond(p, open)).collect();
+        let depression: Vec<bool> = tin.points().par_iter().map(|&p| labels.depression_at(p, open)).collect();
         let heights = labels.level_heights().to_vec();
         let graph = Self::assemble(tin, level, depression, r, heights, labels.allows_depressions());
         // Every level the image has must keep a node, as every region must in `from_regions`: a

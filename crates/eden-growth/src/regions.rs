@@ -420,14 +420,22 @@ impl LabelMap {
 
     /// Depth at `p`: that of its nearest pixel, 0 outside the raster.
     pub fn depth_at(&self, p: DVec2) -> u16 {
-        let (k, outside) = self.pixel(p);
-        if outside > 0.0 { 0 } else { self.depth[k] }
+        self.depth_beyond(p, 0.0)
     }
 
-    /// Whether `p` falls in a depression a colour table marks.
-    pub(crate) fn depression_at(&self, p: DVec2) -> bool {
+    /// Depth at `p` when the map's edge pixels continue `open` beyond the raster: that of its
+    /// nearest pixel up to that far out, 0 farther. Land that reaches the image's edge is then
+    /// cut by the frame rather than ending there: its coast lies `open` beyond the edge.
+    pub(crate) fn depth_beyond(&self, p: DVec2, open: f64) -> u16 {
         let (k, outside) = self.pixel(p);
-        outside == 0.0 && self.depression.get(k).copied().unwrap_or(false)
+        if outside > open { 0 } else { self.depth[k] }
+    }
+
+    /// Whether `p` falls in a depression a colour table marks, the edge pixels continuing `open`
+    /// beyond the raster as in [`LabelMap::depth_beyond`].
+    pub(crate) fn depression_at(&self, p: DVec2, open: f64) -> bool {
+        let (k, outside) = self.pixel(p);
+        outside <= open && self.depression.get(k).copied().unwrap_or(false)
     }
 
     /// The widest disc inside level `l`'s pixels: the largest distance from one of them to a pixel

@@ -161,6 +161,37 @@ fn enclosed_lower_labels_are_filled_unless_depressions_are_allowed() {
     check_growth(&kept, &grow(&kept, &Uniform, 1).unwrap());
 }
 
+/// Land that reaches the image's edge goes on beyond it: the growth's seeds (∂G, land next to
+/// the sea) lie in the outer half of the margin beyond the frame, never on it, while the sea
+/// inside the image still seeds its own coast. Seeding from the frame put every level's contour
+/// within a fraction of a sample beyond the border: a trench along it.
+#[test]
+fn land_at_the_image_edge_is_cut_by_the_frame_not_a_coast() {
+    // 100 × 100 samples 10 m apart: land everywhere but a lake of sea in the middle.
+    let grid = GridSpec::new(101, 101, DVec2::ZERO, DVec2::splat(10.0)).unwrap();
+    let depth: Vec<u16> = (0..grid.len())
+        .map(|k| {
+            let (i, j) = grid.coords(k);
+            u16::from(grid.position(i, j).distance(DVec2::splat(500.0)) >= 100.0)
+        })
+        .collect();
+    let opts = GraphOptions::particles(5_000).with_seed(3);
+    let graph = Graph::from_labels(&LabelMap::new(grid, depth).unwrap(), &opts).unwrap();
+    let (r, extent) = (graph.radius(), grid.extent());
+    let beyond = |p: DVec2| p.distance(p.clamp(extent.min, extent.max));
+    let mut at_lake = 0;
+    for &v in graph.boundary() {
+        let p = graph.tin().points()[v as usize];
+        if p.distance(DVec2::splat(500.0)) < 150.0 {
+            at_lake += 1;
+        } else {
+            assert!(beyond(p) > 0.5 * opts.margin * r - 2.0 * r, "a seed {} beyond the frame", beyond(p));
+        }
+    }
+    assert!(at_lake > 10, "{at_lake} seeds on the lake's shore");
+    check_growth(&graph, &grow(&graph, &Uniform, 1).unwrap());
+}
+
 #[test]
 fn label_maps_from_gray_values() {
     let grid = GridSpec::new(50, 50, DVec2::ZERO, DVec2::ONE).unwrap();

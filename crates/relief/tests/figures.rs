@@ -63,6 +63,20 @@ fn the_teaser_mask_gives_its_three_levels_at_their_heights() {
     }
 }
 
+/// The teaser's mesas and valleys run off the image: the frame cuts them, with no trench along it
+/// (issue 75's first artefact: its border samples were 12.7 times the next step in below).
+#[test]
+fn the_teaser_has_no_trench_along_its_border() {
+    for resolution in [160, 512] {
+        let mut scene = scene("teaser");
+        scene.reconstruction.resolution = [resolution, resolution];
+        let terrain = generate(&scene, &scenes(), &mut ()).unwrap();
+        let a = terrain.summary.drainage.artefacts;
+        let (border, next) = (a.border_step_m.unwrap(), a.next_step_m.unwrap());
+        assert!(border <= 1.2 * next + 0.5, "at {resolution}²: border step {border} m, next step in {next} m");
+    }
+}
+
 #[test]
 fn multilevel_generation_runs_its_coarse_passes_first() {
     let mut scene = scene("coastline-island");
