@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use anyhow::{Context, Result};
@@ -31,14 +31,8 @@ fn row(name: &str, a: &serde_json::Value) -> String {
 }
 
 pub(crate) fn run(root: &Path) -> Result<()> {
-    crate::run(Command::new(env!("CARGO")).current_dir(root).args(["build", "--release", "-p", "relief-cli"]))?;
-    let relief = root.join("target/release/relief");
+    let relief = crate::gallery::release_relief(root)?;
     let work = root.join("target/artefacts");
-    let mut scenes: Vec<PathBuf> = fs::read_dir(root.join("fixtures/scenes"))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .collect();
-    scenes.sort();
     let mut table = String::from(
         "| scene | border step (m) | next step in (m) | ratio | pits > 1 m | pits > 20 m | deepest pit (m) | slots | planar (%) |\n\
          |---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
@@ -50,18 +44,9 @@ pub(crate) fn run(root: &Path) -> Result<()> {
         .context("running relief analyze")?;
     let real: serde_json::Value = serde_json::from_slice(&real.stdout).context("relief analyze --json")?;
     table.push_str(&row("*Jacksboro (real DEM)*", &real["artefacts"]));
-    for scene in &scenes {
-        let name = scene.file_stem().context("scene without a name")?.to_string_lossy().into_owned();
-        let out = work.join(&name);
-        eprintln!("generating {name}");
-        crate::run(
-            Command::new(&relief)
-                .current_dir(root)
-                .args(["-q", "--force", "generate"])
-                .arg(scene)
-                .arg("--out")
-                .arg(&out),
-        )?;
+    for scene in &crate::gallery::fixture_scenes(root)? {
+        let out = work.join(scene.file_stem().context("scene without a name")?);
+        let name = crate::gallery::generate(&relief, root, scene, &out)?;
         let text = fs::read_to_string(out.join("summary.json")).with_context(|| format!("the summary of {name}"))?;
         let summary: serde_json::Value = serde_json::from_str(&text)?;
         table.push_str(&row(&name, &summary["drainage"]["artefacts"]));

@@ -34,33 +34,46 @@ fn curve_statistics(scene: &serde_json::Value) -> Option<(usize, usize)> {
     Some((curves.len() + expanded, bytes))
 }
 
-pub(crate) fn run(root: &Path) -> Result<()> {
+/// The release `relief` binary, built first.
+pub(crate) fn release_relief(root: &Path) -> Result<PathBuf> {
     crate::run(Command::new(env!("CARGO")).current_dir(root).args(["build", "--release", "-p", "relief-cli"]))?;
-    let relief = root.join("target/release/relief");
-    let work = root.join("target/gallery");
-    let images = root.join("docs/gallery");
-    fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
+    Ok(root.join("target/release/relief"))
+}
 
+/// The fixture scenes, by name.
+pub(crate) fn fixture_scenes(root: &Path) -> Result<Vec<PathBuf>> {
     let mut scenes: Vec<PathBuf> = fs::read_dir(root.join("fixtures/scenes"))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
         .collect();
     scenes.sort();
+    Ok(scenes)
+}
+
+/// Generates `scene` with `relief` into `out`; the scene's name.
+pub(crate) fn generate(relief: &Path, root: &Path, scene: &Path, out: &Path) -> Result<String> {
+    let name = scene.file_stem().context("scene without a name")?.to_string_lossy().into_owned();
+    eprintln!("generating {name}");
+    crate::run(
+        Command::new(relief).current_dir(root).args(["-q", "--force", "generate"]).arg(scene).arg("--out").arg(out),
+    )?;
+    Ok(name)
+}
+
+pub(crate) fn run(root: &Path) -> Result<()> {
+    let relief = release_relief(root)?;
+    let work = root.join("target/gallery");
+    let images = root.join("docs/gallery");
+    fs::create_dir_all(&images).with_context(|| format!("creating {}", images.display()))?;
+
+    let mut scenes = fixture_scenes(root)?;
     scenes.insert(0, root.join("crates/relief/scenes/demo.json"));
 
     let mut entries = Vec::new();
     for scene in &scenes {
-        let name = scene.file_stem().context("scene without a name")?.to_string_lossy().into_owned();
-        let out = work.join(&name);
-        println!("rendering {name}");
-        crate::run(
-            Command::new(&relief)
-                .current_dir(root)
-                .args(["-q", "--force", "generate"])
-                .arg(scene)
-                .arg("--out")
-                .arg(&out),
-        )?;
+        let stem = scene.file_stem().context("scene without a name")?;
+        let out = work.join(stem);
+        let name = generate(&relief, root, scene, &out)?;
         fs::copy(out.join("preview.png"), images.join(format!("{name}.png")))
             .with_context(|| format!("copying the preview of {name}"))?;
         let text = fs::read_to_string(scene)?;

@@ -34,6 +34,31 @@ impl Studio {
         self.send_with(&[("x-relief-session", session.unwrap_or_default())], method, path, body)
     }
 
+    /// Starts generating `scene` as session `busy` on a runtime of its own and returns once
+    /// the studio reports it running: the runtime and the request's task.
+    fn start_busy(
+        &self,
+        scene: &Value,
+    ) -> (tokio::runtime::Runtime, tokio::task::JoinHandle<Result<axum::response::Response, std::convert::Infallible>>)
+    {
+        let runtime = tokio::runtime::Runtime::new().unwrap();
+        let request = Request::post("/api/generate")
+            .header("content-type", "application/json")
+            .header("x-relief-session", "busy")
+            .body(Body::from(scene.to_string()));
+        let task = runtime.spawn(self.router.clone().oneshot(request.unwrap()));
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+        let running = || {
+            let (_, body) = self.send_as(Some("busy"), "GET", "/api/progress", Body::empty());
+            serde_json::from_slice::<Value>(&body).unwrap()["running"] == true
+        };
+        while !running() {
+            assert!(!task.is_finished() && std::time::Instant::now() < deadline, "never seen running");
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        (runtime, task)
+    }
+
     /// [`Studio::send`] with headers (an empty value leaves the header out).
     fn send_with(
         &self,
@@ -642,21 +667,7 @@ fn heavy_requests_share_the_job_cap() {
     let download = format!("/api/results/{}/download/exr", result["id"]);
     let mut slow = studio.template("contours");
     slow["generator"]["contours"]["particles"] = 600_000.into();
-    let runtime = tokio::runtime::Runtime::new().unwrap();
-    let request = Request::post("/api/generate")
-        .header("content-type", "application/json")
-        .header("x-relief-session", "busy")
-        .body(Body::from(slow.to_string()));
-    let task = runtime.spawn(studio.router.clone().oneshot(request.unwrap()));
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
-    let running = || {
-        let (_, body) = studio.send_as(Some("busy"), "GET", "/api/progress", Body::empty());
-        serde_json::from_slice::<Value>(&body).unwrap()["running"] == true
-    };
-    while !running() {
-        assert!(!task.is_finished() && std::time::Instant::now() < deadline, "never seen running");
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
+    let (runtime, task) = studio.start_busy(&slow);
     let refused = [
         studio.send("PUT", "/api/files/m.png", image_bytes(8, |_, _| 1)).0,
         studio.send("GET", &download, Body::empty()).0,
@@ -681,21 +692,7 @@ fn concurrent_generations_share_one_memory_budget() {
         c.memory_wait = std::time::Duration::from_millis(200);
         c
     });
-    let runtime = tokio::runtime::Runtime::new().unwrap();
-    let request = Request::post("/api/generate")
-        .header("content-type", "application/json")
-        .header("x-relief-session", "busy")
-        .body(Body::from(slow.to_string()));
-    let task = runtime.spawn(studio.router.clone().oneshot(request.unwrap()));
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
-    let running = || {
-        let (_, body) = studio.send_as(Some("busy"), "GET", "/api/progress", Body::empty());
-        serde_json::from_slice::<Value>(&body).unwrap()["running"] == true
-    };
-    while !running() {
-        assert!(!task.is_finished() && std::time::Instant::now() < deadline, "never seen running");
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
+    let (runtime, task) = studio.start_busy(&slow);
     let (status, body) = studio.send_as(Some("other"), "POST", "/api/generate", Body::from(slow.to_string()));
     let error: Value = serde_json::from_slice(&body).unwrap();
     assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE, "{error}");
