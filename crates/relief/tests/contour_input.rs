@@ -98,3 +98,48 @@ fn gdal_style_lines_with_an_elev_property_are_closed_along_their_extent() {
         generate(&scene(json!({ "geojson": "lines.geojson", "dem": "x.asc" }), None), dir.path(), &mut ()).unwrap_err();
     assert!(err.to_string().contains("not both"), "{err}");
 }
+
+/// A DEM that stores its sea as one flat elevation (a volcano island on 0 m): regrown from its
+/// contours with its histogram, the sea stays sea (the coast runs just above it) and the land
+/// keeps its share of the map, instead of the whole map regrowing as land.
+#[test]
+fn a_dems_flat_sea_stays_sea_when_regrown() {
+    let dir = tempfile::tempdir().unwrap();
+    let (nx, ny) = (120usize, 100usize);
+    let cone = |i: usize, j: usize| {
+        let d = ((i as f64 - 60.0).powi(2) + (j as f64 - 50.0).powi(2)).sqrt();
+        (800.0 * (1.0 - d / 35.0)).max(0.0)
+    };
+    let mut asc = format!("ncols {nx}\nnrows {ny}\nxllcenter 0\nyllcenter 0\ncellsize 30\n");
+    for j in (0..ny).rev() {
+        let row: Vec<String> = (0..nx).map(|i| format!("{:.1}", cone(i, j))).collect();
+        asc.push_str(&row.join(" "));
+        asc.push('\n');
+    }
+    std::fs::write(dir.path().join("volcano.asc"), asc).unwrap();
+    let dem_land = (0..nx * ny).filter(|k| cone(k % nx, k / nx) > 0.0).count() as f64 / (nx * ny) as f64;
+    let mut scene = scene(json!({ "dem": "volcano.asc", "interval": 100 }), Some(json!({ "dem": "volcano.asc" })));
+    scene.reconstruction.resolution = [nx, ny];
+    let terrain = generate(&scene, dir.path(), &mut ()).unwrap();
+    let sea = terrain.sea_level.unwrap();
+    let samples = terrain.heightfield.samples();
+    let land = samples.iter().filter(|&&v| f64::from(v) > sea).count() as f64 / samples.len() as f64;
+    assert!((land - dem_land).abs() < 0.05, "land is {land:.3} of the map, the DEM's {dem_land:.3}");
+    // The histogram is the land's, not pulled down by the sea's zeros: the land's median
+    // elevation is the DEM land's.
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let ours = median(samples.iter().map(|&v| f64::from(v)).filter(|&v| v > sea).collect());
+    let dems = median((0..nx * ny).map(|k| cone(k % nx, k / nx)).filter(|&v| v > 0.0).collect());
+    assert!((ours - dems).abs() < 0.15 * dems, "the land's median {ours:.1} m, the DEM land's {dems:.1} m");
+    // The histogram checked on land is the land's, and no warning blames it.
+    let fit = terrain.summary.histogram_match.as_ref().unwrap();
+    assert!(fit.raster < 0.1, "{fit:?} {:?}", terrain.summary.warnings);
+    assert!(terrain.summary.warnings.iter().all(|w| !w.contains("histogram")), "{:?}", terrain.summary.warnings);
+    // The coast is the lowest land elevation (the cone's lowest samples, under 25 m), not the
+    // sea's 0 m.
+    let input = terrain.summary.contour_input.as_ref().unwrap();
+    assert!(input.heights[0] > 0.0 && input.heights[0] < 25.0, "the coast at {} m", input.heights[0]);
+}

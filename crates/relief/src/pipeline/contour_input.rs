@@ -90,8 +90,24 @@ pub(super) fn read(spec: &ContourInput, env: &Env<'_>, sampling: Sampling) -> Re
     Ok(Regrowth { regions, extent, reference: reference.map(|d| (summary.source.clone(), d)), summary })
 }
 
-/// A DEM's contours at the scene's heights (or interval), its lowest elevation the coast, closed
-/// along its border; and how many the border cut.
+/// Share of a DEM's samples at exactly its lowest elevation from which that elevation is sea: a
+/// flat minimum is how DEMs store the sea (0, or a fill value), where real ground at its lowest
+/// touches a few samples only.
+const FLAT_SEA_SHARE: f64 = 0.01;
+
+/// The DEM's lowest elevation when it is flat sea: held by at least [`FLAT_SEA_SHARE`] of its
+/// valid samples.
+pub(super) fn flat_sea(dem: &Heightfield) -> Option<f32> {
+    let (min, _) = dem.min_max()?;
+    let valid = dem.samples().iter().filter(|v| v.is_finite()).count();
+    let at_min = dem.samples().iter().filter(|&&v| v == min).count();
+    (at_min as f64 >= FLAT_SEA_SHARE * valid as f64).then_some(min)
+}
+
+/// A DEM's contours at the scene's heights (or interval), closed along its border, and how many
+/// the border cut. With an interval, the coast is the lowest elevation (the whole map land), or
+/// where that is flat sea ([`flat_sea`]) the lowest land elevation, so the sea stays outside and
+/// the coast is the lowest height of the land's histogram.
 fn dem_contours(dem: &Heightfield, spec: &ContourInput) -> Result<(ContourSet, usize), ReliefError> {
     let (min, max) = match dem.min_max() {
         Some((lo, hi)) if lo < hi => (f64::from(lo), f64::from(hi)),
@@ -107,8 +123,14 @@ fn dem_contours(dem: &Heightfield, spec: &ContourInput) -> Result<(ContourSet, u
                 return Err(E::at(format!("{AT}.interval"), SceneError::OutOfRange { value: step.to_string(), rule }));
             }
             // The coast at the lowest elevation (samples at a level count as above it), so the
-            // whole map is land.
-            let mut levels = vec![min];
+            // whole map is land; at the lowest land elevation when the lowest is flat sea, so the
+            // sea stays outside.
+            let coast = match flat_sea(dem) {
+                Some(sea) => dem.samples().iter().filter(|&&v| v > sea).fold(f32::INFINITY, |m, &v| m.min(v)),
+                None => min as f32,
+            };
+            let coast = f64::from(coast);
+            let mut levels = vec![coast];
             let first = (min / step).floor() as i64 + 1;
             levels.extend((first..).map(|k| k as f64 * step).take_while(|&h| h < max));
             levels
@@ -384,4 +406,27 @@ fn mean_slope(d: &Descriptors) -> f64 {
     let width = (h.hi - h.lo) / h.counts.len() as f64;
     let sum: f64 = h.counts.iter().enumerate().map(|(b, &c)| (h.lo + width * (b as f64 + 0.5)) * c as f64).sum();
     sum / h.total().max(1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::heightfield::GridSpec;
+
+    /// 100 samples, `at_min` of them at the lowest elevation 0 m, the rest land from 5 m up.
+    fn dem(at_min: usize) -> Heightfield {
+        let grid = GridSpec::new(10, 10, DVec2::ZERO, DVec2::ONE).unwrap();
+        let samples = (0..100).map(|k| if k < at_min { 0.0 } else { 5.0 + k as f32 }).collect();
+        Heightfield::from_samples(grid, samples).unwrap()
+    }
+
+    #[test]
+    fn a_minimum_on_a_hundredth_of_the_samples_is_flat_sea() {
+        assert_eq!(flat_sea(&dem(1)), Some(0.0));
+        assert_eq!(flat_sea(&dem(40)), Some(0.0));
+        // Real ground: its lowest point is one sample in a thousand, say.
+        let grid = GridSpec::new(40, 25, DVec2::ZERO, DVec2::ONE).unwrap();
+        let ground = Heightfield::from_samples(grid, (0..1000).map(|k| k as f32).collect()).unwrap();
+        assert_eq!(flat_sea(&ground), None);
+    }
 }

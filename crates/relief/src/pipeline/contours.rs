@@ -554,14 +554,17 @@ fn fitting_bins(histogram: &Histogram, given: &[(f64, f64)]) -> (Vec<f64>, Vec<f
 /// they match the histogram to 1/(2N).
 const FIT_WARNING_KS: f64 = 0.02;
 
-/// The target histogram: written in the scene, or the elevations of a DEM.
+/// The target histogram: written in the scene, or the elevations of a DEM's land (its flat sea
+/// left out, as the growth makes land only: `contour_input::flat_sea`).
 fn histogram(source: &HistogramSource, env: &Env<'_>) -> Result<Histogram, ReliefError> {
     match source {
         HistogramSource::Histogram(h) => Ok(h.clone()),
         HistogramSource::Dem(path) => {
             let at = format!("{GENERATOR}.histogram.dem");
             let dem = env.read(path).map_err(|e| E::at(&at, e))?;
-            let samples: Vec<f64> = dem.samples().iter().filter(|v| v.is_finite()).map(|&v| f64::from(v)).collect();
+            let sea = contour_input::flat_sea(&dem);
+            let land = |v: &&f32| v.is_finite() && sea.is_none_or(|s| **v > s);
+            let samples: Vec<f64> = dem.samples().iter().filter(land).map(|&v| f64::from(v)).collect();
             Histogram::from_samples(samples).map_err(|e| E::at(&at, e))
         }
     }

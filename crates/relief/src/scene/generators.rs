@@ -198,7 +198,9 @@ impl TryFrom<MultilevelJson> for Multilevel {
 #[serde(deny_unknown_fields)]
 pub struct ContourInput {
     /// A DEM (any heightfield format) whose contours to take; they are closed along its border,
-    /// its lowest elevation is the coast, and the summary compares the result with it (§6.5).
+    /// its lowest elevation is the coast (or, when that elevation is flat sea, on 1 % of the
+    /// samples or more, its lowest land elevation, so the sea stays sea), and the summary
+    /// compares the result with it (§6.5).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dem: Option<PathBuf>,
     /// A GeoJSON of contour lines (closed rings, or lines cut by the map's edge) or polygons with

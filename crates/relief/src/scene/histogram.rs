@@ -22,7 +22,8 @@ use crate::contours::{Histogram, HistogramSpec};
 pub enum HistogramSource {
     /// A histogram written in the scene.
     Histogram(Histogram),
-    /// The elevations of a real DEM (any heightfield-io format), relative to the scene file.
+    /// The elevations of a real DEM's land (any heightfield-io format), relative to the scene
+    /// file: a flat sea at its lowest elevation (1 % of the samples or more) is left out.
     Dem(PathBuf),
 }
 
