@@ -110,17 +110,11 @@ fn a_dems_flat_sea_stays_sea_when_regrown() {
         let d = ((i as f64 - 60.0).powi(2) + (j as f64 - 50.0).powi(2)).sqrt();
         (800.0 * (1.0 - d / 35.0)).max(0.0)
     };
-    let mut asc = format!("ncols {nx}\nnrows {ny}\nxllcenter 0\nyllcenter 0\ncellsize 30\n");
-    for j in (0..ny).rev() {
-        let row: Vec<String> = (0..nx).map(|i| format!("{:.1}", cone(i, j))).collect();
-        asc.push_str(&row.join(" "));
-        asc.push('\n');
-    }
-    std::fs::write(dir.path().join("volcano.asc"), asc).unwrap();
+    write_asc(&dir.path().join("volcano.asc"), nx, ny, cone);
     let dem_land = (0..nx * ny).filter(|k| cone(k % nx, k / nx) > 0.0).count() as f64 / (nx * ny) as f64;
-    let mut scene = scene(json!({ "dem": "volcano.asc", "interval": 100 }), Some(json!({ "dem": "volcano.asc" })));
-    scene.reconstruction.resolution = [nx, ny];
-    let terrain = generate(&scene, dir.path(), &mut ()).unwrap();
+    let mut volcano = scene(json!({ "dem": "volcano.asc", "interval": 100 }), Some(json!({ "dem": "volcano.asc" })));
+    volcano.reconstruction.resolution = [nx, ny];
+    let terrain = generate(&volcano, dir.path(), &mut ()).unwrap();
     let sea = terrain.sea_level.unwrap();
     let samples = terrain.heightfield.samples();
     let land = samples.iter().filter(|&&v| f64::from(v) > sea).count() as f64 / samples.len() as f64;
@@ -142,4 +136,25 @@ fn a_dems_flat_sea_stays_sea_when_regrown() {
     // sea's 0 m.
     let input = terrain.summary.contour_input.as_ref().unwrap();
     assert!(input.heights[0] > 0.0 && input.heights[0] < 25.0, "the coast at {} m", input.heights[0]);
+
+    // An island of cliffs, its land 150 m and more above the sea: the contours start at the coast
+    // and go up from the next multiple of the interval.
+    let cliffs = |i: usize, j: usize| if cone(i, j) > 0.0 { 150.0 + cone(i, j) } else { 0.0 };
+    write_asc(&dir.path().join("cliffs.asc"), nx, ny, cliffs);
+    let mut cliff_scene = scene(json!({ "dem": "cliffs.asc", "interval": 100 }), Some(json!({ "dem": "cliffs.asc" })));
+    cliff_scene.reconstruction.resolution = [nx, ny];
+    let terrain = generate(&cliff_scene, dir.path(), &mut ()).unwrap();
+    let heights = &terrain.summary.contour_input.as_ref().unwrap().heights;
+    assert!(heights[0] > 150.0 && heights[0] < 175.0 && heights[1] == 200.0, "{heights:?}");
+}
+
+/// Writes an ASCII grid of `nx × ny` samples 30 m apart from `f(i, j)` (row 0 the southern).
+fn write_asc(path: &Path, nx: usize, ny: usize, f: impl Fn(usize, usize) -> f64) {
+    let mut asc = format!("ncols {nx}\nnrows {ny}\nxllcenter 0\nyllcenter 0\ncellsize 30\n");
+    for j in (0..ny).rev() {
+        let row: Vec<String> = (0..nx).map(|i| format!("{:.1}", f(i, j))).collect();
+        asc.push_str(&row.join(" "));
+        asc.push('\n');
+    }
+    std::fs::write(path, asc).unwrap();
 }

@@ -131,7 +131,7 @@ fn dem_contours(dem: &Heightfield, spec: &ContourInput) -> Result<(ContourSet, u
             };
             let coast = f64::from(coast);
             let mut levels = vec![coast];
-            let first = (min / step).floor() as i64 + 1;
+            let first = (coast / step).floor() as i64 + 1;
             levels.extend((first..).map(|k| k as f64 * step).take_while(|&h| h < max));
             levels
         }
