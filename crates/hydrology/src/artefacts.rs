@@ -5,7 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{HydrologyError, Outlets, depressions};
+use crate::{Basin, HydrologyError, Outlets, depressions};
 use relief_heightfield::Heightfield;
 
 /// What [`measure`] found.
@@ -37,12 +37,17 @@ pub struct Artefacts {
 /// [`HydrologyError`] when the depressions cannot be found (a grid without valid samples).
 pub fn measure(hf: &Heightfield, sea_level: Option<f64>) -> Result<Artefacts, HydrologyError> {
     let outlets = sea_level.map_or_else(Outlets::new, |s| Outlets::new().with_sea_level(s as f32));
-    let basins = depressions(hf, outlets)?.basins;
+    Ok(measure_with_basins(hf, sea_level, &depressions(hf, outlets)?.basins))
+}
+
+/// [`measure`] with `hf`'s closed basins already found (by [`depressions`] with the sea at
+/// `sea_level` as outlet), for callers that need them anyway: nothing is searched twice.
+pub fn measure_with_basins(hf: &Heightfield, sea_level: Option<f64>, basins: &[Basin]) -> Artefacts {
     let depth = |d: f64| basins.iter().filter(|b| f64::from(b.depth()) > d).count();
     let sea = sea_level.map_or(f32::NEG_INFINITY, |s| s as f32);
     let land = |v: f32| v.is_finite() && v > sea;
     let (border_step_m, next_step_m) = border_steps(hf, &land);
-    Ok(Artefacts {
+    Artefacts {
         border_step_m,
         next_step_m,
         pits_over_1m: depth(1.0),
@@ -50,7 +55,7 @@ pub fn measure(hf: &Heightfield, sea_level: Option<f64>) -> Result<Artefacts, Hy
         deepest_pit_m: basins.iter().map(|b| f64::from(b.depth())).fold(0.0, f64::max),
         slots: slots(hf, &land),
         planar_share: planar_share(hf, &land),
-    })
+    }
 }
 
 /// Median of `values` (`None` when empty).

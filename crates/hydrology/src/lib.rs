@@ -59,7 +59,7 @@ mod error;
 mod flow;
 mod grid8;
 
-pub use artefacts::{Artefacts, measure as measure_artefacts};
+pub use artefacts::{Artefacts, measure as measure_artefacts, measure_with_basins as measure_artefacts_with_basins};
 pub use depressions::{Basin, Depressions, NoData, Outlets, depressions, endorheic_nodes, fill, has_endorheic_basins};
 pub use descriptors::{CountHistogram, DescriptorDistance, DescriptorOptions, Descriptors, MAX_BINS};
 pub use emd::{CdfShape, earth_movers_distance};

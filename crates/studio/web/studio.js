@@ -829,8 +829,10 @@ const SHAPE_TOOLS = {
     const g = doc.generator.diffusion;
     const lines = (g.presets || []).map((preset, k) => ({ key: "presets", k, lines: presetLines(preset) }))
       .concat((g.curves || []).map((curve, k) => ({ key: "curves", k, lines: [centreLine(curve.points)] })));
-    const distance = (f) => Math.min(...f.lines.map((line) => distanceToLine(line, start)));
-    const near = lines.filter((f) => distance(f) * view.scale <= 16).sort((a, b) => distance(a) - distance(b))[0];
+    const near = lines
+      .map((f) => ({ ...f, distance: Math.min(...f.lines.map((line) => distanceToLine(line, start))) }))
+      .filter((f) => f.distance * view.scale <= 16)
+      .sort((a, b) => a.distance - b.distance)[0];
     if (!near) return refuse("click on a drawn feature or Bézier curve to remove it");
     editDoc((d) => d.generator.diffusion[near.key].splice(near.k, 1));
   },

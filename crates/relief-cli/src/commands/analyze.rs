@@ -89,7 +89,7 @@ fn compute(args: &AnalyzeArgs, ui: &mut Ui) -> Result<Analysis> {
     }
     let distance = other.as_ref().map(|o| descriptors.distance(o));
     let sea = args.sea_level.map(f64::from);
-    let artefacts = ui.step("artefacts", || relief::hydrology::measure_artefacts(&dem, sea))?;
+    let artefacts = relief::hydrology::measure_artefacts_with_basins(&dem, sea, &closed.basins);
     Ok(Analysis { closed, descriptors, distance, orometry, oro_descriptor, artefacts, nearest })
 }
 

@@ -74,10 +74,8 @@ pub(super) fn post_process(
 /// Closed basins and stream order of `hf`.
 pub(super) fn drainage(hf: &Heightfield, sea_level: Option<f64>) -> Result<DrainageSummary, ReliefError> {
     let fail = |e: HydrologyError| E::step("drainage", e);
-    // First, so that its own depression search is freed before the drainage's grids are made:
-    // the run's peak memory stays what `budget::bytes_per_cell` measured.
-    let artefacts = hydrology::measure_artefacts(hf, sea_level).map_err(fail)?;
     let closed = hydrology::depressions(hf, outlets(sea_level)).map_err(fail)?;
+    let artefacts = hydrology::measure_artefacts_with_basins(hf, sea_level, &closed.basins);
     let routed = D8::new(&closed.filled).map_err(fail)?;
     let sea = sea_level.map_or(f32::NEG_INFINITY, |s| s as f32);
     let land_area: f64 =
