@@ -561,11 +561,12 @@ pub(crate) struct ProminenceArgs {
     /// Ground at or below this elevation is sea.
     #[arg(long)]
     pub(crate) sea_level: Option<f32>,
-    /// What a land mass's highest peak is measured down to: its lowest outlet (where water leaves
-    /// the map), or the sea level (0 without --sea-level), as summit lists and akirmse count it
-    /// (always, for a .dvt input).
-    #[arg(long, value_enum, default_value_t = Base::Outlet)]
-    pub(crate) base: Base,
+    /// What a land mass's highest peak is measured down to: the sea level (0 without
+    /// --sea-level), as summit lists and akirmse/mountains count it (always, for a .dvt input), or
+    /// its lowest outlet (where water leaves the map: the relief of a DEM that holds no sea).
+    /// [default: sea-level; outlet with --depressions, whose deepest pit has no sea to count to]
+    #[arg(long, value_enum)]
+    pub(crate) base: Option<Base>,
     /// Anti-prominence (akirmse's -a): analyse the pits and basins instead of the summits, e.g. of
     /// bathymetry; with --sea-level, only ground below it.
     #[arg(long)]
@@ -573,6 +574,18 @@ pub(crate) struct ProminenceArgs {
     /// Write the peaks (most prominent first for a .dvt input, else highest first) as CSV here.
     #[arg(long, value_name = "FILE")]
     pub(crate) peaks: Option<PathBuf>,
+    /// The form of --peaks: relief's CSV (a header, parents, dominance, isolation), or the lines
+    /// of akirmse/mountains' `prominence.txt` (`lat,lon,elevation,saddle_lat,saddle_lon,
+    /// prominence`, no header, most prominent first, the top's saddle `0,0`), which its users'
+    /// scripts read.
+    #[arg(long, value_enum, default_value_t = PeaksFormat::Csv, value_name = "FORMAT")]
+    pub(crate) peaks_format: PeaksFormat,
+    /// Where a peak or saddle is said to be: its sample's centre, or the sample's north-west
+    /// corner, where akirmse/mountains places a sample of a tile whose corner lies on a whole
+    /// degree (GLO30, FABDEM, a GeoTIFF whose pixels are areas). Applies to everything written
+    /// and printed for a DEM; a .dvt input's positions are its own lattice's.
+    #[arg(long, value_enum, default_value_t = Positions::Centre, value_name = "WHERE")]
+    pub(crate) positions: Positions,
     /// Write the divide tree here: GeoJSON (peaks, saddles, ridges between neighbouring peaks)
     /// or, for a `.dvt` name, akirmse/mountains' text format (a geographic DEM with whole samples
     /// per degree, or a UTM one).
@@ -584,6 +597,24 @@ pub(crate) struct ProminenceArgs {
     /// Print the whole analysis (peaks and saddles) as JSON instead of text.
     #[arg(long)]
     pub(crate) json: bool,
+}
+
+/// The form of `relief prominence --peaks`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum PeaksFormat {
+    /// relief's CSV.
+    Csv,
+    /// akirmse/mountains' `prominence.txt` lines.
+    Akirmse,
+}
+
+/// Where `relief prominence` places a sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Positions {
+    /// The sample's centre.
+    Centre,
+    /// The sample's north-west corner (akirmse/mountains' tiles).
+    NwCorner,
 }
 
 /// What a land mass's highest peak is measured down to.

@@ -25,6 +25,8 @@ pub(crate) enum Written {
     Csv,
     /// A divide tree: GeoJSON, or akirmse/mountains' `.dvt` text.
     DivideTree,
+    /// Lines of akirmse/mountains' `prominence.txt` (comma-separated, no header).
+    AkirmsePeaks,
 }
 
 impl Written {
@@ -38,6 +40,7 @@ impl Written {
             Self::Svg => &["svg"],
             Self::Csv => &["csv"],
             Self::DivideTree => &["geojson", "json", "dvt"],
+            Self::AkirmsePeaks => &["txt", "csv"],
         }
     }
 
@@ -50,6 +53,7 @@ impl Written {
             Self::Svg => "an SVG drawing",
             Self::Csv => "CSV",
             Self::DivideTree => "a divide tree (GeoJSON, or akirmse's .dvt)",
+            Self::AkirmsePeaks => "akirmse's prominence.txt lines",
         }
     }
 

@@ -379,8 +379,61 @@ fn prominence_of_depressions_and_from_sea_level() {
             serde_json::from_str(&ok(&[&["prominence", dem, "--json"], extra].concat())).unwrap();
         v["peaks"][0]["prominence"].as_f64().unwrap()
     };
+    assert_eq!(top(&[]), 1076.0, "down to the sea, as akirmse/mountains and summit lists count it");
     assert_eq!(top(&["--base", "sea-level"]), 1076.0);
-    assert_eq!(top(&[]), 1076.0 - 244.0, "down to the lowest outlet, the DEM's lowest border cell");
+    assert_eq!(top(&["--base", "outlet"]), 1076.0 - 244.0, "down to the lowest outlet, the DEM's lowest border cell");
+}
+
+#[test]
+fn prominence_writes_akirmses_peak_lines_at_its_sample_positions() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = |name: &str| tmp.path().join(name).to_str().unwrap().to_owned();
+    let dem = "fixtures/dem/jacksboro.asc";
+    let lines = |extra: &[&str], name: &str| -> Vec<String> {
+        let args = ["prominence", dem, "--min-prominence", "30", "--peaks-format", "akirmse", "--peaks", &path(name)];
+        ok(&[&args[..], extra].concat());
+        std::fs::read_to_string(path(name)).unwrap().lines().map(str::to_owned).collect()
+    };
+    // akirmse/mountains' own prominence.txt of the same DEM (fixtures/akirmse/README.md): this
+    // DEM's cell centres are its canvas samples, so centre positions are its positions.
+    let reference: Vec<String> =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/akirmse/prominence.txt"))
+            .unwrap()
+            .lines()
+            .map(str::to_owned)
+            .collect();
+    let ours = lines(&[], "peaks.txt");
+    assert_eq!(ours.len(), reference.len());
+    assert_eq!(ours[0], "36.485000,-84.230833,1076.00,0.000000,0.000000,1076.00", "the top, from the sea, saddle 0,0");
+    let fields = |l: &String| l.split(',').map(str::to_owned).collect::<Vec<_>>();
+    let pick = |ls: &[String], f: &dyn Fn(&[String]) -> String| {
+        let mut v: Vec<String> = ls.iter().map(|l| f(&fields(l))).collect();
+        v.sort();
+        v
+    };
+    // Every elevation with its prominence, as akirmse's.
+    let heights = |f: &[String]| format!("{},{}", f[2], f[5]);
+    assert_eq!(pick(&ours, &heights), pick(&reference, &heights));
+    // Most lines byte for byte; the rest differ in which sample of a flat top or col is named.
+    let same = ours.iter().filter(|l| reference.contains(l)).count();
+    assert!(same >= 140, "{same} of {} lines as akirmse writes them", ours.len());
+    let sorted = ours.windows(2).all(|w| fields(&w[0])[5].parse::<f64>().unwrap() >= fields(&w[1])[5].parse().unwrap());
+    assert!(sorted, "most prominent first");
+    // North-west corners: half a 3″ cell north and west of the centre.
+    let corner = lines(&["--positions", "nw-corner"], "corner.txt");
+    assert_eq!(corner[0], "36.485417,-84.231250,1076.00,0.000000,0.000000,1076.00");
+    let saddle = |l: &String| [fields(l)[3].parse::<f64>().unwrap(), fields(l)[4].parse::<f64>().unwrap()];
+    let (c, o) = (saddle(&corner[1]), saddle(&ours[1]));
+    assert!((c[0] - o[0] - 0.5 / 1200.0).abs() < 2e-6 && (c[1] - o[1] + 0.5 / 1200.0).abs() < 2e-6, "{c:?} {o:?}");
+    // From akirmse's own divide tree of the DEM, its own lines back (but where pruning differs).
+    let tree = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/akirmse/divide_tree.dvt");
+    ok(&["prominence", tree, "--min-prominence", "30", "--peaks-format", "akirmse", "--peaks", &path("tree.txt")]);
+    let from_tree: Vec<String> =
+        std::fs::read_to_string(path("tree.txt")).unwrap().lines().map(str::to_owned).collect();
+    let same = from_tree.iter().filter(|l| reference.contains(l)).count();
+    assert!(from_tree.len() == reference.len() && same >= 175, "{same} of {} lines", from_tree.len());
+    let err = fails(&["prominence", dem, "--peaks-format", "akirmse", "--peaks", &path("p.geojson")], 1);
+    assert!(err.contains("prominence.txt"), "{err}");
 }
 
 #[test]

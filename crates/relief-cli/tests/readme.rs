@@ -76,7 +76,7 @@ fn the_first_scenes_generate_as_written() {
 #[test]
 fn the_peak_finding_command_writes_peaks_and_a_divide_tree() {
     let text = section();
-    let line = text.lines().find(|l| l.contains("-- analyze ")).expect("the section shows how to find peaks");
+    let line = text.lines().find(|l| l.contains("-- prominence ")).expect("the section shows how to find peaks");
     let args: Vec<&str> = line.split_once("-- ").unwrap().1.split_whitespace().collect();
     let tmp = tempfile::tempdir().unwrap();
     // The command as written, with its two outputs sent to a temporary folder.

@@ -268,6 +268,46 @@ pub fn tree_peaks_csv(tree: &DivideTree, base: f64, geographic: bool) -> String 
     out
 }
 
+/// The analysed peaks as the lines of akirmse/mountains' `prominence.txt`, most prominent first:
+/// `lat,lon,elevation,key_saddle_lat,key_saddle_lon,prominence` (for a projected grid `y,x` in
+/// the same places), no header, positions to 6 decimals and heights to 2; a peak without a key
+/// saddle (a land mass's top) has the saddle `0,0`, as akirmse writes it.
+pub fn peaks_akirmse(analysis: &Orometry) -> String {
+    let lines = analysis.peaks.iter().map(|p| {
+        let saddle = p.key_saddle.map(|s| analysis.saddles[s].position);
+        (p.position, p.elevation, saddle, p.prominence)
+    });
+    akirmse_lines(lines.collect())
+}
+
+/// [`peaks_akirmse`] for the peaks of a divide tree, their prominences on the tree down to
+/// `base`.
+pub fn tree_peaks_akirmse(tree: &DivideTree, base: f64) -> String {
+    let oro = tree.orometry(base);
+    let lines = tree.peaks.iter().enumerate().map(|(k, p)| {
+        let saddle = oro.key_saddle[k].map(|s| {
+            let s = &tree.saddles[s as usize];
+            [s.position.x, s.position.y]
+        });
+        ([p.position.x, p.position.y], p.elevation, saddle, oro.prominence[k])
+    });
+    akirmse_lines(lines.collect())
+}
+
+/// One peak: position `[x, y]`, elevation, key saddle position, prominence.
+type AkirmseLine = ([f64; 2], f64, Option<[f64; 2]>, f64);
+
+/// `prominence.txt` lines of `peaks`, most prominent first (ties in the given order).
+fn akirmse_lines(mut peaks: Vec<AkirmseLine>) -> String {
+    peaks.sort_by(|a, b| b.3.total_cmp(&a.3));
+    let mut out = String::new();
+    for (p, elevation, saddle, prominence) in peaks {
+        let s = saddle.unwrap_or([0.0, 0.0]);
+        let _ = writeln!(out, "{:.6},{:.6},{elevation:.2},{:.6},{:.6},{prominence:.2}", p[1], p[0], s[1], s[0]);
+    }
+    out
+}
+
 /// A divide tree in akirmse/mountains' `.dvt` text format ([`Dvt`]) on the lattice of the DEM's
 /// `grid` (and coordinate system), so its tools read it.
 ///

@@ -8,7 +8,7 @@ use anyhow::{Context as _, Result, bail};
 use relief::heightfield::{Crs, GridSpec, Units};
 use relief::orometry::{AnalysisOptions, DivideTree, Dvt, DvtGrid, Orometry, Peak, ProminenceBase, analyze};
 
-use crate::cli::{Base, ProminenceArgs};
+use crate::cli::{Base, PeaksFormat, Positions, ProminenceArgs};
 use crate::ui::Ui;
 use crate::writes::Written;
 
@@ -18,7 +18,11 @@ pub(crate) fn prominence(args: &ProminenceArgs, ui: &mut Ui) -> Result<()> {
     let mut writes = ui.writes();
     writes.reads(&args.dem);
     if let Some(p) = &args.peaks {
-        writes.writes(p, Written::Csv)?;
+        let form = match args.peaks_format {
+            PeaksFormat::Csv => Written::Csv,
+            PeaksFormat::Akirmse => Written::AkirmsePeaks,
+        };
+        writes.writes(p, form)?;
     }
     if let Some(p) = &args.divide_tree {
         writes.writes(p, Written::DivideTree)?;
@@ -36,8 +40,9 @@ pub(crate) fn prominence(args: &ProminenceArgs, ui: &mut Ui) -> Result<()> {
         _ => None,
     };
     let base = match args.base {
-        Base::Outlet => ProminenceBase::Outlet,
-        Base::SeaLevel => ProminenceBase::SeaLevel,
+        Some(Base::Outlet) => ProminenceBase::Outlet,
+        None if args.depressions => ProminenceBase::Outlet,
+        Some(Base::SeaLevel) | None => ProminenceBase::SeaLevel,
     };
     let options = AnalysisOptions {
         sea_level: args.sea_level,
@@ -46,12 +51,19 @@ pub(crate) fn prominence(args: &ProminenceArgs, ui: &mut Ui) -> Result<()> {
         depressions: args.depressions,
         ridge_lines: args.divide_tree.as_deref().is_some_and(|p| !is_dvt(p)),
     };
-    let oro = ui.step("prominence", || analyze(&dem, &options))?;
+    let mut oro = ui.step("prominence", || analyze(&dem, &options))?;
     let geographic = dem.grid().units() == Units::Degrees;
     let (grid, crs) = (*dem.grid(), dem.crs().cloned());
     drop(dem);
+    if args.positions == Positions::NwCorner {
+        to_north_west_corners(&mut oro, &grid);
+    }
     if let Some(p) = &args.peaks {
-        ui.step("write", || relief::io::write_atomic(p, relief::export::peaks_csv(&oro, geographic).as_bytes()))?;
+        let text = match args.peaks_format {
+            PeaksFormat::Csv => relief::export::peaks_csv(&oro, geographic),
+            PeaksFormat::Akirmse => relief::export::peaks_akirmse(&oro),
+        };
+        ui.step("write", || relief::io::write_atomic(p, text.as_bytes()))?;
     }
     if let Some(p) = &args.divide_tree {
         let tree = DivideTree::from_orometry(&oro);
@@ -70,6 +82,27 @@ pub(crate) fn prominence(args: &ProminenceArgs, ui: &mut Ui) -> Result<()> {
         print_text(args, &oro, &grid);
     }
     Ok(())
+}
+
+/// Moves every position of `oro` (peaks, saddles and their ridge lines, isolation limit points)
+/// from its sample's centre to the sample's north-west corner: half a cell west and half a cell
+/// north, as akirmse/mountains places a tile's samples.
+fn to_north_west_corners(oro: &mut Orometry, grid: &GridSpec) {
+    let half = grid.cell_size() * 0.5;
+    let shift = |p: &mut [f64; 2]| {
+        p[0] -= half.x;
+        p[1] += half.y;
+    };
+    for p in &mut oro.peaks {
+        shift(&mut p.position);
+        if let Some(i) = p.isolation.as_mut() {
+            shift(&mut i.to);
+        }
+    }
+    for s in &mut oro.saddles {
+        shift(&mut s.position);
+        s.ridge.iter_mut().for_each(shift);
+    }
 }
 
 /// Whether `path` names a `.dvt` file.
@@ -97,9 +130,11 @@ fn from_tree(args: &ProminenceArgs, ui: &mut Ui) -> Result<()> {
     let tree = dvt.tree.pruned(args.min_prominence, base);
     let geographic = matches!(dvt.grid, DvtGrid::Degrees { .. });
     if let Some(p) = &args.peaks {
-        ui.step("write", || {
-            relief::io::write_atomic(p, relief::export::tree_peaks_csv(&tree, base, geographic).as_bytes())
-        })?;
+        let text = match args.peaks_format {
+            PeaksFormat::Csv => relief::export::tree_peaks_csv(&tree, base, geographic),
+            PeaksFormat::Akirmse => relief::export::tree_peaks_akirmse(&tree, base),
+        };
+        ui.step("write", || relief::io::write_atomic(p, text.as_bytes()))?;
     }
     if let Some(p) = &args.divide_tree {
         let text = if is_dvt(p) {
