@@ -136,6 +136,12 @@ fn a_dems_flat_sea_stays_sea_when_regrown() {
     // sea's 0 m.
     let input = terrain.summary.contour_input.as_ref().unwrap();
     assert!(input.heights[0] > 0.0 && input.heights[0] < 25.0, "the coast at {} m", input.heights[0]);
+    // The comparison reports how far the regrown land is from the DEM's, and both land shares.
+    let c = terrain.summary.comparison.as_ref().unwrap();
+    assert!((c.land_share[1] - dem_land).abs() < 0.01 && (c.land_share[0] - land).abs() < 0.01, "{c:?}");
+    assert!(c.land_rmse_m > 1.0 && c.land_rmse_m < 20.0, "within a fifth of an interval of the cone (6.7 m): {c:?}");
+    // Over the whole map the sea, right in both, brings the error down.
+    assert!(c.rmse_m < c.land_rmse_m, "{c:?}");
 
     // An island of cliffs, its land 150 m and more above the sea: the contours start at the coast
     // and go up from the next multiple of the interval.

@@ -355,6 +355,14 @@ pub struct Comparison {
     pub mean_slope_deg: [f64; 2],
     /// Peaks at least this prominent (1, 3 and 10 % of the DEM's relief), ours then the DEM's.
     pub peaks: Vec<PeakCount>,
+    /// Root mean square of ours minus the DEM, metres, over every sample both have.
+    pub rmse_m: f64,
+    /// The same over the DEM's land (above its flat sea, [`flat_sea`]; every sample when it has
+    /// none): how far the regrown land is from the land it was drawn from.
+    pub land_rmse_m: f64,
+    /// Share of the samples that are land (above the DEM's flat sea, or above the lowest
+    /// elevation when it has none), ours then the DEM's.
+    pub land_share: [f64; 2],
 }
 
 /// How many peaks two terrains have above a prominence.
@@ -388,7 +396,11 @@ pub(super) fn compare(ours: &Heightfield, name: &str, dem: &Heightfield) -> Resu
     };
     let (p_ours, p_dem) = (prominences(ours)?, prominences(&reference)?);
     let count = |p: &[f64], t: f64| p.iter().filter(|&&x| x >= t).count();
+    let (rmse_m, land_rmse_m, land_share) = differences(ours, &reference, flat_sea(dem));
     Ok(Comparison {
+        rmse_m,
+        land_rmse_m,
+        land_share,
         dem: name.to_owned(),
         distance: mine.distance(&theirs),
         max_strahler: [mine.max_strahler, theirs.max_strahler],
@@ -398,6 +410,31 @@ pub(super) fn compare(ours: &Heightfield, name: &str, dem: &Heightfield) -> Resu
             .map(|&t| PeakCount { min_prominence: t, peaks: [count(&p_ours, t), count(&p_dem, t)] })
             .collect(),
     })
+}
+
+/// RMSE of `ours − dem` over every sample both have and over the DEM's land (above `sea`, or
+/// above the DEM's lowest sample without one), and each one's share of land samples.
+fn differences(ours: &Heightfield, dem: &Heightfield, sea: Option<f32>) -> (f64, f64, [f64; 2]) {
+    let coast =
+        sea.unwrap_or_else(|| dem.samples().iter().copied().filter(|v| v.is_finite()).fold(f32::INFINITY, f32::min));
+    let (mut all, mut land) = ((0.0, 0usize), (0.0, 0usize));
+    let (mut our_land, mut dem_land, mut both) = (0usize, 0usize, 0usize);
+    for (&a, &b) in ours.samples().iter().zip(dem.samples()) {
+        if !(a.is_finite() && b.is_finite()) {
+            continue;
+        }
+        let d2 = f64::from(a - b).powi(2);
+        all = (all.0 + d2, all.1 + 1);
+        both += 1;
+        our_land += usize::from(a > coast);
+        if b > coast {
+            land = (land.0 + d2, land.1 + 1);
+            dem_land += 1;
+        }
+    }
+    let root = |(sum, n): (f64, usize)| if n == 0 { 0.0 } else { (sum / n as f64).sqrt() };
+    let share = |k: usize| if both == 0 { 0.0 } else { k as f64 / both as f64 };
+    (root(all), root(land), [share(our_land), share(dem_land)])
 }
 
 /// Mean slope in degrees, from a descriptor's slope histogram (bin centres).
