@@ -581,9 +581,9 @@ pub(crate) struct ProminenceArgs {
     #[arg(long, value_enum, default_value_t = PeaksFormat::Csv, value_name = "FORMAT")]
     pub(crate) peaks_format: PeaksFormat,
     /// Where a peak or saddle is said to be: its sample's centre, or the sample's north-west
-    /// corner, where akirmse/mountains places a sample of a tile whose corner lies on a whole
-    /// degree (GLO30, FABDEM, a GeoTIFF whose pixels are areas). Applies to everything written
-    /// and printed for a DEM; a .dvt input's positions are its own lattice's.
+    /// corner, where akirmse/mountains places it when a tile's pixels are areas whose corners lie
+    /// on the whole degrees (it puts a tile's first sample on the degree itself). Applies to
+    /// everything written and printed for a DEM; a .dvt input's positions are its own lattice's.
     #[arg(long, value_enum, default_value_t = Positions::Centre, value_name = "WHERE")]
     pub(crate) positions: Positions,
     /// Write the divide tree here: GeoJSON (peaks, saddles, ridges between neighbouring peaks)
