@@ -415,8 +415,7 @@ pub(super) fn compare(ours: &Heightfield, name: &str, dem: &Heightfield) -> Resu
 /// RMSE of `ours − dem` over every sample both have and over the DEM's land (above `sea`, or
 /// above the DEM's lowest sample without one), and each one's share of land samples.
 fn differences(ours: &Heightfield, dem: &Heightfield, sea: Option<f32>) -> (f64, f64, [f64; 2]) {
-    let coast =
-        sea.unwrap_or_else(|| dem.samples().iter().copied().filter(|v| v.is_finite()).fold(f32::INFINITY, f32::min));
+    let coast = sea.unwrap_or_else(|| dem.min_max().map_or(f32::INFINITY, |(lowest, _)| lowest));
     let (mut all, mut land) = ((0.0, 0usize), (0.0, 0usize));
     let (mut our_land, mut dem_land, mut both) = (0usize, 0usize, 0usize);
     for (&a, &b) in ours.samples().iter().zip(dem.samples()) {
